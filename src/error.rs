@@ -1,0 +1,53 @@
+//! Typed errors of the library. Every error a user can cause names what was wrong with the input.
+
+use std::path::PathBuf;
+
+/// Errors raised by geardyn's library code.
+#[derive(Debug, thiserror::Error)]
+pub enum GearError {
+    /// A model or solver parameter is outside its admissible range.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        name: &'static str,
+        value: f64,
+        reason: &'static str,
+    },
+    /// A request that the chosen method cannot honour (e.g. the exact solver with k(t) != 1).
+    #[error("{0}")]
+    Unsupported(String),
+    /// Malformed input data, located by file, line and field.
+    #[error("{file}:{line}: field '{field}': {message}", file = file.display())]
+    Data {
+        file: PathBuf,
+        line: usize,
+        field: String,
+        message: String,
+    },
+    /// A numerical method failed to produce a trustworthy answer.
+    #[error("numerical failure: {0}")]
+    Numerical(String),
+    /// File system errors while reading inputs or writing outputs.
+    #[error("{path}: {source}", path = path.display())]
+    Io {
+        path: PathBuf,
+        #[source]
+        source: std::io::Error,
+    },
+    /// Rendering a figure failed.
+    #[error("plot {path}: {message}", path = path.display())]
+    Plot { path: PathBuf, message: String },
+}
+
+/// Shorthand result type.
+pub type Result<T> = std::result::Result<T, GearError>;
+
+impl GearError {
+    /// Convenience constructor for an out-of-range parameter.
+    pub fn param(name: &'static str, value: f64, reason: &'static str) -> Self {
+        GearError::InvalidParameter {
+            name,
+            value,
+            reason,
+        }
+    }
+}

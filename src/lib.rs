@@ -1,0 +1,11 @@
+//! geardyn: non-linear dynamics of a spur gear pair with backlash.
+//!
+//! The model and its equation numbers are those of Kahraman & Singh, "Non-linear dynamics of a
+//! spur gear pair", J. Sound Vib. 142(1), 1990 (see `design.md` of the project for the generalised
+//! form). The library does no printing; the `geardyn` binary is a thin command line over it.
+
+pub mod error;
+pub mod model;
+pub mod sim;
+
+pub use error::{GearError, Result};

@@ -1,0 +1,10 @@
+//! The gear-pair model of Kahraman & Singh (1990), eq. 3a generalised by eq. 20 and a
+//! time-varying mesh stiffness (design.md, section 1).
+
+mod excitation;
+mod mesh;
+mod params;
+
+pub use excitation::Harmonic;
+pub use mesh::{dead_zone, Impact, Region};
+pub use params::{GearPair, Term};
