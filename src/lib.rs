@@ -6,6 +6,7 @@
 
 pub mod error;
 pub mod model;
+pub mod progress;
 pub mod sim;
 
 pub use error::{GearError, Result};

@@ -37,6 +37,8 @@ struct RegionLaw {
     harmonics: Vec<(f64, f64)>,
     /// sum_n (n Omega)^2 sqrt(a_n^2 + b_n^2): bound on |q_p''| of the harmonic part.
     harmonic_accel_bound: f64,
+    /// sum_n (n Omega)^3 sqrt(a_n^2 + b_n^2): bound on the third derivative of the harmonic part.
+    harmonic_jerk_bound: f64,
 }
 
 impl RegionLaw {
@@ -47,6 +49,7 @@ impl RegionLaw {
         let n_max = model.max_order() as usize;
         let mut harmonics = vec![(0.0, 0.0); n_max];
         let mut bound = 0.0;
+        let mut jerk = 0.0;
         for h in model.forcing_harmonics() {
             let w = h.order as f64 * model.omega;
             // forcing = Re(Fc e^{iwt}) with Fc = cos_coef - i sin_coef; X = Fc / (kappa - w^2 + 2 i zeta w)
@@ -58,6 +61,7 @@ impl RegionLaw {
             let (a, b) = (xr, -xi);
             harmonics[h.order as usize - 1] = (a, b);
             bound += w * w * (a * a + b * b).sqrt();
+            jerk += w * w * w * (a * a + b * b).sqrt();
         }
         let (constant, slope) = if kappa > 0.0 {
             (c, 0.0)
@@ -70,6 +74,7 @@ impl RegionLaw {
             slope,
             harmonics,
             harmonic_accel_bound: bound,
+            harmonic_jerk_bound: jerk,
         }
     }
 
@@ -161,19 +166,35 @@ impl<'a> Segment<'a> {
         ]
     }
 
-    /// Upper bound of |q''| on [s, s1] for any s >= s_from (the homogeneous part decays).
+    /// Upper bounds of the second and third derivatives of q on [s_from, s1] (the homogeneous
+    /// part decays).
     #[inline]
-    fn accel_bound(&self, s_from: f64) -> f64 {
+    fn derivative_bounds(&self, s_from: f64) -> (f64, f64) {
         let tau = (s_from - self.s0).max(0.0);
         let zeta = self.flow.zeta;
-        let hom = match self.hom {
-            Homogeneous::Oscillating { a, b } => (a * a + b * b).sqrt() * (-zeta * tau).exp(),
+        // |lambda| = 1 for the contact modes; the gap mode has lambda = -2 zeta.
+        let (h2, h3) = match self.hom {
+            Homogeneous::Oscillating { a, b } => {
+                let c = (a * a + b * b).sqrt() * (-zeta * tau).exp();
+                (c, c)
+            }
             Homogeneous::Decaying { e, .. } => {
-                4.0 * zeta * zeta * e.abs() * (-2.0 * zeta * tau).exp()
+                let c = 2.0 * zeta * e.abs() * (-2.0 * zeta * tau).exp();
+                (2.0 * zeta * c, 4.0 * zeta * zeta * c)
             }
         };
-        // A relative margin absorbs rounding in the bound itself.
-        (self.law.harmonic_accel_bound + hom) * (1.0 + 1e-12) + 1e-300
+        // A relative margin absorbs rounding in the bounds themselves.
+        let margin = 1.0 + 1e-12;
+        (
+            (self.law.harmonic_accel_bound + h2) * margin + 1e-300,
+            (self.law.harmonic_jerk_bound + h3) * margin + 1e-300,
+        )
+    }
+
+    /// Acceleration from eq. 3a at a state of this segment.
+    #[inline]
+    fn accel(&self, s: f64, x: State) -> f64 {
+        self.flow.model.acceleration(s, x[0], x[1])
     }
 
     /// State-transition matrix e^{A tau} of the region (the tangent dynamics).
@@ -252,7 +273,62 @@ impl Boundary {
     fn distance(&self, x: State) -> (f64, f64) {
         (self.sign * (x[0] - self.level), self.sign * x[1])
     }
+
+    #[inline]
+    fn sample(&self, s: f64, x: State, acc: f64) -> Sample {
+        let (d, dv) = self.distance(x);
+        Sample {
+            s,
+            d,
+            dv,
+            dd: self.sign * acc,
+        }
+    }
 }
+
+/// Distance to a boundary and its first two derivatives at time s.
+#[derive(Clone, Copy, Debug)]
+struct Sample {
+    s: f64,
+    d: f64,
+    dv: f64,
+    dd: f64,
+}
+
+/// True when a Taylor lower bound from sample `x` proves d > 0 on (0, w] away from x, looking
+/// forward (dir = 1) or backward (dir = -1).
+#[inline]
+fn excluded(x: Sample, w: f64, (m2, m3): (f64, f64), dir: f64) -> bool {
+    let (d, dv, dd) = (x.d, dir * x.dv, x.dd);
+    if d < 0.0 || (d == 0.0 && dv < 0.0) {
+        return false;
+    }
+    // Quadratic bound: concave, so its minimum on [0, w] is at an end.
+    if (d > 0.0 || dv > 0.0) && d + dv * w - 0.5 * m2 * w * w > 0.0 {
+        return true;
+    }
+    // Cubic bound L(t) = d + dv t + dd t^2 / 2 - m3 t^3 / 6: check the end and the interior
+    // stationary points (roots of dv + dd t - m3 t^2 / 2).
+    let cubic = |t: f64| d + t * (dv + t * (0.5 * dd - m3 * t / 6.0));
+    if cubic(w) <= 0.0 {
+        return false;
+    }
+    if d == 0.0 && dv == 0.0 && dd <= 0.0 {
+        // Starting on the boundary, positive just after only if the leading term is.
+        return false;
+    }
+    let disc = dd * dd + 2.0 * m3 * dv;
+    if disc >= 0.0 {
+        let r = disc.sqrt();
+        for t in [(dd - r) / m3, (dd + r) / m3] {
+            if t > 0.0 && t < w && cubic(t) <= 0.0 {
+                return false;
+            }
+        }
+    }
+    true
+}
+
 
 /// The exact piecewise-linear period map of eq. 3a for k(t) = 1 (the paper's model, with any
 /// number of STE and external torque harmonics).
@@ -316,24 +392,21 @@ impl ExactFlow {
         let bounds = Boundary::of(seg.law.region);
         let mut a = seg.s0;
         let mut xa = seg.state(a);
-        // At a segment start on a boundary the distance is exactly zero by construction.
-        let on_start = |b: &Boundary, x: State, at_start: bool| {
-            let (d, dv) = b.distance(x);
-            if at_start {
-                (d.max(0.0), dv)
-            } else {
-                (d, dv)
-            }
-        };
+        let mut acc_a = seg.accel(a, xa);
         while a < s_end {
             let b = (a + self.scan_step).min(s_end);
             let xb = seg.state(b);
-            let m = seg.accel_bound(a);
+            let acc_b = seg.accel(b, xb);
+            let m = seg.derivative_bounds(a);
             let mut best: Option<(f64, Boundary)> = None;
             for bd in bounds {
-                let (da, dva) = on_start(bd, xa, a == seg.s0);
-                let (db, dvb) = bd.distance(xb);
-                if let Some(s) = self.search(seg, bd, a, da, dva, b, db, dvb, m, 0) {
+                let mut sa = bd.sample(a, xa, acc_a);
+                if a == seg.s0 {
+                    // At a segment start on a boundary the distance is exactly zero by construction.
+                    sa.d = sa.d.max(0.0);
+                }
+                let sb = bd.sample(b, xb, acc_b);
+                if let Some(s) = self.search(seg, bd, sa, sb, m, 0) {
                     if best.is_none_or(|(t, _)| s < t) {
                         best = Some((s, *bd));
                     }
@@ -344,61 +417,52 @@ impl ExactFlow {
             }
             a = b;
             xa = xb;
+            acc_a = acc_b;
         }
         None
     }
 
-    /// Earliest root of the distance to `bd` on (a, b], proven absent where the quadratic lower
-    /// bound d(a) + d'(a) tau - m tau^2 / 2 (or its mirror from b) stays positive.
-    #[allow(clippy::too_many_arguments)]
+    /// Earliest root of the distance to `bd` on (a, b]. The interval is discarded only when a
+    /// Taylor lower bound proves d > 0 on it: d(a) + d'(a) tau - M2 tau^2 / 2 (from either end),
+    /// or d(a) + d'(a) tau + d''(a) tau^2 / 2 - M3 tau^3 / 6, with M2, M3 bounds of the second
+    /// and third derivatives of q. Otherwise it is bisected, left half first.
     fn search(
         &self,
         seg: &Segment,
         bd: &Boundary,
-        a: f64,
-        da: f64,
-        dva: f64,
-        b: f64,
-        db: f64,
-        dvb: f64,
-        m: f64,
+        a: Sample,
+        b: Sample,
+        m: (f64, f64),
         depth: u32,
     ) -> Option<f64> {
-        let w = b - a;
+        let w = b.s - a.s;
         if w <= 0.0 {
             return None;
         }
-        let from_left =
-            da >= 0.0 && (da > 0.0 || dva > 0.0) && da + dva * w - 0.5 * m * w * w > 0.0;
-        let from_right = da >= 0.0 && db > 0.0 && db - dvb * w - 0.5 * m * w * w > 0.0;
-        if from_left || from_right {
+        if a.d >= 0.0 && (excluded(a, w, m, 1.0) || (b.d > 0.0 && excluded(b, w, m, -1.0))) {
             return None;
         }
-        if db < 0.0 && dva + m * w < 0.0 {
+        if b.d < 0.0 && a.dv + m.0 * w < 0.0 {
             // d decreases throughout: exactly one root, found by safeguarded Newton.
-            return Some(self.refine_root(seg, bd, a, b));
+            return Some(self.refine_root(seg, bd, a.s, b.s));
         }
         if depth >= MAX_DEPTH {
             // Not excludable but no sign change at this resolution: a tangency (grazing touch)
-            // whose penetration is below m w^2 / 8, i.e. far below rounding.
-            return if db < 0.0 {
-                Some(self.refine_root(seg, bd, a, b))
-            } else {
-                None
-            };
+            // whose penetration is below M2 w^2 / 8, i.e. far below rounding.
+            return (b.d < 0.0).then(|| self.refine_root(seg, bd, a.s, b.s));
         }
-        let mid = 0.5 * (a + b);
-        let (dm, dvm) = bd.distance(seg.state(mid));
-        let m_right = seg.accel_bound(mid);
-        self.search(seg, bd, a, da, dva, mid, dm, dvm, m, depth + 1)
-            .or_else(|| {
-                if dm < 0.0 {
-                    // The left half holds no root but ends below the boundary: the root is at mid.
-                    Some(self.refine_root(seg, bd, a, mid))
-                } else {
-                    self.search(seg, bd, mid, dm, dvm, b, db, dvb, m_right, depth + 1)
-                }
-            })
+        let mid = 0.5 * (a.s + b.s);
+        let xm = seg.state(mid);
+        let sm = bd.sample(mid, xm, seg.accel(mid, xm));
+        let m_right = seg.derivative_bounds(mid);
+        self.search(seg, bd, a, sm, m, depth + 1).or_else(|| {
+            if sm.d < 0.0 {
+                // The left half holds no root but ends below the boundary: the root is at mid.
+                Some(self.refine_root(seg, bd, a.s, mid))
+            } else {
+                self.search(seg, bd, sm, b, m_right, depth + 1)
+            }
+        })
     }
 
     /// Root of the boundary distance in [a, b] where d(a) >= 0 > d(b): Newton kept in the bracket,

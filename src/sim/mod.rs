@@ -1,8 +1,20 @@
 //! Digital simulation of eq. 3a: exact piecewise solution, adaptive Runge-Kutta with events,
 //! steady states, Poincare sections, period and chaos classification, attractors, basins, sweeps.
 
+mod attractors;
 mod exact;
+mod extrema;
 mod flow;
+mod ic_grid;
+mod lyapunov;
+mod period;
+mod steady;
 
+pub use attractors::{find_attractors, same_attractor, Attractor, AttractorMap};
 pub use exact::ExactFlow;
+pub use extrema::Extremes;
 pub use flow::{Observer, PeriodFlow, Piece, State};
+pub use ic_grid::IcGrid;
+pub use lyapunov::largest_lyapunov;
+pub use period::{detect_period, eigenvalues2, monodromy, refine_orbit, PeriodicOrbit, MAX_PERIOD};
+pub use steady::{default_transient, steady_state, Motion, SteadyOptions, SteadyState};

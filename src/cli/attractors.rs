@@ -1,0 +1,69 @@
+//! `geardyn attractors`: every coexisting steady state from a grid of initial conditions.
+
+use super::common::{print_json, ModelArgs, SolverArgs};
+use super::progress_bar::Bar;
+use clap::Args as ClapArgs;
+use geardyn::sim::{find_attractors, IcGrid};
+use serde_json::json;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Mesh (excitation) frequency Omega_h.
+    #[arg(long, allow_hyphen_values = true)]
+    omega: f64,
+    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis).
+    #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
+    ic_grid: String,
+    #[command(flatten)]
+    solver: SolverArgs,
+    /// Print the result as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let grid = IcGrid::parse(&a.ic_grid)?;
+    let model = a.model.model(a.omega)?;
+    let flow = a.solver.flow(&model)?;
+    let opts = a.solver.options()?;
+    let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
+    if a.json {
+        let list: Vec<_> = map
+            .attractors
+            .iter()
+            .map(|at| {
+                let s = &at.steady;
+                json!({
+                    "period": s.period, "motion": s.motion, "impact": s.impact, "case": s.impact.case(),
+                    "qa": s.qa, "qm": s.qm, "q_min": s.q_min, "q_max": s.q_max, "dte_pp": s.dte_pp,
+                    "dl_max": s.dl_max, "lyapunov": s.lyapunov, "floquet": s.floquet,
+                    "basin_fraction": at.basin_fraction, "basin_count": at.basin_count,
+                    "example_ic": at.example_ic, "poincare": s.poincare,
+                })
+            })
+            .collect();
+        print_json(&json!({
+            "attractors": list,
+            "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
+            "integrator": flow.method(),
+            "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
+        }))?;
+    } else {
+        println!("{} attractor(s) from {}x{} initial conditions in [{}, {}]^2", map.attractors.len(), grid.n, grid.n, grid.lo, grid.hi);
+        for (i, at) in map.attractors.iter().enumerate() {
+            let s = &at.steady;
+            println!(
+                "  #{i}: period {} ({:?}), impact {}, qa {:.5}, qm {:.5}, basin {:.1}%",
+                s.period.map_or("none".into(), |p| p.to_string()),
+                s.motion,
+                s.impact.name(),
+                s.qa,
+                s.qm,
+                100.0 * at.basin_fraction
+            );
+        }
+    }
+    Ok(())
+}

@@ -1,0 +1,88 @@
+//! Options shared by several commands: the model parameters and the integrator choice.
+
+use anyhow::Context;
+use clap::{Args as ClapArgs, ValueEnum};
+use geardyn::model::GearPair;
+use geardyn::sim::{ExactFlow, PeriodFlow, SteadyOptions};
+use std::path::Path;
+
+/// Parameters of eq. 5 (the paper's model).
+#[derive(ClapArgs, Debug, Clone)]
+pub struct ModelArgs {
+    /// Dimensionless mean load F_m.
+    #[arg(long = "fm", allow_hyphen_values = true)]
+    pub fm: f64,
+    /// Dimensionless STE amplitude F_ah (force ratio F_hat = F_m / F_ah).
+    #[arg(long = "fah", allow_hyphen_values = true)]
+    pub fah: f64,
+    /// Damping ratio zeta (0 < zeta < 1).
+    #[arg(long, allow_hyphen_values = true)]
+    pub zeta: f64,
+}
+
+impl ModelArgs {
+    pub fn model(&self, omega: f64) -> anyhow::Result<GearPair> {
+        Ok(GearPair::paper(self.fm, self.fah, self.zeta, omega)?)
+    }
+}
+
+/// Integration and steady-state options.
+#[derive(ClapArgs, Debug, Clone)]
+pub struct SolverArgs {
+    /// Forcing periods skipped as transient (default chosen from zeta; ends early once settled).
+    #[arg(long)]
+    pub periods: Option<usize>,
+    /// Forcing periods analysed after the transient.
+    #[arg(long, default_value_t = 64)]
+    pub keep: usize,
+    /// Integrator: the exact piecewise solution or the adaptive DOP853 (cross-check).
+    #[arg(long, value_enum, default_value_t = Integrator::Exact)]
+    pub integrator: Integrator,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Integrator {
+    Exact,
+}
+
+impl SolverArgs {
+    pub fn options(&self) -> anyhow::Result<SteadyOptions> {
+        if self.keep == 0 {
+            anyhow::bail!("--keep must be at least 1");
+        }
+        Ok(SteadyOptions {
+            transient: self.periods,
+            keep: self.keep,
+            ..SteadyOptions::default()
+        })
+    }
+
+    pub fn flow(&self, model: &GearPair) -> anyhow::Result<Box<dyn PeriodFlow>> {
+        match self.integrator {
+            Integrator::Exact => Ok(Box::new(ExactFlow::new(model)?)),
+        }
+    }
+}
+
+/// Write a text file, creating its folder.
+pub fn write_text(path: &Path, text: &str) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent() {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    }
+    std::fs::write(path, text).with_context(|| format!("writing {}", path.display()))
+}
+
+/// Print JSON to standard output.
+pub fn print_json(value: &serde_json::Value) -> anyhow::Result<()> {
+    print_text(&format!("{}\n", serde_json::to_string_pretty(value)?))
+}
+
+/// Write to standard output; a closed pipe (e.g. `| head`) ends quietly instead of panicking.
+pub fn print_text(text: &str) -> anyhow::Result<()> {
+    use std::io::Write;
+    let mut out = std::io::stdout().lock();
+    match out.write_all(text.as_bytes()).and_then(|_| out.flush()) {
+        Err(e) if e.kind() != std::io::ErrorKind::BrokenPipe => Err(e.into()),
+        _ => Ok(()),
+    }
+}

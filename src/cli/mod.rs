@@ -1,0 +1,32 @@
+//! Command definitions (design.md section 3) and dispatch.
+
+mod attractors;
+mod common;
+mod progress_bar;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+
+/// Non-linear dynamics of a spur gear pair with backlash (Kahraman & Singh 1990).
+#[derive(Parser, Debug)]
+#[command(name = "geardyn", version, about)]
+pub struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Steady state from one initial condition (period, impact regime, q_a, q_m, pp DTE, D_L).
+    Simulate(simulate::Args),
+    /// Every coexisting steady state from a grid of initial conditions, with basin fractions.
+    Attractors(attractors::Args),
+}
+
+/// Run the parsed command.
+pub fn run(cli: Cli) -> anyhow::Result<()> {
+    match cli.command {
+        Command::Simulate(a) => simulate::run(a),
+        Command::Attractors(a) => attractors::run(a),
+    }
+}

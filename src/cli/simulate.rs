@@ -1,0 +1,70 @@
+//! `geardyn simulate`: the steady state from one initial condition.
+
+use super::common::{print_json, ModelArgs, SolverArgs};
+use clap::Args as ClapArgs;
+use geardyn::sim::steady_state;
+use serde_json::json;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Mesh (excitation) frequency Omega_h = Omega_bar_h / omega_n.
+    #[arg(long, allow_hyphen_values = true)]
+    omega: f64,
+    /// Initial displacement q(0).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    q0: f64,
+    /// Initial velocity q'(0).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    v0: f64,
+    #[command(flatten)]
+    solver: SolverArgs,
+    /// Also compute the largest Lyapunov exponent of periodic motion.
+    #[arg(long)]
+    lyapunov: bool,
+    /// Print the result as JSON.
+    #[arg(long)]
+    json: bool,
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let model = a.model.model(a.omega)?;
+    let flow = a.solver.flow(&model)?;
+    let mut opts = a.solver.options()?;
+    opts.lyapunov = a.lyapunov;
+    let s = steady_state(flow.as_ref(), [a.q0, a.v0], &opts)?;
+    if a.json {
+        print_json(&json!({
+            "period": s.period,
+            "motion": s.motion,
+            "impact": s.impact,
+            "case": s.impact.case(),
+            "qa": s.qa,
+            "qm": s.qm,
+            "q_min": s.q_min,
+            "q_max": s.q_max,
+            "dte_pp": s.dte_pp,
+            "dl_max": s.dl_max,
+            "lyapunov": s.lyapunov,
+            "floquet": s.floquet,
+            "poincare": s.poincare,
+            "transient_periods": s.transient_periods,
+            "integrator": flow.method(),
+            "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega, "q0": a.q0, "v0": a.v0},
+        }))?;
+    } else {
+        println!(
+            "period {} ({:?}), impact {} (case {}), qa {:.6}, qm {:.6}, pp DTE {:.6}{}",
+            s.period.map_or("none".to_string(), |p| p.to_string()),
+            s.motion,
+            s.impact.name(),
+            s.impact.case(),
+            s.qa,
+            s.qm,
+            s.dte_pp,
+            s.lyapunov.map_or(String::new(), |l| format!(", lyapunov {l:.5}"))
+        );
+    }
+    Ok(())
+}

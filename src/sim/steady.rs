@@ -1,0 +1,332 @@
+//! Steady-state response from one initial condition (Sec. 3): transient skipping, stroboscopic
+//! Poincare section, period detection up to 32 forcing periods, refinement of periodic orbits,
+//! chaos flagged by the largest Lyapunov exponent, and the response measures of design.md 1.
+
+use super::extrema::Extremes;
+use super::flow::{PeriodFlow, State};
+use super::lyapunov::largest_lyapunov;
+use super::period::{detect_period, distance, refine_orbit, scale, PeriodicOrbit, MAX_PERIOD};
+use crate::error::{GearError, Result};
+use crate::model::Impact;
+use serde::Serialize;
+
+/// Options of a steady-state computation.
+#[derive(Clone, Debug)]
+pub struct SteadyOptions {
+    /// Forcing periods skipped as transient; `None` chooses from zeta ([`default_transient`]).
+    /// The transient ends earlier when the section points provably repeat (see `settle`).
+    pub transient: Option<usize>,
+    /// Forcing periods analysed after the transient (default 64).
+    pub keep: usize,
+    /// End the transient as soon as the section points repeat and Newton refines the orbit.
+    pub settle: bool,
+    /// Compute the largest Lyapunov exponent also for periodic motion (from its multipliers).
+    pub lyapunov: bool,
+    /// Forcing periods averaged for the Lyapunov exponent of non-periodic motion.
+    pub lyapunov_periods: usize,
+}
+
+impl Default for SteadyOptions {
+    fn default() -> Self {
+        SteadyOptions {
+            transient: None,
+            keep: 64,
+            settle: true,
+            lyapunov: false,
+            lyapunov_periods: 2000,
+        }
+    }
+}
+
+/// Default transient length: enough forcing periods for a decay e^{-zeta t} of 1e-13 (the slowest
+/// free decay of eq. 3a in contact), at least 100 and at most 20000 periods.
+pub fn default_transient(zeta: f64, period: f64) -> usize {
+    let n = (30.0 / (zeta * period)).ceil();
+    n.clamp(100.0, 20000.0) as usize
+}
+
+/// Kind of steady motion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Motion {
+    /// A period-p orbit (p <= 32).
+    Periodic,
+    /// No period up to 32 and a positive largest Lyapunov exponent.
+    Chaotic,
+    /// No period up to 32 and a non-positive exponent (quasi-periodic, or a very long period).
+    Aperiodic,
+}
+
+/// The steady state reached from one initial condition.
+#[derive(Clone, Debug, Serialize)]
+pub struct SteadyState {
+    /// Subharmonic order p of a period-p orbit; `None` when no period up to 32 is found.
+    pub period: Option<u32>,
+    /// Periodic, chaotic or aperiodic.
+    pub motion: Motion,
+    /// Impact regime of Fig. 9 (case I, II, III).
+    pub impact: Impact,
+    /// Half range of q, q_a = (max q - min q) / 2.
+    pub qa: f64,
+    /// Mid range of q, q_m = (max q + min q) / 2.
+    pub qm: f64,
+    /// Smallest q over the analysed periods.
+    pub q_min: f64,
+    /// Largest q over the analysed periods.
+    pub q_max: f64,
+    /// Peak-to-peak dynamic transmission error pp(x), x = q + e/b (design.md 1).
+    pub dte_pp: f64,
+    /// Largest dynamic load factor D_L = (2 zeta q' + k f(q)) / F_m; `None` when F_m = 0.
+    pub dl_max: Option<f64>,
+    /// Largest Lyapunov exponent per unit time, when computed.
+    pub lyapunov: Option<f64>,
+    /// Floquet multipliers of a periodic orbit as (re, im).
+    pub floquet: Option<[(f64, f64); 2]>,
+    /// Section points of the steady state: the p points of a periodic orbit (refined), or the
+    /// analysed section points of non-periodic motion.
+    pub poincare: Vec<State>,
+    /// Transient periods actually integrated before the analysis.
+    pub transient_periods: usize,
+    /// Section points of the Lyapunov run of non-periodic motion (the strange attractor's cloud),
+    /// used to tell coexisting chaotic attractors apart.
+    #[serde(skip)]
+    pub cloud: Vec<State>,
+}
+
+impl SteadyState {
+    /// True when the orbit is periodic with all multipliers inside the unit circle.
+    pub fn is_stable_periodic(&self) -> bool {
+        self.floquet.is_some_and(|m| m.iter().all(|(r, i)| r.hypot(*i) < 1.0))
+    }
+}
+
+/// Tolerance (relative to the state scale) for section points to count as repeating.
+const REPEAT_TOL: f64 = 1e-7;
+/// Tighter tolerance that ends the transient early and triggers Newton refinement.
+const SETTLE_TOL: f64 = 1e-9;
+/// Section points repeating to this relative tolerance mark a still-converging periodic orbit.
+const NEAR_TOL: f64 = 1e-4;
+/// The transient is extended at most to this multiple of its nominal length.
+const EXTENSION: usize = 8;
+
+/// Integrate from `x0` to the steady state and analyse it.
+pub fn steady_state<F: PeriodFlow + ?Sized>(flow: &F, x0: State, opts: &SteadyOptions) -> Result<SteadyState> {
+    match steady_state_watched::<F, ()>(flow, x0, opts, &mut |_| Ok(None))? {
+        Watched::Steady(s) => Ok(s),
+        Watched::Stopped(()) => unreachable_stop(),
+    }
+}
+
+fn unreachable_stop() -> Result<SteadyState> {
+    Err(GearError::Numerical("internal: a no-op watcher stopped the transient".into()))
+}
+
+/// Outcome of a watched steady-state computation.
+pub(crate) enum Watched<T> {
+    /// The watcher recognised the trajectory during the transient and stopped it.
+    Stopped(T),
+    /// The trajectory was integrated to its steady state and analysed.
+    Steady(SteadyState),
+}
+
+/// [`steady_state`] with a watcher called on each transient section point; returning `Some`
+/// stops the integration early (used to recognise already known attractors).
+pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
+    flow: &F,
+    x0: State,
+    opts: &SteadyOptions,
+    watch: &mut dyn FnMut(State) -> Result<Option<T>>,
+) -> Result<Watched<T>> {
+    check_state(x0)?;
+    let model = flow.model();
+    let transient = opts
+        .transient
+        .unwrap_or_else(|| default_transient(model.zeta, flow.period()));
+    let history_len = 3 * MAX_PERIOD as usize;
+    let mut history: Vec<State> = Vec::with_capacity(history_len + 1);
+    let mut x = x0;
+    let mut used = 0;
+    let mut orbit: Option<PeriodicOrbit> = None;
+    let mut limit = transient;
+    while used < limit {
+        x = flow.step(x, None)?;
+        used += 1;
+        if !(x[0].is_finite() && x[1].is_finite()) {
+            return Err(GearError::Numerical("the response diverged".into()));
+        }
+        if let Some(t) = watch(x)? {
+            return Ok(Watched::Stopped(t));
+        }
+        if !opts.settle {
+            continue;
+        }
+        history.push(x);
+        if history.len() > history_len {
+            history.remove(0);
+        }
+        // Newton is tried once the points repeat tightly, and every few periods while they
+        // repeat loosely: a slowly contracting orbit (multiplier near +-1) is then found by
+        // shooting instead of waiting for the transient to die out.
+        let candidate = settled_period(&history, SETTLE_TOL)
+            .or_else(|| (used % 8 == 0).then(|| settled_period(&history, NEAR_TOL)).flatten());
+        if let Some(p) = candidate {
+            if let Some(o) = refine_orbit(flow, x, p)? {
+                if o.spectral_radius() < 1.0 {
+                    x = o.points[0];
+                    orbit = Some(o);
+                    break;
+                }
+            }
+        }
+        // A slowly contracting orbit (multiplier near 1) that is periodic to 1e-4 but not yet to
+        // 1e-9 gets more time rather than being reported as aperiodic.
+        if used == limit && limit < EXTENSION * transient && settled_period(&history, NEAR_TOL).is_some() {
+            limit += transient;
+        }
+    }
+    Ok(Watched::Steady(analyse(flow, x, orbit, used, opts)?))
+}
+
+/// Period of the last section points at the settling tolerance, if they repeat.
+fn settled_period(history: &[State], rel_tol: f64) -> Option<u32> {
+    let last = *history.last()?;
+    let tol = rel_tol * scale(&[last]);
+    // Cheap pre-check on the newest point before the full repetition test.
+    let n = history.len();
+    (1..=MAX_PERIOD).find(|&p| {
+        let p = p as usize;
+        n >= 3 * p
+            && distance(last, history[n - 1 - p]) <= tol
+            && detect_period(&history[n - 3 * p..], p as u32, tol) == Some(p as u32)
+    })
+}
+
+/// Analyse the steady state that starts at section point `x`.
+fn analyse<F: PeriodFlow + ?Sized>(
+    flow: &F,
+    x: State,
+    orbit: Option<PeriodicOrbit>,
+    transient_periods: usize,
+    opts: &SteadyOptions,
+) -> Result<SteadyState> {
+    let model = flow.model();
+    let keep = opts.keep.max(1);
+    // Section points of the kept periods (cheap: no observer).
+    let mut points = Vec::with_capacity(keep);
+    let mut y = x;
+    for _ in 0..keep {
+        points.push(y);
+        y = flow.step(y, None)?;
+    }
+    let sc = scale(&points);
+    let mut period = match &orbit {
+        Some(o) => Some(o.period),
+        None => detect_period(&points, MAX_PERIOD.min(keep as u32 / 2).max(1), REPEAT_TOL * sc),
+    };
+    // A periodic orbit is fully described by p periods; otherwise analyse all kept periods.
+    let mut orbit = match (orbit, period) {
+        (Some(o), _) => Some(o),
+        (None, Some(p)) => refine_orbit(flow, x, p)?,
+        _ => None,
+    };
+    if period.is_none() {
+        // A long chaotic transient may end inside the kept window: the last points then repeat
+        // and Newton from the last one finds the stable orbit the motion is converging to.
+        if let Some(p) = settled_period(&points, NEAR_TOL) {
+            if let Some(o) = refine_orbit(flow, y, p)? {
+                if o.spectral_radius() < 1.0 {
+                    period = Some(p);
+                    orbit = Some(o);
+                }
+            }
+        }
+    }
+    let (start, analysed) = match (&orbit, period) {
+        (Some(o), _) => (o.points[0], o.period as usize),
+        (None, Some(p)) => (x, p as usize),
+        (None, None) => (x, keep),
+    };
+    let mut ext = Extremes::default();
+    let mut z = start;
+    for _ in 0..analysed {
+        z = flow.step(z, Some(&mut |piece| ext.observe(model, piece)))?;
+    }
+    let mut cloud = Vec::new();
+    let lyapunov = match (&orbit, period) {
+        (Some(o), _) if opts.lyapunov => {
+            Some(o.spectral_radius().ln() / (o.period as f64 * flow.period()))
+        }
+        (None, None) => Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?.0),
+        (None, Some(_)) if opts.lyapunov => {
+            Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, None)?.0)
+        }
+        _ => None,
+    };
+    let motion = match (period, lyapunov) {
+        (Some(_), _) => Motion::Periodic,
+        (None, Some(l)) if l > 1e-3 * model.zeta.max(1e-3) => Motion::Chaotic,
+        _ => Motion::Aperiodic,
+    };
+    let (q_min, q_max) = ext.q;
+    let dl_max = (model.mean_force > 0.0).then(|| ext.mesh_force_max / model.mean_force);
+    Ok(SteadyState {
+        period,
+        motion,
+        impact: Impact::from_range(q_min),
+        qa: 0.5 * (q_max - q_min),
+        qm: 0.5 * (q_max + q_min),
+        q_min,
+        q_max,
+        dte_pp: ext.dte.1 - ext.dte.0,
+        dl_max,
+        lyapunov,
+        floquet: orbit.as_ref().map(|o| o.multipliers),
+        poincare: match &orbit {
+            Some(o) => o.points.clone(),
+            None => points,
+        },
+        transient_periods,
+        cloud,
+    })
+}
+
+fn check_state(x: State) -> Result<()> {
+    if !x[0].is_finite() {
+        return Err(GearError::param("q0", x[0], "initial displacement must be finite"));
+    }
+    if !x[1].is_finite() {
+        return Err(GearError::param("v0", x[1], "initial velocity must be finite"));
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::GearPair;
+    use crate::sim::ExactFlow;
+
+    /// Linear regime: eq. 13 gives q_a, q_m = 1 + F_m exactly, and pp(x) follows from the
+    /// transfer function of x = q + e/b.
+    #[test]
+    fn linear_steady_state_matches_closed_form() {
+        let (fm, fah, zeta, om) = (5.0, 0.05, 0.05, 0.8);
+        let m = GearPair::paper(fm, fah, zeta, om).unwrap();
+        let f = ExactFlow::new(&m).unwrap();
+        let s = steady_state(&f, [0.0, 0.0], &SteadyOptions::default()).unwrap();
+        let d = ((1.0 - om * om).powi(2) + (2.0 * zeta * om).powi(2)).sqrt();
+        let qa = fah * om * om / d;
+        assert_eq!(s.period, Some(1));
+        assert_eq!(s.impact, Impact::None);
+        assert!((s.qa - qa).abs() < 1e-10, "{} vs {qa}", s.qa);
+        assert!((s.qm - (1.0 + fm)).abs() < 1e-10);
+        // x = q + e/b has the transfer (1 + 2 i zeta w) / (1 - w^2 + 2 i zeta w) times F_ah.
+        let xa = fah * (1.0 + (2.0 * zeta * om).powi(2)).sqrt() / d;
+        assert!((s.dte_pp - 2.0 * xa).abs() < 1e-9, "{} vs {}", s.dte_pp, 2.0 * xa);
+        // Floquet multipliers of a linear oscillator: |mu| = e^{-zeta T}.
+        let rho = (-zeta * m.period()).exp();
+        for (re, im) in s.floquet.unwrap() {
+            assert!((re.hypot(im) - rho).abs() < 1e-10);
+        }
+    }
+}
