@@ -6,6 +6,7 @@
 
 pub mod error;
 pub mod model;
+pub mod plot;
 pub mod sim;
 
 pub use error::{GearError, Result};
