@@ -6,6 +6,7 @@
 
 pub mod error;
 pub mod model;
+pub mod plot;
 pub mod progress;
 pub mod sim;
 

@@ -1,0 +1,88 @@
+//! Writing one figure to `stem.png` and `stem.svg`.
+
+use std::ffi::OsString;
+use std::path::{Path, PathBuf};
+
+use plotters::coord::Shift;
+use plotters::prelude::{BitMapBackend, DrawingArea, DrawingBackend, IntoDrawingArea, SVGBackend};
+
+use super::style::ensure_font;
+use crate::error::{GearError, Result};
+
+/// Largest figure area in pixels (the raster is held in memory while drawing).
+const MAX_PIXELS: u64 = 80_000_000;
+
+/// Error message of a failed drawing step.
+pub(crate) type DrawResult = std::result::Result<(), String>;
+
+/// Converts any displayable backend error into a message.
+pub(crate) fn msg<E: std::fmt::Display>(e: E) -> String {
+    e.to_string()
+}
+
+/// Something that can draw itself on a drawing area of any backend.
+pub(crate) trait Figure {
+    /// Size of the whole figure in pixels.
+    fn size(&self) -> (u32, u32);
+    /// Draws the figure on `root`, which covers [`Figure::size`]; `raster` tells whether the
+    /// backend is a bitmap (whose wide polylines need special care, see `xy::draw_line`).
+    fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, raster: bool) -> DrawResult;
+}
+
+/// `stem` with `.ext` appended (not substituted, so `a.v2` becomes `a.v2.png`).
+fn with_suffix(stem: &Path, ext: &str) -> PathBuf {
+    let mut s = OsString::from(stem.as_os_str());
+    s.push(".");
+    s.push(ext);
+    PathBuf::from(s)
+}
+
+fn plot_err(path: &Path, message: String) -> GearError {
+    GearError::Plot {
+        path: path.to_path_buf(),
+        message,
+    }
+}
+
+/// Renders `fig` to `stem.png` and `stem.svg`, creating the parent directory if needed.
+pub(crate) fn write_figure(fig: &impl Figure, stem: &Path) -> Result<Vec<PathBuf>> {
+    let png = with_suffix(stem, "png");
+    let svg = with_suffix(stem, "svg");
+    if !ensure_font() {
+        return Err(plot_err(
+            &png,
+            "the bundled font could not be loaded".into(),
+        ));
+    }
+    if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|source| GearError::Io {
+            path: dir.to_path_buf(),
+            source,
+        })?;
+    }
+    let size = fig.size();
+    if u64::from(size.0) * u64::from(size.1) > MAX_PIXELS {
+        let m = format!("figure of {} x {} pixels is too large", size.0, size.1);
+        return Err(plot_err(&png, m));
+    }
+
+    let mut text = String::new();
+    {
+        let root = SVGBackend::with_string(&mut text, size).into_drawing_area();
+        fig.draw(&root, false)
+            .and_then(|()| root.present().map_err(msg))
+            .map_err(|m| plot_err(&svg, m))?;
+    }
+    std::fs::write(&svg, text).map_err(|source| GearError::Io {
+        path: svg.clone(),
+        source,
+    })?;
+
+    {
+        let root = BitMapBackend::new(&png, size).into_drawing_area();
+        fig.draw(&root, true)
+            .and_then(|()| root.present().map_err(msg))
+            .map_err(|m| plot_err(&png, m))?;
+    }
+    Ok(vec![png, svg])
+}
