@@ -1,6 +1,6 @@
 //! `geardyn attractors`: every coexisting steady state from a grid of initial conditions.
 
-use super::common::{print_json, ModelArgs, SolverArgs};
+use super::common::{print_json, print_text, ModelArgs, SolverArgs};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::sim::{find_attractors, IcGrid};
@@ -51,19 +51,29 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
         }))?;
     } else {
-        println!("{} attractor(s) from {}x{} initial conditions in [{}, {}]^2", map.attractors.len(), grid.n, grid.n, grid.lo, grid.hi);
+        let mut text = format!(
+            "{} attractor(s) from {}x{} initial conditions in [{}, {}]^2\n",
+            map.attractors.len(),
+            grid.n,
+            grid.n,
+            grid.lo,
+            grid.hi
+        );
         for (i, at) in map.attractors.iter().enumerate() {
             let s = &at.steady;
-            println!(
-                "  #{i}: period {} ({:?}), impact {}, qa {:.5}, qm {:.5}, basin {:.1}%",
+            text.push_str(&format!(
+                "  #{i}: period {} ({:?}), impact {}, qa {:.5}, qm {:.5}, basin {:.1}%{}\n",
                 s.period.map_or("none".into(), |p| p.to_string()),
                 s.motion,
                 s.impact.name(),
                 s.qa,
                 s.qm,
-                100.0 * at.basin_fraction
-            );
+                100.0 * at.basin_fraction,
+                s.lyapunov
+                    .map_or(String::new(), |l| format!(", lyapunov {l:.4}"))
+            ));
         }
+        print_text(&text)?;
     }
     Ok(())
 }

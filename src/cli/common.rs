@@ -58,9 +58,47 @@ impl SolverArgs {
     }
 
     pub fn flow(&self, model: &GearPair) -> anyhow::Result<Box<dyn PeriodFlow>> {
-        match self.integrator {
-            Integrator::Exact => Ok(Box::new(ExactFlow::new(model)?)),
+        Ok((self.factory())(model)?)
+    }
+
+    /// Builder of the chosen period map, for library functions that vary the frequency.
+    pub fn factory(&self) -> impl Fn(&GearPair) -> geardyn::Result<Box<dyn PeriodFlow>> + Sync {
+        let integrator = self.integrator;
+        move |m: &GearPair| -> geardyn::Result<Box<dyn PeriodFlow>> {
+            match integrator {
+                Integrator::Exact => Ok(Box::new(ExactFlow::new(m)?)),
+            }
         }
+    }
+
+    pub fn integrator_name(&self) -> &'static str {
+        match self.integrator {
+            Integrator::Exact => "exact",
+        }
+    }
+}
+
+/// Parse START:STOP:STEP into the list of frequencies.
+pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
+    let parts: Vec<&str> = text.split(':').collect();
+    let num = |s: &str, what: &str| -> anyhow::Result<f64> {
+        s.trim().parse::<f64>().map_err(|_| {
+            anyhow::anyhow!(
+                "{flag} '{text}': {what} '{s}' is not a number; expected START:STOP:STEP"
+            )
+        })
+    };
+    match parts.as_slice() {
+        [one] => {
+            let w = num(one, "value")?;
+            Ok(geardyn::sim::frequency_range(w, w, 1.0)?)
+        }
+        [a, b, c] => Ok(geardyn::sim::frequency_range(
+            num(a, "START")?,
+            num(b, "STOP")?,
+            num(c, "STEP")?,
+        )?),
+        _ => anyhow::bail!("{flag} '{text}': expected START:STOP:STEP, e.g. 0.3:1.5:0.01"),
     }
 }
 

@@ -1,9 +1,13 @@
 //! Command definitions (design.md section 3) and dispatch.
 
 mod attractors;
+mod basins;
 mod common;
 mod progress_bar;
+mod response_plot;
 mod simulate;
+mod simulate_figures;
+mod sweep;
 
 use clap::{Parser, Subcommand};
 
@@ -21,6 +25,10 @@ enum Command {
     Simulate(simulate::Args),
     /// Every coexisting steady state from a grid of initial conditions, with basin fractions.
     Attractors(attractors::Args),
+    /// Basins of attraction over a grid of initial conditions (CSV, JSON, PNG and SVG map).
+    Basins(basins::Args),
+    /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
+    Sweep(sweep::Args),
 }
 
 /// Run the parsed command.
@@ -28,5 +36,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
     match cli.command {
         Command::Simulate(a) => simulate::run(a),
         Command::Attractors(a) => attractors::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Basins(a) => basins::run(a),
     }
 }

@@ -1,6 +1,6 @@
 //! `geardyn simulate`: the steady state from one initial condition.
 
-use super::common::{print_json, ModelArgs, SolverArgs};
+use super::common::{print_json, print_text, ModelArgs, SolverArgs};
 use clap::Args as ClapArgs;
 use geardyn::sim::steady_state;
 use serde_json::json;
@@ -26,6 +26,9 @@ pub struct Args {
     /// Print the result as JSON.
     #[arg(long)]
     json: bool,
+    /// Also write time history, phase plane and Poincare map (CSV, PNG, SVG) into this folder.
+    #[arg(long)]
+    out: Option<std::path::PathBuf>,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -34,6 +37,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let mut opts = a.solver.options()?;
     opts.lyapunov = a.lyapunov;
     let s = steady_state(flow.as_ref(), [a.q0, a.v0], &opts)?;
+    let written = match &a.out {
+        Some(dir) => {
+            let caption = format!(
+                "F_m = {}, F_ah = {}, zeta = {}, Omega_h = {}, q(0) = {}, q'(0) = {}",
+                a.model.fm, a.model.fah, a.model.zeta, a.omega, a.q0, a.v0
+            );
+            super::simulate_figures::write(flow.as_ref(), &s, &caption, dir)?
+        }
+        None => Vec::new(),
+    };
+    for p in &written {
+        eprintln!("wrote {}", p.display());
+    }
     if a.json {
         print_json(&json!({
             "period": s.period,
@@ -54,8 +70,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega, "q0": a.q0, "v0": a.v0},
         }))?;
     } else {
-        println!(
-            "period {} ({:?}), impact {} (case {}), qa {:.6}, qm {:.6}, pp DTE {:.6}{}",
+        print_text(&format!(
+            "period {} ({:?}), impact {} (case {}), qa {:.6}, qm {:.6}, pp DTE {:.6}{}\n",
             s.period.map_or("none".to_string(), |p| p.to_string()),
             s.motion,
             s.impact.name(),
@@ -63,8 +79,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s.qa,
             s.qm,
             s.dte_pp,
-            s.lyapunov.map_or(String::new(), |l| format!(", lyapunov {l:.5}"))
-        );
+            s.lyapunov
+                .map_or(String::new(), |l| format!(", lyapunov {l:.5}"))
+        ))?;
     }
     Ok(())
 }

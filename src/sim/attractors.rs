@@ -158,16 +158,34 @@ pub fn same_attractor(a: &SteadyState, b: &SteadyState) -> bool {
 /// of them within 2% of b's extent from one of b's points. Distinct coexisting attractors are
 /// separated in the section, so their points are not near each other.
 fn clouds_overlap(a: &SteadyState, b: &SteadyState) -> bool {
-    let pa = if a.cloud.is_empty() { &a.poincare } else { &a.cloud };
-    let pb = if b.cloud.is_empty() { &b.poincare } else { &b.cloud };
+    let pa = if a.cloud.is_empty() {
+        &a.poincare
+    } else {
+        &a.cloud
+    };
+    let pb = if b.cloud.is_empty() {
+        &b.poincare
+    } else {
+        &b.cloud
+    };
     if pa.is_empty() || pb.is_empty() {
         return false;
     }
-    let (lo, hi) = pb.iter().fold(([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]), |(lo, hi), p| {
-        ([lo[0].min(p[0]), lo[1].min(p[1])], [hi[0].max(p[0]), hi[1].max(p[1])])
-    });
+    let (lo, hi) = pb.iter().fold(
+        ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]),
+        |(lo, hi), p| {
+            (
+                [lo[0].min(p[0]), lo[1].min(p[1])],
+                [hi[0].max(p[0]), hi[1].max(p[1])],
+            )
+        },
+    );
     let tol = SAME_CHAOS_TOL * distance(lo, hi).max(1e-12);
-    let sample: Vec<State> = pa.iter().copied().step_by((pa.len() / 200).max(1)).collect();
+    let sample: Vec<State> = pa
+        .iter()
+        .copied()
+        .step_by((pa.len() / 200).max(1))
+        .collect();
     let near = sample
         .iter()
         .filter(|x| pb.iter().any(|y| distance(**x, *y) <= tol))

@@ -329,7 +329,6 @@ fn excluded(x: Sample, w: f64, (m2, m3): (f64, f64), dir: f64) -> bool {
     true
 }
 
-
 /// The exact piecewise-linear period map of eq. 3a for k(t) = 1 (the paper's model, with any
 /// number of STE and external torque harmonics).
 #[derive(Clone, Debug)]

@@ -20,16 +20,32 @@ impl IcGrid {
     /// Validated grid.
     pub fn new(lo: f64, hi: f64, n: usize) -> Result<Self> {
         if !(lo.is_finite() && hi.is_finite()) {
-            return Err(GearError::param("ic-grid", if lo.is_finite() { hi } else { lo }, "grid bounds must be finite"));
+            return Err(GearError::param(
+                "ic-grid",
+                if lo.is_finite() { hi } else { lo },
+                "grid bounds must be finite",
+            ));
         }
         if hi < lo {
-            return Err(GearError::param("ic-grid", hi, "upper bound must be >= lower bound"));
+            return Err(GearError::param(
+                "ic-grid",
+                hi,
+                "upper bound must be >= lower bound",
+            ));
         }
         if n == 0 {
-            return Err(GearError::param("ic-grid", 0.0, "the grid needs at least 1 point per axis"));
+            return Err(GearError::param(
+                "ic-grid",
+                0.0,
+                "the grid needs at least 1 point per axis",
+            ));
         }
         if n > 4001 {
-            return Err(GearError::param("ic-grid", n as f64, "at most 4001 points per axis"));
+            return Err(GearError::param(
+                "ic-grid",
+                n as f64,
+                "at most 4001 points per axis",
+            ));
         }
         Ok(IcGrid { lo, hi, n })
     }
@@ -37,13 +53,26 @@ impl IcGrid {
     /// Parse "LO:HI:N" as used on the command line.
     pub fn parse(text: &str) -> Result<Self> {
         let parts: Vec<&str> = text.split(':').collect();
-        let bad = |what: &'static str| GearError::Unsupported(format!("--ic-grid '{text}': {what}; expected LO:HI:N, e.g. -2:2:21"));
+        let bad = |what: &'static str| {
+            GearError::Unsupported(format!(
+                "--ic-grid '{text}': {what}; expected LO:HI:N, e.g. -2:2:21"
+            ))
+        };
         if parts.len() != 3 {
             return Err(bad("three fields separated by ':' are required"));
         }
-        let lo: f64 = parts[0].trim().parse().map_err(|_| bad("LO is not a number"))?;
-        let hi: f64 = parts[1].trim().parse().map_err(|_| bad("HI is not a number"))?;
-        let n: usize = parts[2].trim().parse().map_err(|_| bad("N is not a whole number >= 1"))?;
+        let lo: f64 = parts[0]
+            .trim()
+            .parse()
+            .map_err(|_| bad("LO is not a number"))?;
+        let hi: f64 = parts[1]
+            .trim()
+            .parse()
+            .map_err(|_| bad("HI is not a number"))?;
+        let n: usize = parts[2]
+            .trim()
+            .parse()
+            .map_err(|_| bad("N is not a whole number >= 1"))?;
         IcGrid::new(lo, hi, n)
     }
 
@@ -59,14 +88,18 @@ impl IcGrid {
     /// All grid points, v0 outer and q0 inner (row 0 = lowest v0), as in the basin maps.
     pub fn points(&self) -> Vec<State> {
         let ax = self.axis();
-        ax.iter().flat_map(|&v| ax.iter().map(move |&q| [q, v])).collect()
+        ax.iter()
+            .flat_map(|&v| ax.iter().map(move |&q| [q, v]))
+            .collect()
     }
 
     /// Indices of a coarse sub-grid of about `per_axis` points per axis (used to seed attractors).
     pub fn coarse_indices(&self, per_axis: usize) -> Vec<usize> {
         let stride = self.n.div_ceil(per_axis.max(1)).max(1);
         let idx: Vec<usize> = (0..self.n).step_by(stride).collect();
-        idx.iter().flat_map(|&j| idx.iter().map(move |&i| j * self.n + i)).collect()
+        idx.iter()
+            .flat_map(|&j| idx.iter().map(move |&i| j * self.n + i))
+            .collect()
     }
 }
 

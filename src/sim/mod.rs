@@ -9,6 +9,8 @@ mod ic_grid;
 mod lyapunov;
 mod period;
 mod steady;
+mod sweep;
+mod trajectory;
 
 pub use attractors::{find_attractors, same_attractor, Attractor, AttractorMap};
 pub use exact::ExactFlow;
@@ -18,3 +20,5 @@ pub use ic_grid::IcGrid;
 pub use lyapunov::largest_lyapunov;
 pub use period::{detect_period, eigenvalues2, monodromy, refine_orbit, PeriodicOrbit, MAX_PERIOD};
 pub use steady::{default_transient, steady_state, Motion, SteadyOptions, SteadyState};
+pub use sweep::{frequency_range, sweep, Branch, FlowFactory, SweepPlan, SweepPoint};
+pub use trajectory::{sample_trajectory, Sample};

@@ -28,7 +28,8 @@ pub fn scale(points: &[State]) -> f64 {
 pub fn detect_period(points: &[State], max_period: u32, tol: f64) -> Option<u32> {
     (1..=max_period).find(|&p| {
         let p = p as usize;
-        points.len() >= 3 * p && (0..points.len() - p).all(|k| distance(points[k], points[k + p]) <= tol)
+        points.len() >= 3 * p
+            && (0..points.len() - p).all(|k| distance(points[k], points[k + p]) <= tol)
     })
 }
 
@@ -70,7 +71,11 @@ pub fn eigenvalues2(m: &Matrix2<f64>) -> [(f64, f64); 2] {
 }
 
 /// Map x through p periods, returning the image and the monodromy matrix.
-pub fn monodromy<F: PeriodFlow + ?Sized>(flow: &F, x: State, p: u32) -> Result<(State, Matrix2<f64>)> {
+pub fn monodromy<F: PeriodFlow + ?Sized>(
+    flow: &F,
+    x: State,
+    p: u32,
+) -> Result<(State, Matrix2<f64>)> {
     let mut phi = Matrix2::identity();
     let mut y = x;
     for _ in 0..p {
@@ -82,7 +87,11 @@ pub fn monodromy<F: PeriodFlow + ?Sized>(flow: &F, x: State, p: u32) -> Result<(
 /// Newton's method on Phi^p(x) = x with the exact monodromy (shooting). Returns None when it does
 /// not converge to a relative residual of 1e-12 within a few iterations (then x is not close to a
 /// period-p orbit, or the orbit is grazing a boundary).
-pub fn refine_orbit<F: PeriodFlow + ?Sized>(flow: &F, x0: State, p: u32) -> Result<Option<PeriodicOrbit>> {
+pub fn refine_orbit<F: PeriodFlow + ?Sized>(
+    flow: &F,
+    x0: State,
+    p: u32,
+) -> Result<Option<PeriodicOrbit>> {
     let mut x = x0;
     for _ in 0..12 {
         let (y, m) = monodromy(flow, x, p)?;

@@ -96,7 +96,8 @@ pub struct SteadyState {
 impl SteadyState {
     /// True when the orbit is periodic with all multipliers inside the unit circle.
     pub fn is_stable_periodic(&self) -> bool {
-        self.floquet.is_some_and(|m| m.iter().all(|(r, i)| r.hypot(*i) < 1.0))
+        self.floquet
+            .is_some_and(|m| m.iter().all(|(r, i)| r.hypot(*i) < 1.0))
     }
 }
 
@@ -110,7 +111,11 @@ const NEAR_TOL: f64 = 1e-4;
 const EXTENSION: usize = 8;
 
 /// Integrate from `x0` to the steady state and analyse it.
-pub fn steady_state<F: PeriodFlow + ?Sized>(flow: &F, x0: State, opts: &SteadyOptions) -> Result<SteadyState> {
+pub fn steady_state<F: PeriodFlow + ?Sized>(
+    flow: &F,
+    x0: State,
+    opts: &SteadyOptions,
+) -> Result<SteadyState> {
     match steady_state_watched::<F, ()>(flow, x0, opts, &mut |_| Ok(None))? {
         Watched::Steady(s) => Ok(s),
         Watched::Stopped(()) => unreachable_stop(),
@@ -118,7 +123,9 @@ pub fn steady_state<F: PeriodFlow + ?Sized>(flow: &F, x0: State, opts: &SteadyOp
 }
 
 fn unreachable_stop() -> Result<SteadyState> {
-    Err(GearError::Numerical("internal: a no-op watcher stopped the transient".into()))
+    Err(GearError::Numerical(
+        "internal: a no-op watcher stopped the transient".into(),
+    ))
 }
 
 /// Outcome of a watched steady-state computation.
@@ -167,8 +174,11 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
         // Newton is tried once the points repeat tightly, and every few periods while they
         // repeat loosely: a slowly contracting orbit (multiplier near +-1) is then found by
         // shooting instead of waiting for the transient to die out.
-        let candidate = settled_period(&history, SETTLE_TOL)
-            .or_else(|| (used % 8 == 0).then(|| settled_period(&history, NEAR_TOL)).flatten());
+        let candidate = settled_period(&history, SETTLE_TOL).or_else(|| {
+            (used % 8 == 0)
+                .then(|| settled_period(&history, NEAR_TOL))
+                .flatten()
+        });
         if let Some(p) = candidate {
             if let Some(o) = refine_orbit(flow, x, p)? {
                 if o.spectral_radius() < 1.0 {
@@ -180,7 +190,10 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
         }
         // A slowly contracting orbit (multiplier near 1) that is periodic to 1e-4 but not yet to
         // 1e-9 gets more time rather than being reported as aperiodic.
-        if used == limit && limit < EXTENSION * transient && settled_period(&history, NEAR_TOL).is_some() {
+        if used == limit
+            && limit < EXTENSION * transient
+            && settled_period(&history, NEAR_TOL).is_some()
+        {
             limit += transient;
         }
     }
@@ -221,7 +234,11 @@ fn analyse<F: PeriodFlow + ?Sized>(
     let sc = scale(&points);
     let mut period = match &orbit {
         Some(o) => Some(o.period),
-        None => detect_period(&points, MAX_PERIOD.min(keep as u32 / 2).max(1), REPEAT_TOL * sc),
+        None => detect_period(
+            &points,
+            MAX_PERIOD.min(keep as u32 / 2).max(1),
+            REPEAT_TOL * sc,
+        ),
     };
     // A periodic orbit is fully described by p periods; otherwise analyse all kept periods.
     let mut orbit = match (orbit, period) {
@@ -256,7 +273,9 @@ fn analyse<F: PeriodFlow + ?Sized>(
         (Some(o), _) if opts.lyapunov => {
             Some(o.spectral_radius().ln() / (o.period as f64 * flow.period()))
         }
-        (None, None) => Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?.0),
+        (None, None) => {
+            Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?.0)
+        }
         (None, Some(_)) if opts.lyapunov => {
             Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, None)?.0)
         }
@@ -292,10 +311,18 @@ fn analyse<F: PeriodFlow + ?Sized>(
 
 fn check_state(x: State) -> Result<()> {
     if !x[0].is_finite() {
-        return Err(GearError::param("q0", x[0], "initial displacement must be finite"));
+        return Err(GearError::param(
+            "q0",
+            x[0],
+            "initial displacement must be finite",
+        ));
     }
     if !x[1].is_finite() {
-        return Err(GearError::param("v0", x[1], "initial velocity must be finite"));
+        return Err(GearError::param(
+            "v0",
+            x[1],
+            "initial velocity must be finite",
+        ));
     }
     Ok(())
 }
@@ -322,7 +349,12 @@ mod tests {
         assert!((s.qm - (1.0 + fm)).abs() < 1e-10);
         // x = q + e/b has the transfer (1 + 2 i zeta w) / (1 - w^2 + 2 i zeta w) times F_ah.
         let xa = fah * (1.0 + (2.0 * zeta * om).powi(2)).sqrt() / d;
-        assert!((s.dte_pp - 2.0 * xa).abs() < 1e-9, "{} vs {}", s.dte_pp, 2.0 * xa);
+        assert!(
+            (s.dte_pp - 2.0 * xa).abs() < 1e-9,
+            "{} vs {}",
+            s.dte_pp,
+            2.0 * xa
+        );
         // Floquet multipliers of a linear oscillator: |mu| = e^{-zeta T}.
         let rho = (-zeta * m.period()).exp();
         for (re, im) in s.floquet.unwrap() {

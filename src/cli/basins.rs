@@ -1,0 +1,118 @@
+//! `geardyn basins`: the map of which steady state each initial condition reaches (Figs 3, 6, 14).
+
+use super::common::{print_text, write_text, ModelArgs, SolverArgs};
+use super::progress_bar::Bar;
+use clap::Args as ClapArgs;
+use geardyn::plot::{write_category_map, CategoryMap};
+use geardyn::sim::{find_attractors, IcGrid};
+use serde_json::json;
+use std::path::PathBuf;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Mesh (excitation) frequency Omega_h.
+    #[arg(long, allow_hyphen_values = true)]
+    omega: f64,
+    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis).
+    #[arg(long, default_value = "-2:2:101", allow_hyphen_values = true)]
+    ic_grid: String,
+    #[command(flatten)]
+    solver: SolverArgs,
+    /// Output folder for basins.csv, attractors.json and the basin map (PNG + SVG).
+    #[arg(long)]
+    out: PathBuf,
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let grid = IcGrid::parse(&a.ic_grid)?;
+    let model = a.model.model(a.omega)?;
+    let flow = a.solver.flow(&model)?;
+    let opts = a.solver.options()?;
+    let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
+
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "q0",
+        "v0",
+        "attractor",
+        "period",
+        "impact",
+        "motion",
+        "qa",
+        "qm",
+    ])?;
+    for (x, &l) in grid.points().iter().zip(&map.labels) {
+        let s = &map.attractors[l].steady;
+        w.write_record([
+            format!("{}", x[0]),
+            format!("{}", x[1]),
+            l.to_string(),
+            s.period.map_or(String::new(), |p| p.to_string()),
+            s.impact.name().to_string(),
+            format!("{:?}", s.motion).to_lowercase(),
+            format!("{:.8}", s.qa),
+            format!("{:.8}", s.qm),
+        ])?;
+    }
+    let csv_text = String::from_utf8(w.into_inner()?)?;
+    let legend: Vec<String> = map
+        .attractors
+        .iter()
+        .enumerate()
+        .map(|(i, at)| {
+            let s = &at.steady;
+            format!(
+                "#{i} {} {} impact, q_a {:.3} ({:.1}%)",
+                s.period
+                    .map_or("non-periodic".to_string(), |p| format!("period-{p}")),
+                s.impact.name(),
+                s.qa,
+                100.0 * at.basin_fraction
+            )
+        })
+        .collect();
+    let summary = json!({
+        "attractors": map.attractors.iter().map(|at| json!({
+            "period": at.steady.period, "motion": at.steady.motion, "impact": at.steady.impact,
+            "qa": at.steady.qa, "qm": at.steady.qm, "basin_fraction": at.basin_fraction,
+            "basin_count": at.basin_count, "example_ic": at.example_ic, "poincare": at.steady.poincare,
+            "lyapunov": at.steady.lyapunov, "floquet": at.steady.floquet,
+        })).collect::<Vec<_>>(),
+        "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
+        "integrator": flow.method(),
+        "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
+    });
+    let cat = CategoryMap {
+        title: format!("Domains of attraction, Omega_h = {}", a.omega),
+        caption: Some(format!(
+            "F_m = {}, F_ah = {}, zeta = {}, {}x{} initial conditions",
+            a.model.fm, a.model.fah, a.model.zeta, grid.n, grid.n
+        )),
+        x_label: "q(0)".into(),
+        y_label: "q'(0)".into(),
+        x: (grid.lo, grid.hi, grid.n),
+        y: (grid.lo, grid.hi, grid.n),
+        cells: map.labels.iter().map(|&l| Some(l)).collect(),
+        legend,
+    };
+    // Everything is computed before the first file is written.
+    let mut written = write_category_map(&cat, &a.out.join("basins"))?;
+    write_text(&a.out.join("basins.csv"), &csv_text)?;
+    write_text(
+        &a.out.join("attractors.json"),
+        &serde_json::to_string_pretty(&summary)?,
+    )?;
+    written.push(a.out.join("basins.csv"));
+    written.push(a.out.join("attractors.json"));
+    let mut text = String::new();
+    for line in &cat.legend {
+        text.push_str(line);
+        text.push('\n');
+    }
+    for p in written {
+        text.push_str(&format!("wrote {}\n", p.display()));
+    }
+    print_text(&text)
+}

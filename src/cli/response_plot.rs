@@ -1,0 +1,83 @@
+//! CSV table and q_a / q_m plot of a set of frequency-response points (sweeps).
+
+use geardyn::model::Impact;
+use geardyn::plot::{write_panels, Marker, Series, XyPlot};
+use geardyn::sim::SweepPoint;
+use std::path::{Path, PathBuf};
+
+/// The sweep CSV: `omega,qa,qm,case,period,impact,...` (design.md section 3).
+pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "omega",
+        "qa",
+        "qm",
+        "case",
+        "period",
+        "impact",
+        "motion",
+        "branch",
+        "basin_fraction",
+        "q_min",
+        "q_max",
+        "dte_pp",
+        "dl_max",
+        "lyapunov",
+    ])?;
+    let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.10}"));
+    for p in points {
+        let s = &p.steady;
+        w.write_record([
+            format!("{}", p.omega),
+            format!("{:.10}", s.qa),
+            format!("{:.10}", s.qm),
+            s.impact.case().to_string(),
+            s.period.map_or(String::new(), |k| k.to_string()),
+            s.impact.name().to_string(),
+            format!("{:?}", s.motion).to_lowercase(),
+            p.branch.name().to_string(),
+            opt(p.basin_fraction),
+            format!("{:.10}", s.q_min),
+            format!("{:.10}", s.q_max),
+            format!("{:.10}", s.dte_pp),
+            opt(s.dl_max),
+            opt(s.lyapunov),
+        ])?;
+    }
+    Ok(String::from_utf8(w.into_inner()?)?)
+}
+
+/// Two panels, q_a and q_m versus Omega, one marker series per impact case (as Fig. 10).
+pub fn write_response_plot(
+    points: &[SweepPoint],
+    title: &str,
+    caption: &str,
+    stem: &Path,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let panel = |label: &str, pick: fn(&SweepPoint) -> f64| {
+        let series = [Impact::None, Impact::Single, Impact::Double]
+            .iter()
+            .enumerate()
+            .map(|(i, &imp)| {
+                let pts = points
+                    .iter()
+                    .filter(|p| p.steady.impact == imp)
+                    .map(|p| (p.omega, pick(p)))
+                    .collect();
+                Series::markers(&format!("case {} ({} impact)", imp.case(), imp.name()), pts)
+                    .with_color(i)
+                    .with_marker([Marker::Square, Marker::Triangle, Marker::Circle][i])
+            })
+            .collect();
+        XyPlot {
+            title: label.to_string(),
+            caption: Some(caption.to_string()),
+            x_label: "Omega_h".into(),
+            y_label: label.into(),
+            series,
+            ..XyPlot::default()
+        }
+    };
+    let panels = [panel("q_a", |p| p.steady.qa), panel("q_m", |p| p.steady.qm)];
+    Ok(write_panels(title, &panels, 2, stem)?)
+}

@@ -1,0 +1,97 @@
+//! `geardyn sweep`: steady states over a frequency range (carried up/down, or all attractors).
+
+use super::common::{parse_range, print_text, ModelArgs, SolverArgs};
+use super::progress_bar::Bar;
+use super::response_plot::{sweep_csv, write_response_plot};
+use clap::{Args as ClapArgs, ValueEnum};
+use geardyn::sim::{sweep, Branch, IcGrid, SweepPlan};
+use std::path::PathBuf;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    #[command(flatten)]
+    model: ModelArgs,
+    /// Frequency range START:STOP:STEP.
+    #[arg(long, allow_hyphen_values = true)]
+    omega: String,
+    /// up / down carry the last steady state (Fig. 13); all searches the IC grid at each Omega;
+    /// both runs up then down.
+    #[arg(long, value_enum, default_value_t = Direction::Up)]
+    direction: Direction,
+    /// Grid of initial conditions for --direction all: LO:HI:N.
+    #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
+    ic_grid: String,
+    /// Initial q of a carried sweep (default: static equilibrium 1 + F_m).
+    #[arg(long, allow_hyphen_values = true)]
+    q0: Option<f64>,
+    /// Initial q' of a carried sweep.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    v0: f64,
+    #[command(flatten)]
+    solver: SolverArgs,
+    /// Output format on standard output.
+    #[arg(long, value_enum, default_value_t = Format::Csv)]
+    format: Format,
+    /// Folder for the plot (PNG + SVG) and a copy of the CSV.
+    #[arg(long, default_value = "reports/sweep")]
+    out: PathBuf,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum Direction {
+    Up,
+    Down,
+    All,
+    Both,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum Format {
+    Csv,
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let omegas = parse_range("--omega", &a.omega)?;
+    let grid = IcGrid::parse(&a.ic_grid)?;
+    let model = a.model.model(omegas[0])?;
+    let opts = a.solver.options()?;
+    let factory = a.solver.factory();
+    let branches: &[Branch] = match a.direction {
+        Direction::Up => &[Branch::Up],
+        Direction::Down => &[Branch::Down],
+        Direction::All => &[Branch::All],
+        Direction::Both => &[Branch::Up, Branch::Down],
+    };
+    let mut points = Vec::new();
+    for &branch in branches {
+        let plan = SweepPlan {
+            omegas: omegas.clone(),
+            branch,
+            x0: [a.q0.unwrap_or(1.0 + a.model.fm), a.v0],
+            grid,
+            opts: opts.clone(),
+        };
+        points.extend(sweep(&factory, &model, &plan, &Bar::new())?);
+    }
+    let csv = sweep_csv(&points)?;
+    let caption = format!(
+        "F_m = {}, F_ah = {}, zeta = {}, sweep {:?}, integrator {}",
+        a.model.fm,
+        a.model.fah,
+        a.model.zeta,
+        a.direction,
+        a.solver.integrator_name()
+    );
+    let written = write_response_plot(
+        &points,
+        "Frequency response (digital simulation)",
+        &caption,
+        &a.out.join("sweep"),
+    )?;
+    super::common::write_text(&a.out.join("sweep.csv"), &csv)?;
+    print_text(&csv)?;
+    for p in written {
+        eprintln!("wrote {}", p.display());
+    }
+    Ok(())
+}

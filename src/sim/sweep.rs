@@ -1,0 +1,166 @@
+//! Frequency sweeps (Sec. 5): up or down carrying the last steady state to the next frequency
+//! (the procedure behind Fig. 13, which finds one branch only), or every attractor at each
+//! frequency from a grid of initial conditions.
+
+use super::attractors::find_attractors;
+use super::flow::{PeriodFlow, State};
+use super::ic_grid::IcGrid;
+use super::steady::{steady_state, SteadyOptions, SteadyState};
+use crate::error::{GearError, Result};
+use crate::model::GearPair;
+use crate::progress::Progress;
+use serde::Serialize;
+
+/// How the initial condition at each frequency is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Branch {
+    /// Increasing Omega, each start from the previous steady state.
+    Up,
+    /// Decreasing Omega, each start from the previous steady state.
+    Down,
+    /// Every attractor found from the grid of initial conditions.
+    All,
+}
+
+impl Branch {
+    /// Name used in CSV output.
+    pub fn name(self) -> &'static str {
+        match self {
+            Branch::Up => "up",
+            Branch::Down => "down",
+            Branch::All => "all",
+        }
+    }
+}
+
+/// One steady state of a sweep.
+#[derive(Clone, Debug, Serialize)]
+pub struct SweepPoint {
+    /// Excitation frequency.
+    pub omega: f64,
+    /// How it was found.
+    pub branch: Branch,
+    /// The steady state.
+    pub steady: SteadyState,
+    /// Share of the initial-condition grid reaching it (all-attractor sweeps only).
+    pub basin_fraction: Option<f64>,
+}
+
+/// Builds the period map for the model at one frequency (exact or Runge-Kutta).
+pub type FlowFactory<'a> = &'a (dyn Fn(&GearPair) -> Result<Box<dyn PeriodFlow>> + Sync);
+
+/// Frequencies START, START+STEP, ..., up to STOP (inclusive within rounding).
+pub fn frequency_range(start: f64, stop: f64, step: f64) -> Result<Vec<f64>> {
+    if !(start.is_finite() && start > 0.0) {
+        return Err(GearError::param(
+            "omega",
+            start,
+            "start frequency must be finite and > 0",
+        ));
+    }
+    if !(stop.is_finite() && stop >= start) {
+        return Err(GearError::param(
+            "omega",
+            stop,
+            "stop frequency must be finite and >= start",
+        ));
+    }
+    if !(step.is_finite() && step > 0.0) {
+        return Err(GearError::param(
+            "omega",
+            step,
+            "frequency step must be finite and > 0",
+        ));
+    }
+    let n = ((stop - start) / step + 1e-9).floor() as usize + 1;
+    if n > 100_000 {
+        return Err(GearError::param(
+            "omega",
+            n as f64,
+            "at most 100000 frequencies per sweep",
+        ));
+    }
+    Ok((0..n).map(|i| start + i as f64 * step).collect())
+}
+
+/// What a sweep covers and how each frequency is started.
+#[derive(Clone, Debug)]
+pub struct SweepPlan {
+    /// Frequencies in increasing order.
+    pub omegas: Vec<f64>,
+    /// Carried up, carried down, or every attractor.
+    pub branch: Branch,
+    /// Initial state of a carried sweep at its first frequency.
+    pub x0: State,
+    /// Initial conditions searched at each frequency by an all-attractor sweep.
+    pub grid: IcGrid,
+    /// Steady-state options.
+    pub opts: SteadyOptions,
+}
+
+/// Sweep `model` over the plan's frequencies along its branch.
+pub fn sweep(
+    factory: FlowFactory<'_>,
+    model: &GearPair,
+    plan: &SweepPlan,
+    progress: &dyn Progress,
+) -> Result<Vec<SweepPoint>> {
+    let mut out = Vec::new();
+    match plan.branch {
+        Branch::Up | Branch::Down => {
+            progress.start(plan.omegas.len() as u64, "frequencies");
+            let mut ordered = plan.omegas.clone();
+            if plan.branch == Branch::Down {
+                ordered.reverse();
+            }
+            let mut x = plan.x0;
+            for om in ordered {
+                let flow = factory(&model.at_omega(om)?)?;
+                let steady = steady_state(flow.as_ref(), x, &plan.opts)?;
+                // Carry the phase-0 state of this steady state to the next frequency.
+                if let Some(p) = steady.poincare.first() {
+                    x = *p;
+                }
+                out.push(SweepPoint {
+                    omega: om,
+                    branch: plan.branch,
+                    steady,
+                    basin_fraction: None,
+                });
+                progress.advance(1);
+            }
+            progress.finish();
+        }
+        Branch::All => {
+            for &om in &plan.omegas {
+                let flow = factory(&model.at_omega(om)?)?;
+                let map = find_attractors(flow.as_ref(), &plan.grid, &plan.opts, progress)?;
+                out.extend(map.attractors.into_iter().map(|a| SweepPoint {
+                    omega: om,
+                    branch: Branch::All,
+                    steady: a.steady,
+                    basin_fraction: Some(a.basin_fraction),
+                }));
+            }
+        }
+    }
+    out.sort_by(|a, b| a.omega.total_cmp(&b.omega));
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn range_is_inclusive_and_validated() {
+        let r = frequency_range(0.3, 1.5, 0.1).unwrap();
+        assert_eq!(r.len(), 13);
+        assert!((r[12] - 1.5).abs() < 1e-12);
+        assert!(frequency_range(0.0, 1.0, 0.1).is_err());
+        assert!(frequency_range(1.0, 0.5, 0.1).is_err());
+        assert!(frequency_range(0.5, 1.0, 0.0).is_err());
+        assert!(frequency_range(0.5, 1.0, f64::NAN).is_err());
+    }
+}

@@ -1,0 +1,161 @@
+//! Bad input gets one clear error, a non-zero exit status and never a panic.
+
+mod common;
+use common::geardyn;
+
+fn fails_cleanly(args: &[&str], needle: &str) {
+    let out = geardyn(args);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{args:?} should fail");
+    assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+    assert!(
+        err.to_lowercase().contains(&needle.to_lowercase()),
+        "{args:?}: error '{err}' should mention '{needle}'"
+    );
+    assert!(out.stdout.is_empty(), "{args:?} wrote to stdout on error");
+}
+
+#[test]
+fn negative_damping() {
+    fails_cleanly(
+        &[
+            "simulate", "--fm", "0.1", "--fah", "0.2", "--zeta", "-0.02", "--omega", "0.5",
+            "--json",
+        ],
+        "zeta",
+    );
+}
+
+#[test]
+fn zero_frequency() {
+    fails_cleanly(
+        &[
+            "simulate", "--fm", "0.1", "--fah", "0.2", "--zeta", "0.02", "--omega", "0", "--json",
+        ],
+        "omega",
+    );
+}
+
+#[test]
+fn nan_parameters() {
+    fails_cleanly(
+        &[
+            "simulate", "--fm", "NaN", "--fah", "0.2", "--zeta", "0.02", "--omega", "0.5",
+        ],
+        "F_m",
+    );
+    fails_cleanly(
+        &[
+            "simulate", "--fm", "0.1", "--fah", "0.2", "--zeta", "0.02", "--omega", "0.5", "--q0",
+            "nan",
+        ],
+        "q0",
+    );
+    fails_cleanly(
+        &[
+            "attractors",
+            "--fm",
+            "0.1",
+            "--fah",
+            "inf",
+            "--zeta",
+            "0.02",
+            "--omega",
+            "0.5",
+        ],
+        "F_ah",
+    );
+}
+
+#[test]
+fn empty_ic_grid() {
+    fails_cleanly(
+        &[
+            "attractors",
+            "--fm",
+            "0.1",
+            "--fah",
+            "0.2",
+            "--zeta",
+            "0.02",
+            "--omega",
+            "0.5",
+            "--ic-grid",
+            "-2:2:0",
+            "--json",
+        ],
+        "ic-grid",
+    );
+    fails_cleanly(
+        &[
+            "attractors",
+            "--fm",
+            "0.1",
+            "--fah",
+            "0.2",
+            "--zeta",
+            "0.02",
+            "--omega",
+            "0.5",
+            "--ic-grid",
+            "-2:2",
+            "--json",
+        ],
+        "ic-grid",
+    );
+}
+
+#[test]
+fn bad_sweep_range() {
+    fails_cleanly(
+        &[
+            "sweep",
+            "--fm",
+            "0.1",
+            "--fah",
+            "0.2",
+            "--zeta",
+            "0.02",
+            "--omega",
+            "1.5:0.3:0.1",
+        ],
+        "omega",
+    );
+    fails_cleanly(
+        &[
+            "sweep",
+            "--fm",
+            "0.1",
+            "--fah",
+            "0.2",
+            "--zeta",
+            "0.02",
+            "--omega",
+            "0.3:1.5:0",
+        ],
+        "omega",
+    );
+    fails_cleanly(
+        &[
+            "sweep", "--fm", "0.1", "--fah", "0.2", "--zeta", "0.02", "--omega", "a:b:c",
+        ],
+        "omega",
+    );
+}
+
+#[test]
+fn missing_parameter_and_unknown_flag() {
+    fails_cleanly(
+        &[
+            "simulate", "--fm", "0.1", "--zeta", "0.02", "--omega", "0.5",
+        ],
+        "--fah",
+    );
+    fails_cleanly(
+        &[
+            "simulate", "--fm", "0.1", "--fah", "0.2", "--zeta", "0.02", "--omega", "0.5",
+            "--bogus",
+        ],
+        "bogus",
+    );
+}

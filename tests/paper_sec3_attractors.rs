@@ -1,0 +1,146 @@
+//! The paper's Sec. 3 findings (digital simulation, F_m = 0.1, zeta = 0.02, ICs in [-2, 2]^2),
+//! checked through the command line as a user runs it. Where geardyn finds more than the paper
+//! reports, the test pins what geardyn finds (see REPRODUCTION notes in the README).
+
+mod common;
+use common::{attractors, kinds, with_period};
+
+const GRID: &str = "-2:2:21";
+
+#[test]
+fn fhat_half_omega_03_has_one_period_one_attractor() {
+    let a = attractors(0.1, 0.2, 0.02, 0.3, GRID, &[]);
+    assert_eq!(kinds(&a), vec![(1, "none".to_string())]);
+    // No tooth separation: the linear solution of eq. 13 holds exactly.
+    let om: f64 = 0.3;
+    let qa = 0.2 * om * om / ((1.0 - om * om).powi(2) + (0.04 * om).powi(2)).sqrt();
+    assert!((a[0]["qa"].as_f64().unwrap() - qa).abs() < 1e-8);
+    assert!((a[0]["qm"].as_f64().unwrap() - 1.1).abs() < 1e-8);
+    assert!((a[0]["basin_fraction"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+}
+
+#[test]
+fn fhat_half_omega_05_has_three_period_one_attractors() {
+    let a = attractors(0.1, 0.2, 0.02, 0.5, GRID, &[]);
+    let k = kinds(&a);
+    assert_eq!(
+        k,
+        vec![
+            (1, "none".into()),
+            (1, "single".into()),
+            (1, "double".into())
+        ],
+        "Fig. 2(b), Fig. 3"
+    );
+    // Fig. 14(a): "almost half of the initial conditions define case III solutions".
+    let double = a[2]["basin_fraction"].as_f64().unwrap();
+    assert!((0.35..0.6).contains(&double), "double-sided basin {double}");
+}
+
+#[test]
+fn fhat_half_omega_06_has_two_period_one_attractors() {
+    let a = attractors(0.1, 0.2, 0.02, 0.6, GRID, &[]);
+    assert_eq!(kinds(&a), vec![(1, "single".into()), (1, "double".into())]);
+}
+
+#[test]
+fn fhat_half_omega_07_has_two_period_one_and_two_period_three() {
+    let a = attractors(0.1, 0.2, 0.02, 0.7, GRID, &[]);
+    assert_eq!(with_period(&a, 1).len(), 2, "{:?}", kinds(&a));
+    assert_eq!(with_period(&a, 3).len(), 2, "{:?}", kinds(&a));
+    assert_eq!(a.len(), 4);
+}
+
+#[test]
+fn fhat_half_omega_08_is_dominated_by_a_period_two_attractor() {
+    let a = attractors(0.1, 0.2, 0.02, 0.8, GRID, &[]);
+    let best = a
+        .iter()
+        .max_by(|x, y| {
+            x["basin_fraction"]
+                .as_f64()
+                .partial_cmp(&y["basin_fraction"].as_f64())
+                .unwrap()
+        })
+        .unwrap();
+    assert_eq!(best["period"].as_u64(), Some(2));
+    assert!(best["basin_fraction"].as_f64().unwrap() > 0.8);
+    // The paper reports only the period-2 orbit; geardyn also finds small-basin orbits
+    // (period-1 double-sided, a second period-2, period-6), confirmed with the DOP853 flow in
+    // tests/integrators_agree.rs.
+}
+
+#[test]
+fn fhat_half_omega_10_is_chaotic_with_positive_lyapunov_exponent() {
+    let a = attractors(0.1, 0.2, 0.02, 1.0, "-2:2:9", &[]);
+    let chaotic: Vec<_> = a.iter().filter(|x| x["motion"] == "chaotic").collect();
+    assert_eq!(chaotic.len(), 1, "{:?}", kinds(&a));
+    let c = chaotic[0];
+    assert!(c["period"].is_null());
+    assert_eq!(c["impact"], "double");
+    let lyap = c["lyapunov"].as_f64().unwrap();
+    assert!(lyap > 0.01, "largest Lyapunov exponent {lyap}");
+    assert!(c["basin_fraction"].as_f64().unwrap() > 0.8);
+}
+
+#[test]
+fn fhat_two_is_period_one_below_resonance() {
+    for om in [0.3, 0.5, 0.6, 0.7, 0.8, 0.9] {
+        let a = attractors(0.1, 0.05, 0.02, om, GRID, &[]);
+        assert!(
+            a.iter().all(|x| x["period"].as_u64() == Some(1)),
+            "Omega {om}: {:?}",
+            kinds(&a)
+        );
+    }
+}
+
+#[test]
+fn fhat_two_has_period_two_coexisting_with_period_one_above_resonance() {
+    for om in [1.0, 1.2, 1.5] {
+        let a = attractors(0.1, 0.05, 0.02, om, GRID, &[]);
+        assert!(
+            !with_period(&a, 1).is_empty(),
+            "Omega {om}: {:?}",
+            kinds(&a)
+        );
+        assert!(
+            !with_period(&a, 2).is_empty(),
+            "Omega {om}: {:?}",
+            kinds(&a)
+        );
+    }
+}
+
+#[test]
+fn fig8_damping_turns_chaos_into_period_eight_then_period_two() {
+    let a = attractors(0.1, 0.2, 0.05, 1.0, GRID, &[]);
+    assert!(!with_period(&a, 8).is_empty(), "zeta 0.05: {:?}", kinds(&a));
+    let b = attractors(0.1, 0.2, 0.1, 1.0, GRID, &[]);
+    assert_eq!(kinds(&b), vec![(2, "single".into())], "zeta 0.1");
+}
+
+#[test]
+fn fig7_load_turns_chaos_into_period_two_then_period_one() {
+    // F_ah = 0.2, zeta = 0.02, Omega = 1.0 (Fig. 4's frequency; Fig. 7 does not state it).
+    let dominant = |fm: f64| {
+        let a = attractors(fm, 0.2, 0.02, 1.0, "-2:2:11", &[]);
+        let best = a
+            .iter()
+            .max_by(|x, y| {
+                x["basin_fraction"]
+                    .as_f64()
+                    .partial_cmp(&y["basin_fraction"].as_f64())
+                    .unwrap()
+            })
+            .unwrap()
+            .clone();
+        (
+            best["motion"].as_str().unwrap().to_string(),
+            best["period"].as_u64(),
+        )
+    };
+    assert_eq!(dominant(0.1).0, "chaotic"); // F_hat = 0.5
+    assert_eq!(dominant(0.15).1, Some(2)); // F_hat = 0.75: the paper has chaos here
+    assert_eq!(dominant(0.3).1, Some(1)); // F_hat = 1.5
+}
