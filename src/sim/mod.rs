@@ -3,6 +3,13 @@
 
 mod exact;
 mod flow;
+mod rk;
+mod rk_flow;
 
 pub use exact::ExactFlow;
 pub use flow::{Observer, PeriodFlow, Piece, State};
+pub use rk::{
+    Crossing, DenseStep, Dop853, Dop853Options, Dop853Stats, EventFunction, FnEvent, LevelCrossing,
+    OdeSystem, Outcome,
+};
+pub use rk_flow::{RkFlow, ATOL_PER_RTOL};
