@@ -8,6 +8,8 @@ mod flow;
 mod ic_grid;
 mod lyapunov;
 mod period;
+mod rk;
+mod rk_flow;
 mod steady;
 mod sweep;
 mod trajectory;
@@ -19,6 +21,11 @@ pub use flow::{Observer, PeriodFlow, Piece, State};
 pub use ic_grid::IcGrid;
 pub use lyapunov::largest_lyapunov;
 pub use period::{detect_period, eigenvalues2, monodromy, refine_orbit, PeriodicOrbit, MAX_PERIOD};
+pub use rk::{
+    Crossing, DenseStep, Dop853, Dop853Options, Dop853Stats, EventFunction, FnEvent, LevelCrossing,
+    OdeSystem, Outcome,
+};
+pub use rk_flow::{RkFlow, ATOL_PER_RTOL};
 pub use steady::{default_transient, steady_state, Motion, SteadyOptions, SteadyState};
 pub use sweep::{frequency_range, sweep, Branch, FlowFactory, SweepPlan, SweepPoint};
 pub use trajectory::{sample_trajectory, Sample};
