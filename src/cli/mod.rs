@@ -2,6 +2,7 @@
 
 mod attractors;
 mod basins;
+mod bench;
 mod common;
 mod progress_bar;
 mod response_plot;
@@ -27,6 +28,8 @@ enum Command {
     Attractors(attractors::Args),
     /// Basins of attraction over a grid of initial conditions (CSV, JSON, PNG and SVG map).
     Basins(basins::Args),
+    /// Performance figures: one steady state per integrator and a basin map (README numbers).
+    Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
     Sweep(sweep::Args),
 }
@@ -38,5 +41,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Attractors(a) => attractors::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Basins(a) => basins::run(a),
+        Command::Bench(a) => bench::run(a),
     }
 }

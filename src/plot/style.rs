@@ -5,10 +5,10 @@ use std::sync::OnceLock;
 use plotters::style::{register_font, FontStyle, RGBColor};
 
 /// Font family used for every piece of text. It is backed by the DejaVu Sans file shipped in
-/// `assets/fonts`, so rendering never depends on fonts installed on the machine.
+/// `src/plot/font`, so rendering never depends on fonts installed on the machine.
 pub(crate) const FONT: &str = "sans-serif";
 
-static FONT_BYTES: &[u8] = include_bytes!("../../assets/fonts/DejaVuSans.ttf");
+static FONT_BYTES: &[u8] = include_bytes!("font/DejaVuSans.ttf");
 static FONT_REGISTERED: OnceLock<bool> = OnceLock::new();
 
 /// Registers the shipped font under [`FONT`] once per process; returns whether it is usable.

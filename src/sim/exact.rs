@@ -78,21 +78,23 @@ impl RegionLaw {
         }
     }
 
-    /// Harmonic part of the particular solution and its derivative at local time s.
+    /// Harmonic part of the particular solution and its first two derivatives at local time s.
     #[inline]
-    fn harmonic(&self, omega: f64, s: f64) -> (f64, f64) {
+    fn harmonic(&self, omega: f64, s: f64) -> [f64; 3] {
         let (s1, c1) = (omega * s).sin_cos();
         let (mut sn, mut cn) = (s1, c1);
-        let (mut q, mut v) = (0.0, 0.0);
+        let (mut q, mut v, mut acc) = (0.0, 0.0, 0.0);
         for (i, &(a, b)) in self.harmonics.iter().enumerate() {
             let w = (i + 1) as f64 * omega;
-            q += a * cn + b * sn;
+            let y = a * cn + b * sn;
+            q += y;
             v += w * (b * cn - a * sn);
+            acc -= w * w * y;
             let next_s = sn * c1 + cn * s1;
             cn = cn * c1 - sn * s1;
             sn = next_s;
         }
-        (q, v)
+        [q, v, acc]
     }
 }
 
@@ -118,7 +120,7 @@ struct Segment<'a> {
 impl<'a> Segment<'a> {
     fn start(flow: &'a ExactFlow, region: Region, s0: f64, x: State) -> Self {
         let law = flow.law(region);
-        let (hq, hv) = law.harmonic(flow.omega, s0);
+        let [hq, hv, _] = law.harmonic(flow.omega, s0);
         let y0 = x[0] - hq - law.constant;
         let yv0 = x[1] - hv - law.slope;
         let hom = match region {
@@ -142,27 +144,35 @@ impl<'a> Segment<'a> {
 
     #[inline]
     fn state(&self, s: f64) -> State {
+        let [q, v, _] = self.full(s);
+        [q, v]
+    }
+
+    /// q, q' and q'' at local time s, all from the closed form.
+    #[inline]
+    fn full(&self, s: f64) -> [f64; 3] {
         let tau = s - self.s0;
-        let (hq, hv) = self.law.harmonic(self.flow.omega, s);
+        let [hq, hv, ha] = self.law.harmonic(self.flow.omega, s);
         let zeta = self.flow.zeta;
-        let (yq, yv) = match self.hom {
+        let (yq, yv, ya) = match self.hom {
             Homogeneous::Oscillating { a, b } => {
                 let e = (-zeta * tau).exp();
                 let (sn, cs) = (self.flow.wd * tau).sin_cos();
                 let wd = self.flow.wd;
-                (
-                    e * (a * cs + b * sn),
-                    e * ((wd * b - zeta * a) * cs - (zeta * b + wd * a) * sn),
-                )
+                let yq = e * (a * cs + b * sn);
+                let yv = e * ((wd * b - zeta * a) * cs - (zeta * b + wd * a) * sn);
+                (yq, yv, -2.0 * zeta * yv - yq)
             }
             Homogeneous::Decaying { d, e } => {
                 let g = (-2.0 * zeta * tau).exp();
-                (d + e * g, -2.0 * zeta * e * g)
+                let yv = -2.0 * zeta * e * g;
+                (d + e * g, yv, -2.0 * zeta * yv)
             }
         };
         [
             hq + yq + self.law.constant + self.law.slope * tau,
             hv + yv + self.law.slope,
+            ha + ya,
         ]
     }
 
@@ -189,12 +199,6 @@ impl<'a> Segment<'a> {
             (self.law.harmonic_accel_bound + h2) * margin + 1e-300,
             (self.law.harmonic_jerk_bound + h3) * margin + 1e-300,
         )
-    }
-
-    /// Acceleration from eq. 3a at a state of this segment.
-    #[inline]
-    fn accel(&self, s: f64, x: State) -> f64 {
-        self.flow.model.acceleration(s, x[0], x[1])
     }
 
     /// State-transition matrix e^{A tau} of the region (the tangent dynamics).
@@ -275,13 +279,13 @@ impl Boundary {
     }
 
     #[inline]
-    fn sample(&self, s: f64, x: State, acc: f64) -> Sample {
-        let (d, dv) = self.distance(x);
+    fn sample(&self, s: f64, x: [f64; 3]) -> Sample {
+        let (d, dv) = self.distance([x[0], x[1]]);
         Sample {
             s,
             d,
             dv,
-            dd: self.sign * acc,
+            dd: self.sign * x[2],
         }
     }
 }
@@ -293,6 +297,27 @@ struct Sample {
     d: f64,
     dv: f64,
     dd: f64,
+}
+
+/// Smallest positive root of the quadratic Taylor model d + d' t + d'' t^2 / 2 at a sample.
+fn taylor_root(x: Sample) -> Option<f64> {
+    let (c, b, a) = (x.d, x.dv, 0.5 * x.dd);
+    if a.abs() < 1e-300 {
+        return (b < 0.0).then(|| x.s - c / b);
+    }
+    let disc = b * b - 4.0 * a * c;
+    if disc < 0.0 {
+        return None;
+    }
+    let r = disc.sqrt();
+    // Numerically stable pair of roots.
+    let qq = -0.5 * (b + b.signum() * r);
+    let roots = [qq / a, if qq != 0.0 { c / qq } else { f64::NAN }];
+    roots
+        .into_iter()
+        .filter(|t| t.is_finite() && *t > 0.0)
+        .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |u| u.min(t))))
+        .map(|t| x.s + t)
 }
 
 /// True when a Taylor lower bound from sample `x` proves d > 0 on (0, w] away from x, looking
@@ -387,24 +412,55 @@ impl ExactFlow {
     }
 
     /// Earliest crossing of a boundary of `seg` in (s_start, s_end], if any.
+    ///
+    /// Far from the boundaries the scan advances by the horizon over which the quadratic lower
+    /// bound d + d' tau - M2 tau^2 / 2 provably stays positive; closer than one nominal scan step it
+    /// searches fixed intervals with [`Self::search`].
     fn first_crossing(&self, seg: &Segment, s_end: f64) -> Option<(f64, Boundary)> {
         let bounds = Boundary::of(seg.law.region);
         let mut a = seg.s0;
-        let mut xa = seg.state(a);
-        let mut acc_a = seg.accel(a, xa);
+        let mut xa = seg.full(a);
         while a < s_end {
-            let b = (a + self.scan_step).min(s_end);
-            let xb = seg.state(b);
-            let acc_b = seg.accel(b, xb);
             let m = seg.derivative_bounds(a);
+            let horizon = bounds
+                .iter()
+                .map(|bd| {
+                    let (d, dv) = bd.distance([xa[0], xa[1]]);
+                    if d > 0.0 {
+                        (dv + (dv * dv + 2.0 * m.0 * d).sqrt()) / m.0
+                    } else {
+                        0.0
+                    }
+                })
+                .fold(f64::INFINITY, f64::min);
+            if 0.9 * horizon > self.scan_step {
+                a = (a + 0.9 * horizon).min(s_end);
+                xa = seg.full(a);
+                continue;
+            }
+            // Near a boundary: a bracket just beyond the linear estimate of the crossing keeps the
+            // interval short (monotone, so Newton applies at once); any length is rigorous.
+            let approach = bounds
+                .iter()
+                .map(|bd| {
+                    let (d, dv) = bd.distance([xa[0], xa[1]]);
+                    if dv < 0.0 && d > 0.0 {
+                        2.0 * d / -dv
+                    } else {
+                        f64::INFINITY
+                    }
+                })
+                .fold(f64::INFINITY, f64::min);
+            let b = (a + self.scan_step.min(approach.max(1e-3 * self.scan_step))).min(s_end);
+            let xb = seg.full(b);
             let mut best: Option<(f64, Boundary)> = None;
             for bd in bounds {
-                let mut sa = bd.sample(a, xa, acc_a);
+                let mut sa = bd.sample(a, xa);
                 if a == seg.s0 {
                     // At a segment start on a boundary the distance is exactly zero by construction.
                     sa.d = sa.d.max(0.0);
                 }
-                let sb = bd.sample(b, xb, acc_b);
+                let sb = bd.sample(b, xb);
                 if let Some(s) = self.search(seg, bd, sa, sb, m, 0) {
                     if best.is_none_or(|(t, _)| s < t) {
                         best = Some((s, *bd));
@@ -416,7 +472,6 @@ impl ExactFlow {
             }
             a = b;
             xa = xb;
-            acc_a = acc_b;
         }
         None
     }
@@ -443,21 +498,20 @@ impl ExactFlow {
         }
         if b.d < 0.0 && a.dv + m.0 * w < 0.0 {
             // d decreases throughout: exactly one root, found by safeguarded Newton.
-            return Some(self.refine_root(seg, bd, a.s, b.s));
+            return Some(self.refine_root(seg, bd, a, b));
         }
         if depth >= MAX_DEPTH {
             // Not excludable but no sign change at this resolution: a tangency (grazing touch)
             // whose penetration is below M2 w^2 / 8, i.e. far below rounding.
-            return (b.d < 0.0).then(|| self.refine_root(seg, bd, a.s, b.s));
+            return (b.d < 0.0).then(|| self.refine_root(seg, bd, a, b));
         }
         let mid = 0.5 * (a.s + b.s);
-        let xm = seg.state(mid);
-        let sm = bd.sample(mid, xm, seg.accel(mid, xm));
+        let sm = bd.sample(mid, seg.full(mid));
         let m_right = seg.derivative_bounds(mid);
         self.search(seg, bd, a, sm, m, depth + 1).or_else(|| {
             if sm.d < 0.0 {
                 // The left half holds no root but ends below the boundary: the root is at mid.
-                Some(self.refine_root(seg, bd, a.s, mid))
+                Some(self.refine_root(seg, bd, a, sm))
             } else {
                 self.search(seg, bd, sm, b, m_right, depth + 1)
             }
@@ -465,39 +519,48 @@ impl ExactFlow {
     }
 
     /// Root of the boundary distance in [a, b] where d(a) >= 0 > d(b): Newton kept in the bracket,
-    /// returned on the far side of the boundary (d <= 0) so the next region starts beyond it.
-    fn refine_root(&self, seg: &Segment, bd: &Boundary, mut a: f64, mut b: f64) -> f64 {
-        let mut s = 0.5 * (a + b);
+    /// started from the quadratic Taylor model at a, and returned on the far side of the boundary
+    /// (d <= 0) so the next region starts beyond it.
+    fn refine_root(&self, seg: &Segment, bd: &Boundary, a: Sample, b: Sample) -> f64 {
+        let (mut lo, mut hi) = (a.s, b.s);
+        let mut s = taylor_root(a)
+            .filter(|&t| t > lo && t < hi)
+            .unwrap_or_else(|| {
+                // Secant between the bracket ends.
+                let t = a.s + a.d / (a.d - b.d) * (b.s - a.s);
+                if t > lo && t < hi {
+                    t
+                } else {
+                    0.5 * (lo + hi)
+                }
+            });
         for _ in 0..200 {
             let (d, dv) = bd.distance(seg.state(s));
             if d <= 0.0 {
-                b = s;
+                hi = s;
             } else {
-                a = s;
+                lo = s;
             }
-            if d == 0.0 || b - a <= 2.0 * f64::EPSILON * b.abs().max(1.0) {
+            let tol = 2.0 * f64::EPSILON * s.abs().max(1.0);
+            if hi - lo <= tol {
                 break;
             }
             let newton = s - d / dv;
-            if (newton - s).abs() <= f64::EPSILON * s.abs().max(1.0) {
-                // Step just past the root: the smallest move that lands on the far side.
-                let mut step = f64::EPSILON * s.abs().max(1.0);
-                for _ in 0..60 {
-                    let t = (s + step).min(b);
-                    if bd.distance(seg.state(t)).0 <= 0.0 {
-                        return t;
-                    }
-                    step *= 2.0;
+            if (newton - s).abs() <= tol {
+                if d <= 0.0 {
+                    return s;
                 }
-                return b;
+                // The root lies within rounding to the right: probe just past it.
+                s = (s + 2.0 * tol).min(hi);
+                continue;
             }
-            s = if dv != 0.0 && newton > a && newton < b {
+            s = if dv != 0.0 && newton > lo && newton < hi {
                 newton
             } else {
-                0.5 * (a + b)
+                0.5 * (lo + hi)
             };
         }
-        b
+        hi
     }
 
     /// Integrate one period, calling `on_segment` for each closed-form piece.

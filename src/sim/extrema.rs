@@ -71,11 +71,9 @@ fn refine_max(f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize, h: f64) -> f64 {
             best_i = i;
         }
     }
-    if best_i == 0 || best_i == n {
-        // The maximum over the piece sits at an end, shared with the neighbouring piece.
-        return best;
-    }
-    let lo = a + (best_i as f64 - 1.0) * h;
+    // Refine on the cells either side of the best sample, also when it is an end of the piece:
+    // the true maximum may lie just inside (golden section then converges to the end if not).
+    let lo = (a + (best_i as f64 - 1.0) * h).max(a);
     let hi = (a + (best_i as f64 + 1.0) * h).min(b);
     best.max(golden_max(f, lo, hi))
 }

@@ -4,7 +4,7 @@
 Writes tests/data/reference_scipy.json, read by tests/reference_scipy.rs (CI has no Python: only
 the committed JSON is used there). Run from the repository root:
 
-    python3 tools/reference_scipy.py
+    python3 tests/data/reference_scipy.py
 
 Model (design.md section 1, the paper's eq. 5 with k = 1):
 
@@ -184,7 +184,7 @@ def main():
         results.append(r)
     doc = {
         "provenance": {
-            "script": "tools/reference_scipy.py",
+            "script": "tests/data/reference_scipy.py",
             "generated_utc": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
             "python": platform.python_version(),
             "scipy": scipy.__version__,

@@ -1,0 +1,94 @@
+//! `geardyn bench`: the performance figures the README reports (issue 2): one steady state with
+//! each integrator at equal Poincare accuracy, and a 201 x 201 basin map with its peak memory.
+
+use super::common::print_text;
+use clap::Args as ClapArgs;
+use geardyn::model::GearPair;
+use geardyn::progress::NoProgress;
+use geardyn::sim::{
+    find_attractors, steady_state, ExactFlow, IcGrid, PeriodFlow, RkFlow, SteadyOptions,
+};
+use std::time::Instant;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    /// Points per axis of the basin map (0 skips it).
+    #[arg(long, default_value_t = 201)]
+    basin_grid: usize,
+    /// Repetitions of the steady-state timing (the median is reported).
+    #[arg(long, default_value_t = 21)]
+    repeat: usize,
+}
+
+fn median_ms(
+    flow: &dyn PeriodFlow,
+    opts: &SteadyOptions,
+    repeat: usize,
+) -> anyhow::Result<(f64, [f64; 2])> {
+    let mut times = Vec::with_capacity(repeat);
+    let mut last = [0.0; 2];
+    for _ in 0..repeat.max(1) {
+        let t = Instant::now();
+        let s = steady_state(flow, [0.0, 0.0], opts)?;
+        times.push(t.elapsed().as_secs_f64() * 1e3);
+        last = s.poincare[0];
+    }
+    times.sort_by(f64::total_cmp);
+    Ok((times[times.len() / 2], last))
+}
+
+/// Peak resident memory of this process in MB (Linux), if readable.
+fn peak_memory_mb() -> Option<f64> {
+    let status = std::fs::read_to_string("/proc/self/status").ok()?;
+    let line = status.lines().find(|l| l.starts_with("VmHWM:"))?;
+    let kb: f64 = line.split_whitespace().nth(1)?.parse().ok()?;
+    Some(kb / 1024.0)
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    // Omega 0.5, zeta 0.02, F_hat 0.5 (F_m 0.1, F_ah 0.2), from rest (0, 0): 400 + 64 periods.
+    let model = GearPair::paper(0.1, 0.2, 0.02, 0.5)?;
+    let opts = SteadyOptions {
+        transient: Some(400),
+        keep: 64,
+        settle: false,
+        ..SteadyOptions::default()
+    };
+    let exact = ExactFlow::new(&model)?;
+    let rk = RkFlow::new(&model, 1e-10)?;
+    let (t_exact, p_exact) = median_ms(&exact, &opts, a.repeat)?;
+    rk.reset_rhs_evaluations();
+    let (t_rk, p_rk) = median_ms(&rk, &opts, a.repeat)?;
+    let evals = rk.rhs_evaluations() / a.repeat.max(1) as u64;
+    let diff = ((p_exact[0] - p_rk[0]).powi(2) + (p_exact[1] - p_rk[1]).powi(2)).sqrt();
+    let mut text = String::new();
+    text.push_str("steady state, Omega 0.5, zeta 0.02, F_hat 0.5, from rest, 400 transient + 64 kept periods\n");
+    text.push_str(&format!(
+        "  exact piecewise solver : {t_exact:8.2} ms (median of {})\n",
+        a.repeat
+    ));
+    text.push_str(&format!(
+        "  DOP853 rtol 1e-10      : {t_rk:8.2} ms, {evals} right-hand-side evaluations\n"
+    ));
+    text.push_str(&format!(
+        "  speed-up               : {:8.1} x\n",
+        t_rk / t_exact
+    ));
+    text.push_str(&format!(
+        "  Poincare point difference between the two: {diff:.2e}\n"
+    ));
+    if a.basin_grid > 0 {
+        let grid = IcGrid::new(-2.0, 2.0, a.basin_grid)?;
+        let t = Instant::now();
+        let map = find_attractors(&exact, &grid, &SteadyOptions::default(), &NoProgress)?;
+        let secs = t.elapsed().as_secs_f64();
+        text.push_str(&format!(
+            "basin map {n}x{n} at Omega 0.5: {secs:.1} s on {} threads, {} attractors, peak memory {} MB\n",
+            rayon::current_num_threads(),
+            map.attractors.len(),
+            peak_memory_mb().map_or("?".to_string(), |m| format!("{m:.0}")),
+            n = a.basin_grid
+        ));
+    }
+    print_text(&text)
+}
