@@ -4,6 +4,7 @@ mod attractors;
 mod basins;
 mod bench;
 mod common;
+mod hbm;
 mod progress_bar;
 mod response_plot;
 mod simulate;
@@ -28,6 +29,8 @@ enum Command {
     Attractors(attractors::Args),
     /// Basins of attraction over a grid of initial conditions (CSV, JSON, PNG and SVG map).
     Basins(basins::Args),
+    /// Harmonic-balance frequency response: every solution at each Omega (Sec. 4, Fig. 10).
+    Hbm(hbm::Args),
     /// Performance figures: one steady state per integrator and a basin map (README numbers).
     Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
@@ -42,5 +45,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Basins(a) => basins::run(a),
         Command::Bench(a) => bench::run(a),
+        Command::Hbm(a) => hbm::run(a),
     }
 }

@@ -47,28 +47,62 @@ pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
     Ok(String::from_utf8(w.into_inner()?)?)
 }
 
+/// One point of a frequency response, whatever method produced it.
+pub struct ResponseRow {
+    pub omega: f64,
+    pub qa: f64,
+    pub qm: f64,
+    pub impact: Impact,
+    /// Known stability (None: not assessed).
+    pub stable: Option<bool>,
+}
+
+impl From<&SweepPoint> for ResponseRow {
+    fn from(p: &SweepPoint) -> Self {
+        ResponseRow {
+            omega: p.omega,
+            qa: p.steady.qa,
+            qm: p.steady.qm,
+            impact: p.steady.impact,
+            stable: Some(true),
+        }
+    }
+}
+
 /// Two panels, q_a and q_m versus Omega, one marker series per impact case (as Fig. 10).
 pub fn write_response_plot(
-    points: &[SweepPoint],
+    rows: &[ResponseRow],
     title: &str,
     caption: &str,
     stem: &Path,
 ) -> anyhow::Result<Vec<PathBuf>> {
-    let panel = |label: &str, pick: fn(&SweepPoint) -> f64| {
-        let series = [Impact::None, Impact::Single, Impact::Double]
+    let panel = |label: &str, pick: fn(&ResponseRow) -> f64| {
+        let mut series: Vec<Series> = [Impact::None, Impact::Single, Impact::Double]
             .iter()
             .enumerate()
             .map(|(i, &imp)| {
-                let pts = points
+                let pts = rows
                     .iter()
-                    .filter(|p| p.steady.impact == imp)
+                    .filter(|p| p.impact == imp && p.stable != Some(false))
                     .map(|p| (p.omega, pick(p)))
                     .collect();
-                Series::markers(&format!("case {} ({} impact)", imp.case(), imp.name()), pts)
+                Series::markers(format!("case {} ({} impact)", imp.case(), imp.name()), pts)
                     .with_color(i)
                     .with_marker([Marker::Square, Marker::Triangle, Marker::Circle][i])
             })
             .collect();
+        let unstable: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|p| p.stable == Some(false))
+            .map(|p| (p.omega, pick(p)))
+            .collect();
+        if !unstable.is_empty() {
+            series.push(
+                Series::markers("unstable", unstable)
+                    .with_color(7)
+                    .with_marker(Marker::Cross),
+            );
+        }
         XyPlot {
             title: label.to_string(),
             caption: Some(caption.to_string()),
@@ -78,6 +112,6 @@ pub fn write_response_plot(
             ..XyPlot::default()
         }
     };
-    let panels = [panel("q_a", |p| p.steady.qa), panel("q_m", |p| p.steady.qm)];
+    let panels = [panel("q_a", |p| p.qa), panel("q_m", |p| p.qm)];
     Ok(write_panels(title, &panels, 2, stem)?)
 }

@@ -2,7 +2,7 @@
 
 use super::common::{parse_range, print_text, ModelArgs, SolverArgs};
 use super::progress_bar::Bar;
-use super::response_plot::{sweep_csv, write_response_plot};
+use super::response_plot::{sweep_csv, write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::sim::{sweep, Branch, IcGrid, SweepPlan};
 use std::path::PathBuf;
@@ -82,8 +82,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         a.direction,
         a.solver.integrator_name()
     );
+    let rows: Vec<ResponseRow> = points.iter().map(ResponseRow::from).collect();
     let written = write_response_plot(
-        &points,
+        &rows,
         "Frequency response (digital simulation)",
         &caption,
         &a.out.join("sweep"),

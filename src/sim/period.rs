@@ -107,7 +107,7 @@ pub fn refine_orbit<F: PeriodFlow + ?Sized>(
             }
             // Newton on Phi^p also converges to orbits of any period dividing p: keep the least.
             let least = (1..p)
-                .filter(|d| p % d == 0)
+                .filter(|d| p.is_multiple_of(*d))
                 .find(|&d| distance(points[d as usize], x) <= 1e-9 * sc);
             if let Some(d) = least {
                 return refine_orbit(flow, x, d);
