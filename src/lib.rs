@@ -5,6 +5,7 @@
 //! form). The library does no printing; the `geardyn` binary is a thin command line over it.
 
 pub mod error;
+pub mod hb;
 pub mod model;
 pub mod progress;
 pub mod sim;
