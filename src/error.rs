@@ -33,6 +33,10 @@ pub enum GearError {
         #[source]
         source: std::io::Error,
     },
+    /// A figure image could not be digitized as asked (e.g. no pixel of the curve colour, a crop
+    /// box outside the image).
+    #[error("{0}")]
+    Digitize(String),
     /// Rendering a figure failed.
     #[error("plot {path}: {message}", path = path.display())]
     Plot { path: PathBuf, message: String },

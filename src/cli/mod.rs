@@ -4,6 +4,8 @@ mod attractors;
 mod basins;
 mod bench;
 mod common;
+mod digitize;
+mod digitize_parse;
 mod hbm;
 mod progress_bar;
 mod response_plot;
@@ -35,6 +37,8 @@ enum Command {
     Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
     Sweep(sweep::Args),
+    /// Figure image (PNG) to CSV: the curve of one colour, with axis calibration (Figs 19-23).
+    Digitize(digitize::Args),
 }
 
 /// Run the parsed command.
@@ -46,5 +50,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Basins(a) => basins::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Hbm(a) => hbm::run(a),
+        Command::Digitize(a) => digitize::run(a),
     }
 }

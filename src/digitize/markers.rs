@@ -1,0 +1,225 @@
+//! Marker mode: each connected blob of matching pixels (4-connectivity) is one data point at its
+//! centroid, e.g. the squares of Munro's curves ("- - □ - -") in the paper's Figs 19-22.
+
+use super::mask::Mask;
+
+/// Which blobs count as markers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct MarkerFilter {
+    /// Blobs with fewer pixels are ignored (specks, stray anti-aliasing, dash ends).
+    pub min_area: usize,
+    /// Blobs with more pixels are ignored (e.g. a solid curve of the same colour).
+    pub max_area: Option<usize>,
+    /// Bounding-box width and height, in pixels, that a marker must both lie within
+    /// (`min`, `max`); rejects thin dashes and long lines of the marker colour.
+    pub size: Option<(u32, u32)>,
+    /// Erosion radius in pixels applied before the blobs are found: a pixel stays only if the
+    /// whole (2r+1) x (2r+1) square around it matches. Detaches filled markers from thin lines
+    /// of the same colour (lines thinner than 2r+1 vanish); hollow markers need 0.
+    pub erode: u32,
+}
+
+impl Default for MarkerFilter {
+    fn default() -> Self {
+        MarkerFilter {
+            min_area: 4,
+            max_area: None,
+            size: None,
+            erode: 0,
+        }
+    }
+}
+
+/// One connected blob.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Blob {
+    area: usize,
+    sum: (f64, f64),
+    min: (usize, usize),
+    max: (usize, usize),
+}
+
+impl Blob {
+    fn accepted(&self, f: &MarkerFilter) -> bool {
+        let (w, h) = (self.max.0 - self.min.0 + 1, self.max.1 - self.min.1 + 1);
+        let size_ok = f.size.is_none_or(|(lo, hi)| {
+            let inside = |s: usize| s >= lo as usize && s <= hi as usize;
+            inside(w) && inside(h)
+        });
+        self.area >= f.min_area && f.max_area.is_none_or(|m| self.area <= m) && size_ok
+    }
+}
+
+/// Pixel-space centroids (column, row) of the blobs of `mask` that pass `filter`, and the number
+/// of blobs found before filtering.
+pub(crate) fn marker_points(mask: &Mask, filter: &MarkerFilter) -> (Vec<(f64, f64)>, usize) {
+    let on = erode(mask, filter.erode);
+    let (w, h) = (mask.width(), mask.height());
+    let mut seen = vec![false; on.len()];
+    let mut stack = Vec::new();
+    let mut blobs = Vec::new();
+    for start in 0..on.len() {
+        if !on[start] || seen[start] {
+            continue;
+        }
+        seen[start] = true;
+        stack.push(start);
+        let mut b = Blob {
+            area: 0,
+            sum: (0.0, 0.0),
+            min: (usize::MAX, usize::MAX),
+            max: (0, 0),
+        };
+        while let Some(i) = stack.pop() {
+            let (c, r) = (i % w, i / w);
+            b.area += 1;
+            b.sum = (b.sum.0 + c as f64, b.sum.1 + r as f64);
+            b.min = (b.min.0.min(c), b.min.1.min(r));
+            b.max = (b.max.0.max(c), b.max.1.max(r));
+            let neighbours = [
+                (c > 0).then(|| i - 1),
+                (c + 1 < w).then(|| i + 1),
+                (r > 0).then(|| i - w),
+                (r + 1 < h).then(|| i + w),
+            ];
+            for j in neighbours.into_iter().flatten() {
+                if on[j] && !seen[j] {
+                    seen[j] = true;
+                    stack.push(j);
+                }
+            }
+        }
+        blobs.push(b);
+    }
+    let (x0, y0) = (f64::from(mask.region.x.0), f64::from(mask.region.y.0));
+    let points = blobs
+        .iter()
+        .filter(|b| b.accepted(filter))
+        .map(|b| {
+            let n = b.area as f64;
+            (x0 + b.sum.0 / n, y0 + b.sum.1 / n)
+        })
+        .collect();
+    (points, blobs.len())
+}
+
+/// The mask eroded by a (2r+1)-square (separable: rows, then columns); pixels outside the region
+/// count as not matching.
+fn erode(mask: &Mask, r: u32) -> Vec<bool> {
+    if r == 0 {
+        return mask.on.clone();
+    }
+    let r = r as usize;
+    let (w, h) = (mask.width(), mask.height());
+    // Along one line of `n` cells: cell k survives if cells k-r ..= k+r all match.
+    let pass = |get: &dyn Fn(usize) -> bool, n: usize, out: &mut dyn FnMut(usize, bool)| {
+        let mut run = 0usize; // matching cells ending at k + r
+        for k in 0..n + r {
+            run = if k < n && get(k) { run + 1 } else { 0 };
+            if k >= r {
+                let centre = k - r;
+                out(centre, centre >= r && run > 2 * r);
+            }
+        }
+    };
+    let mut rows = vec![false; w * h];
+    for y in 0..h {
+        pass(&|k| mask.on[y * w + k], w, &mut |k, v| rows[y * w + k] = v);
+    }
+    let mut out = vec![false; w * h];
+    for x in 0..w {
+        pass(&|k| rows[k * w + x], h, &mut |k, v| out[k * w + x] = v);
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::mask::Region;
+    use super::*;
+
+    fn mask(rows: &[&str]) -> Mask {
+        let (w, h) = (rows[0].len() as u32, rows.len() as u32);
+        Mask {
+            region: Region {
+                x: (100, 100 + w),
+                y: (50, 50 + h),
+            },
+            on: rows
+                .iter()
+                .flat_map(|r| r.bytes().map(|b| b == b'#'))
+                .collect(),
+        }
+    }
+
+    const PICTURE: [&str; 7] = [
+        "###.......#",
+        "###........",
+        "###..#.....",
+        "......####.",
+        ".#.........",
+        "........###",
+        "#######.###",
+    ];
+
+    #[test]
+    fn blobs_are_4_connected_and_filtered() {
+        let m = mask(&PICTURE);
+        let all = MarkerFilter {
+            min_area: 1,
+            ..MarkerFilter::default()
+        };
+        let (pts, n) = marker_points(&m, &all);
+        assert_eq!(n, 7);
+        assert_eq!(pts.len(), 7);
+        assert_eq!(pts[0], (101.0, 51.0));
+
+        let big = MarkerFilter {
+            min_area: 4,
+            ..MarkerFilter::default()
+        };
+        let (pts, _) = marker_points(&m, &big);
+        // the 3x3 square, the dash (4), the 3x2 block and the bottom line (7).
+        assert_eq!(pts.len(), 4);
+
+        let squares = MarkerFilter {
+            min_area: 4,
+            size: Some((2, 3)),
+            ..MarkerFilter::default()
+        };
+        let (pts, _) = marker_points(&m, &squares);
+        assert_eq!(pts, [(101.0, 51.0), (109.0, 55.5)]);
+
+        let capped = MarkerFilter {
+            min_area: 4,
+            max_area: Some(6),
+            ..MarkerFilter::default()
+        };
+        assert_eq!(marker_points(&m, &capped).0.len(), 2);
+    }
+
+    #[test]
+    fn erosion_detaches_a_filled_marker_from_a_thin_line() {
+        let m = mask(&[
+            "...........",
+            "....###....",
+            "....###....",
+            "#######....",
+            "....###....",
+            "....###....",
+            "...........",
+        ]);
+        let f = MarkerFilter {
+            min_area: 1,
+            erode: 1,
+            ..MarkerFilter::default()
+        };
+        let (pts, n) = marker_points(&m, &f);
+        assert_eq!(n, 1);
+        assert_eq!(pts, [(105.0, 53.0)]);
+        // Without erosion the line and the square are one blob, pulled towards the line.
+        let (pts, _) = marker_points(&m, &MarkerFilter::default());
+        assert_eq!(pts.len(), 1);
+        assert_ne!(pts[0], (105.0, 53.0));
+    }
+}
