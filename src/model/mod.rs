@@ -1,10 +1,12 @@
 //! The gear-pair model of Kahraman & Singh (1990), eq. 3a generalised by eq. 20 and a
 //! time-varying mesh stiffness (design.md, section 1).
 
+mod dimensional;
 mod excitation;
 mod mesh;
 mod params;
 
+pub use dimensional::{Dimensional, StiffnessSource, ISO6336_C_PRIME};
 pub use excitation::Harmonic;
 pub use mesh::{dead_zone, Impact, Region};
 pub use params::{GearPair, Term};

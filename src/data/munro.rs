@@ -1,0 +1,104 @@
+//! Munro-style data sets (paper Sec. 7, Figs. 19-22): peak-to-peak dynamic transmission error
+//! against speed, one curve per mean load.
+//!
+//! CSV header `load_n,speed_rpm,dte_pp_um` or `load_n,mesh_freq_hz,dte_pp_um` (mesh frequency
+//! = pinion_teeth x rpm / 60, converted to rpm on loading); extra columns are ignored.
+
+use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
+use super::curve_order::CurveOrder;
+use super::rig::{load_rig, RigFile};
+use crate::error::Result;
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Header of a Munro curve file, as shown in error messages.
+const HEADER: &str = "load_n,speed_rpm,dte_pp_um";
+
+/// One measured (or synthetic) point of a Munro curve.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MunroPoint {
+    /// Mean load F_bar_m in newtons, > 0.
+    pub load_n: f64,
+    /// Pinion shaft speed in rpm, > 0 (converted from `mesh_freq_hz` if that was given).
+    pub speed_rpm: f64,
+    /// Peak-to-peak dynamic transmission error in micrometres, >= 0.
+    pub dte_pp_um: f64,
+    /// 1-based line of the point in its file.
+    pub line: usize,
+    /// The CSV file of the point.
+    pub file: PathBuf,
+}
+
+/// A loaded and validated Munro data set.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MunroData {
+    /// The data set folder.
+    pub dir: PathBuf,
+    /// Its `rig.toml`.
+    pub rig: RigFile,
+    /// All points, file by file (files sorted by name) in file order.
+    pub points: Vec<MunroPoint>,
+}
+
+/// Whether two loads are the same (relative tolerance 1e-9).
+fn same_load(a: f64, b: f64) -> bool {
+    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
+}
+
+impl MunroData {
+    /// The distinct loads of the data set, descending.
+    pub fn loads(&self) -> Vec<f64> {
+        let mut loads: Vec<f64> = Vec::new();
+        for p in &self.points {
+            if !loads.iter().any(|l| same_load(*l, p.load_n)) {
+                loads.push(p.load_n);
+            }
+        }
+        loads.sort_by(|a, b| b.total_cmp(a));
+        loads
+    }
+
+    /// The points measured at `load_n` (relative tolerance 1e-9), sorted by speed.
+    pub fn curve(&self, load_n: f64) -> Vec<&MunroPoint> {
+        let mut c: Vec<&MunroPoint> = self
+            .points
+            .iter()
+            .filter(|p| same_load(p.load_n, load_n))
+            .collect();
+        c.sort_by(|a, b| a.speed_rpm.total_cmp(&b.speed_rpm));
+        c
+    }
+}
+
+/// Load a Munro data set: `dir/rig.toml` and every `dir/*.csv` (sorted by name). Every failure
+/// is one [`crate::GearError::Data`] naming the file, line and field.
+pub fn load_munro(dir: &Path) -> Result<MunroData> {
+    let rig = load_rig(&dir.join("rig.toml"))?;
+    let mut points = Vec::new();
+    let mut order = CurveOrder::default();
+    for file in csv_files(dir)? {
+        let table = CsvTable::read(&file, HEADER)?;
+        let load_col = table.require("load_n", HEADER)?;
+        let speed = SpeedColumns::find(&table, rig.rig.pinion_teeth, HEADER)?;
+        let dte_col = table.require("dte_pp_um", HEADER)?;
+        for row in table.rows() {
+            let load_n = row.positive(load_col, "load_n")?;
+            let speed_rpm = speed.speed_rpm(&row)?;
+            let dte_pp_um = row.non_negative(dte_col, "dte_pp_um")?;
+            let label = format!(" in the curve at load {load_n} N");
+            order.check(table.file(), load_n, &label, speed_rpm, &row, speed.name())?;
+            points.push(MunroPoint {
+                load_n,
+                speed_rpm,
+                dte_pp_um,
+                line: row.line,
+                file: file.clone(),
+            });
+        }
+    }
+    Ok(MunroData {
+        dir: dir.to_path_buf(),
+        rig,
+        points,
+    })
+}

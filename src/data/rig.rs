@@ -1,0 +1,271 @@
+//! The rig description `rig.toml` of a data set (design.md section 4): the `[rig]` table (units in
+//! the key names), an optional `[ste]` table and the `[source]` provenance.
+
+use super::errors::{data_error, read_text, WHOLE_FILE};
+use super::source::Source;
+use super::toml_doc::TomlDoc;
+use crate::error::{GearError, Result};
+use serde::{Deserialize, Serialize};
+use std::path::Path;
+
+/// The `[rig]` table: geometry and operating point of the test gear pair. Every key carries its
+/// unit; unknown keys (e.g. `backlash` without `_mm`) are rejected.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Rig {
+    /// Name of the rig, e.g. "Munro (1962) four-square rig".
+    pub name: String,
+    /// Number of teeth of the pinion (the mesh frequency is pinion_teeth x shaft speed), >= 5.
+    pub pinion_teeth: u32,
+    /// Number of teeth of the gear, >= 5.
+    pub gear_teeth: u32,
+    /// Module in millimetres (25.4 / diametral pitch in 1/in), > 0.
+    pub module_mm: f64,
+    /// Pressure angle in degrees, in (10, 35).
+    pub pressure_angle_deg: f64,
+    /// Face width in millimetres, > 0.
+    pub face_width_mm: f64,
+    /// Design load in newtons (mean force F_bar_m transmitted at the design point), > 0.
+    pub design_load_n: f64,
+    /// Total backlash 2b in millimetres, > 0.
+    pub backlash_mm: f64,
+    /// Mesh stiffness k_h in N/um if known; otherwise estimated (see `model::Dimensional`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mesh_stiffness_n_per_um: Option<f64>,
+    /// Transverse contact ratio eps_alpha if known; otherwise computed from standard geometry.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub contact_ratio: Option<f64>,
+    /// Damping ratio zeta if given (otherwise it is fitted), in (0, 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub zeta: Option<f64>,
+    /// Natural frequency omega_n in Hz if given (otherwise it is fitted), > 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub omega_n_hz: Option<f64>,
+    /// Kubo: the load in newtons the curve was measured at (default `design_load_n`), > 0.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub test_load_n: Option<f64>,
+}
+
+/// The first problem found in a rig: key, offending value and reason.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct RigProblem {
+    pub key: &'static str,
+    pub value: f64,
+    pub reason: &'static str,
+}
+
+/// `Some(problem)` unless `ok(value)`.
+fn require(key: &'static str, value: f64, ok: bool, reason: &'static str) -> Option<RigProblem> {
+    (!ok).then_some(RigProblem { key, value, reason })
+}
+
+/// Positive and finite.
+fn positive(key: &'static str, value: f64) -> Option<RigProblem> {
+    require(
+        key,
+        value,
+        value.is_finite() && value > 0.0,
+        "must be a positive finite number",
+    )
+}
+
+/// An optional value, checked with `check` when present.
+fn optional(value: Option<f64>, check: impl Fn(f64) -> Option<RigProblem>) -> Option<RigProblem> {
+    value.and_then(check)
+}
+
+impl Rig {
+    /// The first out-of-range value, if any (see each field for its range).
+    pub(crate) fn first_problem(&self) -> Option<RigProblem> {
+        let teeth = "fewer than 5 teeth: not a practical involute gear";
+        let z1 = self.pinion_teeth as f64;
+        let z2 = self.gear_teeth as f64;
+        let alpha = self.pressure_angle_deg;
+        require(
+            "name",
+            self.name.trim().len() as f64,
+            !self.name.trim().is_empty(),
+            "must not be empty",
+        )
+        .or_else(|| require("pinion_teeth", z1, self.pinion_teeth >= 5, teeth))
+        .or_else(|| require("gear_teeth", z2, self.gear_teeth >= 5, teeth))
+        .or_else(|| positive("module_mm", self.module_mm))
+        .or_else(|| {
+            require(
+                "pressure_angle_deg",
+                alpha,
+                alpha.is_finite() && alpha > 10.0 && alpha < 35.0,
+                "must be in (10, 35) degrees",
+            )
+        })
+        .or_else(|| positive("face_width_mm", self.face_width_mm))
+        .or_else(|| positive("design_load_n", self.design_load_n))
+        .or_else(|| positive("backlash_mm", self.backlash_mm))
+        .or_else(|| {
+            optional(self.mesh_stiffness_n_per_um, |v| {
+                positive("mesh_stiffness_n_per_um", v)
+            })
+        })
+        .or_else(|| {
+            optional(self.contact_ratio, |v| {
+                require(
+                    "contact_ratio",
+                    v,
+                    v.is_finite() && (1.0..=3.0).contains(&v),
+                    "transverse contact ratio must be in [1, 3]",
+                )
+            })
+        })
+        .or_else(|| {
+            optional(self.zeta, |v| {
+                require(
+                    "zeta",
+                    v,
+                    v.is_finite() && v > 0.0 && v < 1.0,
+                    "damping ratio must be in (0, 1)",
+                )
+            })
+        })
+        .or_else(|| optional(self.omega_n_hz, |v| positive("omega_n_hz", v)))
+        .or_else(|| optional(self.test_load_n, |v| positive("test_load_n", v)))
+    }
+
+    /// Check every value against its range; the first violation is an
+    /// [`GearError::InvalidParameter`] naming the `[rig]` key.
+    pub fn validate(&self) -> Result<()> {
+        match self.first_problem() {
+            Some(p) => Err(GearError::param(p.key, p.value, p.reason)),
+            None => Ok(()),
+        }
+    }
+
+    /// The load the (Kubo) curve was measured at: `test_load_n`, else `design_load_n`.
+    pub fn test_load_or_design_n(&self) -> f64 {
+        self.test_load_n.unwrap_or(self.design_load_n)
+    }
+}
+
+/// The optional `[ste]` table: static transmission error amplitude per load.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SteTable {
+    /// Loads in newtons, positive and distinct.
+    pub load_n: Vec<f64>,
+    /// STE amplitude e_bar (half peak-to-peak, um) at each load, positive.
+    pub amplitude_um: Vec<f64>,
+}
+
+impl SteTable {
+    /// The STE amplitude (um) listed for `load_n` (relative tolerance 1e-9), if any.
+    pub fn amplitude_at(&self, load_n: f64) -> Option<f64> {
+        self.load_n
+            .iter()
+            .zip(&self.amplitude_um)
+            .find(|(l, _)| (*l - load_n).abs() <= 1e-9 * l.abs().max(load_n.abs()))
+            .map(|(_, a)| *a)
+    }
+
+    /// Check lengths, signs and distinct loads; errors are located in `doc`.
+    fn check(&self, doc: &TomlDoc) -> Result<()> {
+        if self.load_n.is_empty() {
+            return Err(doc.error("ste", "load_n", "STE table has no loads"));
+        }
+        if self.load_n.len() != self.amplitude_um.len() {
+            return Err(doc.error(
+                "ste",
+                "amplitude_um",
+                format!(
+                    "{} amplitudes for {} loads: the lists must have the same length",
+                    self.amplitude_um.len(),
+                    self.load_n.len()
+                ),
+            ));
+        }
+        for (key, values) in [
+            ("load_n", &self.load_n),
+            ("amplitude_um", &self.amplitude_um),
+        ] {
+            if let Some((i, v)) = values
+                .iter()
+                .enumerate()
+                .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+            {
+                return Err(doc.error(
+                    "ste",
+                    key,
+                    format!("entry {} is {v}: must be a positive finite number", i + 1),
+                ));
+            }
+        }
+        for (i, l) in self.load_n.iter().enumerate() {
+            if self.load_n[..i].contains(l) {
+                return Err(doc.error(
+                    "ste",
+                    "load_n",
+                    format!("entry {} repeats the load {l} N", i + 1),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The contents of `rig.toml`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct RigFile {
+    /// The `[rig]` table.
+    pub rig: Rig,
+    /// The optional `[ste]` table.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub ste: Option<SteTable>,
+    /// The `[source]` table (provenance).
+    pub source: Source,
+}
+
+impl RigFile {
+    /// Check every table; errors are located in `doc`.
+    fn check(&self, doc: &TomlDoc) -> Result<()> {
+        if let Some(p) = self.rig.first_problem() {
+            return Err(doc.error(
+                "rig",
+                p.key,
+                format!("{} = {}: {}", p.key, p.value, p.reason),
+            ));
+        }
+        if let Some(ste) = &self.ste {
+            ste.check(doc)?;
+        }
+        self.source.check(doc)
+    }
+}
+
+/// Read and validate a `rig.toml`. Every failure is one [`GearError::Data`] naming the file, the
+/// line (0 when the key is absent) and the key path (e.g. `rig.backlash_mm`).
+pub fn load_rig(path: &Path) -> Result<RigFile> {
+    let text = read_text(path)?;
+    let doc = TomlDoc::new(path, &text);
+    let rig: RigFile = toml::from_str(&text).map_err(|e| doc.toml_error(&e))?;
+    rig.check(&doc)?;
+    Ok(rig)
+}
+
+/// Validate `rig` and write it as TOML to `path` (used by `geardyn synth`). An invalid rig is
+/// not written, and the file appears complete or not at all (written aside, then renamed).
+pub fn write_rig(path: &Path, rig: &RigFile) -> Result<()> {
+    rig.check(&TomlDoc::new(path, ""))?;
+    let text = toml::to_string(rig)
+        .map_err(|e| data_error(path, 0, WHOLE_FILE, format!("cannot encode TOML: {e}")))?;
+    let io = |source| GearError::Io {
+        path: path.to_path_buf(),
+        source,
+    };
+    let mut tmp = path.as_os_str().to_owned();
+    tmp.push(".partial");
+    let tmp = std::path::PathBuf::from(tmp);
+    std::fs::write(&tmp, text).map_err(io)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io(e)
+    })
+}
