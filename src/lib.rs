@@ -7,10 +7,13 @@
 pub mod data;
 pub mod digitize;
 pub mod error;
+pub mod fit;
 pub mod hb;
 pub mod model;
 pub mod plot;
 pub mod progress;
+pub mod report;
 pub mod sim;
+pub mod validate;
 
 pub use error::{GearError, Result};

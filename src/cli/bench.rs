@@ -77,6 +77,22 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     text.push_str(&format!(
         "  Poincare point difference between the two: {diff:.2e}\n"
     ));
+    let munro = std::path::Path::new("data/munro");
+    if munro.join("rig.toml").exists() {
+        let t = Instant::now();
+        let data = geardyn::data::load_munro(munro)?;
+        let r = geardyn::validate::validate_munro(
+            &data,
+            &geardyn::validate::MunroOptions::default(),
+            &NoProgress,
+        )?;
+        text.push_str(&format!(
+            "validate munro pipeline (load, fit, profile intervals, {} loads of predictions): {:.2} s on {} threads\n",
+            r.loads.len(),
+            t.elapsed().as_secs_f64(),
+            rayon::current_num_threads()
+        ));
+    }
     if a.basin_grid > 0 {
         let grid = IcGrid::new(-2.0, 2.0, a.basin_grid)?;
         let t = Instant::now();

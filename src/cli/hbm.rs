@@ -1,9 +1,12 @@
 //! `geardyn hbm`: harmonic-balance frequency response, every solution at each Omega (Sec. 4).
 
 use super::common::{parse_range, print_text, write_text, ModelArgs};
+use super::progress_bar::Bar;
 use super::response_plot::{write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
-use geardyn::hb::{df_response, transition_frequencies, DfMethod};
+use geardyn::hb::{
+    continue_branch, df_response, transition_frequencies, AftOptions, ContinuationOptions, DfMethod,
+};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -17,6 +20,12 @@ pub struct Args {
     /// series of eq. 9 with per-case formulas (eq. 12-19).
     #[arg(long, value_enum, default_value_t = Method::DfExact)]
     method: Method,
+    /// Harmonics of the AFT ansatz (--method aft).
+    #[arg(long, default_value_t = 15)]
+    harmonics: usize,
+    /// Subharmonic order nu of the AFT ansatz (period-nu orbits).
+    #[arg(long, default_value_t = 1)]
+    subharmonic: u32,
     /// Output format on standard output.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -29,6 +38,8 @@ pub struct Args {
 enum Method {
     DfExact,
     DfTruncated,
+    /// Multi-harmonic balance (AFT) with pseudo-arclength continuation and Floquet stability.
+    Aft,
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -38,46 +49,103 @@ enum Format {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     let omegas = parse_range("--omega", &a.omega)?;
-    let method = match a.method {
-        Method::DfExact => DfMethod::Exact,
-        Method::DfTruncated => DfMethod::Truncated,
-    };
-    let sols = df_response(a.model.fm, a.model.fah, a.model.zeta, &omegas, method)?;
-    let (t1, t2) = transition_frequencies(a.model.fm, a.model.fah, a.model.zeta)?;
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
-        "omega", "qa", "qm", "case", "impact", "phase", "stable", "method",
+        "omega",
+        "qa",
+        "qm",
+        "case",
+        "impact",
+        "phase",
+        "stable",
+        "method",
+        "fold",
+        "period_doubling",
     ])?;
-    for s in &sols {
-        w.write_record([
-            format!("{}", s.omega),
-            format!("{:.10}", s.qa),
-            format!("{:.10}", s.qm),
-            s.case.case().to_string(),
-            s.case.name().to_string(),
-            format!("{:.10}", s.phase),
-            s.stable.map_or(String::new(), |b| b.to_string()),
-            method.name().to_string(),
-        ])?;
-    }
+    let mut rows = Vec::new();
+    let (t1, t2) = transition_frequencies(a.model.fm, a.model.fah, a.model.zeta)?;
+    let method_name = match a.method {
+        Method::DfExact | Method::DfTruncated => {
+            let method = if a.method == Method::DfExact {
+                DfMethod::Exact
+            } else {
+                DfMethod::Truncated
+            };
+            let sols = df_response(a.model.fm, a.model.fah, a.model.zeta, &omegas, method)?;
+            for s in &sols {
+                w.write_record([
+                    format!("{}", s.omega),
+                    format!("{:.10}", s.qa),
+                    format!("{:.10}", s.qm),
+                    s.case.case().to_string(),
+                    s.case.name().to_string(),
+                    format!("{:.10}", s.phase),
+                    s.stable.map_or(String::new(), |b| b.to_string()),
+                    method.name().to_string(),
+                    String::new(),
+                    String::new(),
+                ])?;
+                rows.push(ResponseRow {
+                    omega: s.omega,
+                    qa: s.qa,
+                    qm: s.qm,
+                    impact: s.case,
+                    stable: s.stable,
+                });
+            }
+            method.name().to_string()
+        }
+        Method::Aft => {
+            let model = a.model.model(omegas[0])?;
+            let opts = AftOptions {
+                harmonics: a.harmonics,
+                subharmonic: a.subharmonic,
+                ..AftOptions::default()
+            };
+            let last = omegas[omegas.len() - 1];
+            let pts = continue_branch(
+                &model,
+                omegas[0],
+                last,
+                &opts,
+                &ContinuationOptions::default(),
+                &Bar::new(),
+            )?;
+            for p in &pts {
+                w.write_record([
+                    format!("{}", p.omega),
+                    format!("{:.10}", p.qa),
+                    format!("{:.10}", p.qm),
+                    p.case.case().to_string(),
+                    p.case.name().to_string(),
+                    String::new(),
+                    p.stable.map_or(String::new(), |b| b.to_string()),
+                    format!("aft-h{}-nu{}", a.harmonics, a.subharmonic),
+                    p.fold.to_string(),
+                    p.period_doubling.to_string(),
+                ])?;
+                rows.push(ResponseRow {
+                    omega: p.omega,
+                    qa: p.qa,
+                    qm: p.qm,
+                    impact: p.case,
+                    stable: p.stable,
+                });
+            }
+            format!(
+                "AFT H = {}, nu = {}, continuation",
+                a.harmonics, a.subharmonic
+            )
+        }
+    };
     let csv_text = String::from_utf8(w.into_inner()?)?;
-    let rows: Vec<ResponseRow> = sols
-        .iter()
-        .map(|s| ResponseRow {
-            omega: s.omega,
-            qa: s.qa,
-            qm: s.qm,
-            impact: s.case,
-            stable: s.stable,
-        })
-        .collect();
     let fmt = |t: Option<f64>| t.map_or("none".to_string(), |v| format!("{v:.4}"));
     let caption = format!(
         "F_m = {}, F_ah = {}, zeta = {}, {}; eq. 14 transitions {} and {}",
         a.model.fm,
         a.model.fah,
         a.model.zeta,
-        method.name(),
+        method_name,
         fmt(t1),
         fmt(t2)
     );

@@ -12,6 +12,8 @@ mod response_plot;
 mod simulate;
 mod simulate_figures;
 mod sweep;
+mod synth;
+mod validate;
 
 use clap::{Parser, Subcommand};
 
@@ -33,6 +35,10 @@ enum Command {
     Basins(basins::Args),
     /// Harmonic-balance frequency response: every solution at each Omega (Sec. 4, Fig. 10).
     Hbm(hbm::Args),
+    /// Fit and validate against Munro's (pp DTE) or Kubo's (dynamic factor) data.
+    Validate(validate::Args),
+    /// Write a synthetic data set (labelled synthetic, with its truth) in the data layout.
+    Synth(synth::Args),
     /// Performance figures: one steady state per integrator and a basin map (README numbers).
     Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
@@ -51,5 +57,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Hbm(a) => hbm::run(a),
         Command::Digitize(a) => digitize::run(a),
+        Command::Validate(a) => validate::run(a),
+        Command::Synth(a) => synth::run(a),
     }
 }

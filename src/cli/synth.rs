@@ -1,0 +1,119 @@
+//! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
+
+use super::common::print_text;
+use super::progress_bar::Bar;
+use clap::{Args as ClapArgs, Subcommand};
+use geardyn::validate::{synth_kubo, synth_munro, HiddenEffects, KuboTruth, MunroTruth};
+use std::path::PathBuf;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    #[command(subcommand)]
+    which: Which,
+}
+
+#[derive(Subcommand, Debug)]
+enum Which {
+    /// pp DTE versus speed at loads 1, 3/4, 1/2, 1/4 of 3780 N on Munro's rig geometry.
+    Munro(MunroArgs),
+    /// Dynamic-factor envelope of a heavily damped rig (zeta about 0.1).
+    Kubo(KuboArgs),
+}
+
+#[derive(ClapArgs, Debug)]
+struct Hidden {
+    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Omega t + psi)).
+    #[arg(long, default_value_t = 0.0)]
+    stiffness_eps: f64,
+    /// Phase psi of the hidden stiffness variation (rad).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    stiffness_phase: f64,
+    /// Hidden second STE harmonic as a fraction of the first.
+    #[arg(long, default_value_t = 0.0)]
+    ste2_ratio: f64,
+    /// Phase of the hidden second STE harmonic (rad).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    ste2_phase: f64,
+}
+
+impl Hidden {
+    fn effects(&self) -> HiddenEffects {
+        HiddenEffects {
+            stiffness_eps: self.stiffness_eps,
+            stiffness_phase: self.stiffness_phase,
+            ste2_ratio: self.ste2_ratio,
+            ste2_phase: self.ste2_phase,
+        }
+    }
+}
+
+#[derive(ClapArgs, Debug)]
+struct MunroArgs {
+    /// Output folder.
+    #[arg(long, default_value = "data/munro")]
+    out: PathBuf,
+    /// True damping ratio.
+    #[arg(long, default_value_t = 0.0175)]
+    zeta: f64,
+    /// True natural frequency, Hz.
+    #[arg(long, default_value_t = 1600.0)]
+    omega_n_hz: f64,
+    /// Additive noise standard deviation, um.
+    #[arg(long, default_value_t = 0.15)]
+    noise_um: f64,
+    /// Noise seed.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Also publish the STE amplitudes in rig.toml.
+    #[arg(long)]
+    publish_ste: bool,
+    #[command(flatten)]
+    hidden: Hidden,
+}
+
+#[derive(ClapArgs, Debug)]
+struct KuboArgs {
+    /// Output folder.
+    #[arg(long, default_value = "data/kubo")]
+    out: PathBuf,
+    /// True damping ratio.
+    #[arg(long, default_value_t = 0.1)]
+    zeta: f64,
+    /// True natural frequency, Hz.
+    #[arg(long, default_value_t = 2500.0)]
+    omega_n_hz: f64,
+    /// Noise seed.
+    #[arg(long, default_value_t = 2)]
+    seed: u64,
+    #[command(flatten)]
+    hidden: Hidden,
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let out = match a.which {
+        Which::Munro(m) => {
+            let mut t = MunroTruth::default_munro();
+            t.zeta = m.zeta;
+            t.omega_n_hz = m.omega_n_hz;
+            t.noise_um = m.noise_um;
+            t.seed = m.seed;
+            t.publish_ste = m.publish_ste;
+            t.hidden = m.hidden.effects();
+            synth_munro(&t, &m.out, &Bar::new())?;
+            m.out
+        }
+        Which::Kubo(k) => {
+            let mut t = KuboTruth::default_kubo();
+            t.zeta = k.zeta;
+            t.omega_n_hz = k.omega_n_hz;
+            t.seed = k.seed;
+            t.hidden = k.hidden.effects();
+            synth_kubo(&t, &k.out, &Bar::new())?;
+            k.out
+        }
+    };
+    print_text(&format!(
+        "SYNTHETIC DATA written to {} (rig.toml records kind = \"synthetic\" and the truth)\n",
+        out.display()
+    ))
+}

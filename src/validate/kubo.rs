@@ -1,0 +1,323 @@
+//! `validate kubo` (Sec. 7, Fig. 23): the dynamic load factor D_L = max (2 zeta q' + k f(q)) / F_m
+//! over a period versus speed, against the envelope of Kubo's measured dynamic factors. zeta and
+//! omega_n come from rig.toml when given, else they are fitted (with the STE amplitude when not
+//! given) to the envelope midline where the teeth stay in contact (measured D_L below 1.8; the
+//! linear model separates at D_L = 2).
+
+use super::curve_metrics::{jump_location, rms};
+use super::linear::load_factor_max;
+use crate::data::{KuboData, KuboPoint};
+use crate::error::{GearError, Result};
+use crate::fit::{fit, profile_interval, FitOptions, FitResult, Residuals};
+use crate::model::{Dimensional, GearPair};
+use crate::progress::Progress;
+use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan};
+use serde::Serialize;
+
+/// Measured D_L below which the teeth are taken to stay in contact for the fit.
+pub const CONTACT_LIMIT: f64 = 1.8;
+
+/// Settings of the Kubo pipeline.
+#[derive(Clone, Debug)]
+pub struct KuboOptions {
+    /// Points of the dense speed grid on which the model curves are drawn.
+    pub dense_points: usize,
+}
+
+impl Default for KuboOptions {
+    fn default() -> Self {
+        KuboOptions { dense_points: 161 }
+    }
+}
+
+/// Everything `validate kubo` computed.
+#[derive(Clone, Debug, Serialize)]
+pub struct KuboValidation {
+    /// The fit, when zeta and omega_n were not given in rig.toml.
+    pub fit: Option<FitResult>,
+    pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
+    /// "fitted to the contact part of the curve" or "given in rig.toml".
+    pub parameter_source: String,
+    pub zeta: f64,
+    pub omega_n_hz: f64,
+    pub ste_um: f64,
+    pub ste_source: String,
+    pub load_n: f64,
+    pub mean_force: f64,
+    pub ste_amplitude: f64,
+    pub points_used_in_fit: usize,
+    /// (speed, min, max) of the measured envelope.
+    pub envelope: Vec<(f64, f64, f64)>,
+    /// (speed, D_L, case) carried up and down.
+    pub up: Vec<(f64, f64, u8)>,
+    pub down: Vec<(f64, f64, u8)>,
+    /// Share of measured speeds where the up-branch D_L lies inside the envelope.
+    pub inside_fraction: f64,
+    /// RMS distance of the up branch outside the envelope at the measured speeds (0 inside).
+    pub outside_rms: f64,
+    pub jump_measured_rpm: Option<f64>,
+    pub jump_up_rpm: Option<f64>,
+    pub jump_error_rpm: Option<f64>,
+}
+
+struct ContactFit<'a> {
+    dim: &'a Dimensional,
+    fm: f64,
+    points: Vec<&'a KuboPoint>,
+    ste_um: Option<f64>,
+}
+
+impl Residuals for ContactFit<'_> {
+    fn names(&self) -> Vec<String> {
+        let mut n = vec!["zeta".to_string(), "omega_n_hz".to_string()];
+        if self.ste_um.is_none() {
+            n.push("ste_um".into());
+        }
+        n
+    }
+    fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
+        let e = self
+            .ste_um
+            .unwrap_or_else(|| p.get(2).copied().unwrap_or(f64::NAN));
+        let fah = self.dim.ste_amplitude(e);
+        Ok(self
+            .points
+            .iter()
+            .map(|k| {
+                let mid = 0.5 * (k.dynamic_factor_min + k.dynamic_factor_max);
+                // The scatter between tooth pairs grows with D_L: weight by the envelope
+                // half-width (its common scale is estimated by the fit).
+                let half = (0.5 * (k.dynamic_factor_max - k.dynamic_factor_min)).max(1e-3 * mid);
+                (mid - load_factor_max(self.fm, fah, p[0], self.dim.omega(k.speed_rpm, p[1])))
+                    / half
+            })
+            .collect())
+    }
+}
+
+/// Run the Kubo validation on a loaded data set.
+pub fn validate_kubo(
+    data: &KuboData,
+    opts: &KuboOptions,
+    progress: &dyn Progress,
+) -> Result<KuboValidation> {
+    let rig = &data.rig.rig;
+    let dim = Dimensional::from_rig(rig)?;
+    let load = rig.test_load_n.unwrap_or(rig.design_load_n);
+    let fm = dim.mean_force(load);
+    let ste_given = data.rig.ste.as_ref().and_then(|t| {
+        t.load_n
+            .iter()
+            .zip(&t.amplitude_um)
+            .find(|(l, _)| (*l - load).abs() <= 1e-6 * load)
+            .map(|(_, a)| *a)
+    });
+    let contact: Vec<&KuboPoint> = data
+        .points
+        .iter()
+        .filter(|p| p.dynamic_factor_max < CONTACT_LIMIT)
+        .collect();
+    let mut used_count = 0;
+    let (fit_result, profile, zeta, wn, ste, source) = match (rig.zeta, rig.omega_n_hz) {
+        (Some(z), Some(w)) => {
+            let e = ste_given.ok_or_else(|| GearError::Data {
+                file: data.dir.join("rig.toml"),
+                line: 0,
+                field: "ste.amplitude_um".into(),
+                message: "zeta and omega_n_hz are given, so the STE amplitude at the test load must be given too".into(),
+            })?;
+            (None, Vec::new(), z, w, e, "given in rig.toml".to_string())
+        }
+        _ => {
+            let k = 2 + usize::from(ste_given.is_none());
+            if contact.len() < k + 3 {
+                return Err(GearError::Data {
+                    file: data.dir.join("rig.toml"),
+                    line: 0,
+                    field: "zeta".into(),
+                    message: format!(
+                        "only {} points have D_L < {CONTACT_LIMIT} (teeth in contact); give zeta and omega_n_hz in rig.toml",
+                        contact.len()
+                    ),
+                });
+            }
+            // Below the resonance the up-sweep is on the contact branch while D_L < limit; above
+            // it the separated branch can persist, so those points join only where the
+            // describing-function solution says contact is the unique steady state.
+            let peak_speed = data
+                .points
+                .iter()
+                .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
+                .map_or(f64::INFINITY, |p| p.speed_rpm);
+            let below: Vec<&KuboPoint> = contact
+                .iter()
+                .copied()
+                .filter(|p| p.speed_rpm < peak_speed)
+                .collect();
+            let peak = dim.mesh_frequency_hz(peak_speed);
+            let mut starts = Vec::new();
+            for z in [0.03, 0.1, 0.2] {
+                for f in [0.8, 1.0, 1.2] {
+                    let mut s = vec![z, peak * f];
+                    if ste_given.is_none() {
+                        s.push(1.0);
+                    }
+                    starts.push(s);
+                }
+            }
+            let fit_opts = FitOptions {
+                starts,
+                sigma: None,
+                max_iters: 3000,
+            };
+            let first = fit(
+                &ContactFit {
+                    dim: &dim,
+                    fm,
+                    points: below.clone(),
+                    ste_um: ste_given,
+                },
+                &fit_opts,
+            )?;
+            let e1 = ste_given.unwrap_or(first.params.get(2).copied().unwrap_or(f64::NAN));
+            let mut used = below;
+            for p in contact.iter().copied().filter(|p| p.speed_rpm > peak_speed) {
+                let om = dim.omega(p.speed_rpm, first.params[1]);
+                let sols = crate::hb::df_solutions(
+                    fm,
+                    dim.ste_amplitude(e1),
+                    first.params[0],
+                    om,
+                    crate::hb::DfMethod::Exact,
+                )?;
+                if sols.len() == 1 && sols[0].case == crate::model::Impact::None {
+                    used.push(p);
+                }
+            }
+            let problem = ContactFit {
+                dim: &dim,
+                fm,
+                points: used,
+                ste_um: ste_given,
+            };
+            let mut refit_opts = fit_opts.clone();
+            refit_opts.starts.push(first.params.clone());
+            let r = fit(&problem, &refit_opts)?;
+            let prof = (0..r.params.len())
+                .map(|i| profile_interval(&problem, &r, i))
+                .collect::<Result<Vec<_>>>()?;
+            let e = ste_given.unwrap_or(r.params.get(2).copied().unwrap_or(f64::NAN));
+            let (z, w) = (r.params[0], r.params[1]);
+            used_count = problem.points.len();
+            (
+                Some(r),
+                prof,
+                z,
+                w,
+                e,
+                "fitted to the contact part of the curve".to_string(),
+            )
+        }
+    };
+    let fah = dim.ste_amplitude(ste);
+    let model = GearPair::paper(fm, fah, zeta, 1.0)?;
+    let speeds_measured: Vec<f64> = data.points.iter().map(|p| p.speed_rpm).collect();
+    let (lo, hi) = (
+        speeds_measured[0],
+        speeds_measured[speeds_measured.len() - 1],
+    );
+    let n = opts.dense_points.max(2);
+    let mut speeds: Vec<f64> = (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect();
+    speeds.extend(&speeds_measured);
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, wn)).collect();
+    let factory =
+        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
+    progress.start(2, "branches");
+    let carried = |branch: Branch| -> Result<Vec<(f64, f64, u8)>> {
+        let plan = SweepPlan {
+            omegas: omegas.clone(),
+            branch,
+            x0: [1.0 + fm, 0.0],
+            grid: IcGrid::new(-2.0, 2.0, 1)?,
+            opts: SteadyOptions::default(),
+        };
+        let pts = sweep(&factory, &model, &plan, &crate::progress::NoProgress)?;
+        progress.advance(1);
+        Ok(pts
+            .iter()
+            .map(|p| {
+                (
+                    dim.speed_rpm(p.omega, wn),
+                    p.steady.dl_max.unwrap_or(f64::NAN),
+                    p.steady.impact.case(),
+                )
+            })
+            .collect())
+    };
+    let up = carried(Branch::Up)?;
+    let down = carried(Branch::Down)?;
+    progress.finish();
+    let mut inside = 0usize;
+    let mut outside = Vec::new();
+    for p in &data.points {
+        let m = up
+            .iter()
+            .find(|u| (u.0 - p.speed_rpm).abs() <= 1e-6 * p.speed_rpm)
+            .map_or(f64::NAN, |u| u.1);
+        let d = if m < p.dynamic_factor_min {
+            p.dynamic_factor_min - m
+        } else if m > p.dynamic_factor_max {
+            m - p.dynamic_factor_max
+        } else {
+            inside += 1;
+            0.0
+        };
+        outside.push(d);
+    }
+    let mid: Vec<(f64, f64)> = data
+        .points
+        .iter()
+        .map(|p| {
+            (
+                p.speed_rpm,
+                0.5 * (p.dynamic_factor_min + p.dynamic_factor_max),
+            )
+        })
+        .collect();
+    let jump_measured = jump_location(&mid, 6.0);
+    let jump_up = jump_location(&up.iter().map(|u| (u.0, u.1)).collect::<Vec<_>>(), 6.0);
+    Ok(KuboValidation {
+        fit: fit_result,
+        ci95_profile: profile,
+        parameter_source: source,
+        zeta,
+        omega_n_hz: wn,
+        ste_um: ste,
+        ste_source: if ste_given.is_some() {
+            "rig.toml"
+        } else {
+            "fitted"
+        }
+        .to_string(),
+        load_n: load,
+        mean_force: fm,
+        ste_amplitude: fah,
+        points_used_in_fit: used_count,
+        envelope: data
+            .points
+            .iter()
+            .map(|p| (p.speed_rpm, p.dynamic_factor_min, p.dynamic_factor_max))
+            .collect(),
+        inside_fraction: inside as f64 / data.points.len().max(1) as f64,
+        outside_rms: rms(&outside),
+        jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
+        jump_measured_rpm: jump_measured,
+        jump_up_rpm: jump_up,
+        up,
+        down,
+    })
+}

@@ -1,0 +1,359 @@
+//! `validate munro` (Sec. 7, Figs 19-22): fit zeta and omega_n (and the STE amplitude when not
+//! given) to the design-load pp DTE curve, where the teeth stay in contact and eq. 13 is exact,
+//! then predict pp DTE at the other loads by simulation with every branch (carried up, carried
+//! down, all attractors), and compare with the measurements.
+
+use super::curve_metrics::{jump_location, rms};
+use super::linear::{dte_pp_um, stays_in_contact};
+use crate::data::{MunroData, MunroPoint};
+use crate::error::{GearError, Result};
+use crate::fit::{fit, profile_interval, FitOptions, FitResult, Residuals};
+use crate::model::{Dimensional, GearPair};
+use crate::progress::Progress;
+use crate::sim::{find_attractors, sweep, Branch, ExactFlow, IcGrid, SteadyOptions, SweepPlan};
+use rayon::prelude::*;
+use serde::Serialize;
+
+/// Settings of the Munro pipeline.
+#[derive(Clone, Debug)]
+pub struct MunroOptions {
+    /// Points of the dense speed grid on which the model curves are drawn.
+    pub dense_points: usize,
+    /// Speeds (evenly spread) at which every attractor is searched.
+    pub attractor_speeds: usize,
+    /// Initial conditions per axis of that search.
+    pub ic_per_axis: usize,
+}
+
+impl Default for MunroOptions {
+    fn default() -> Self {
+        MunroOptions {
+            dense_points: 121,
+            attractor_speeds: 25,
+            ic_per_axis: 7,
+        }
+    }
+}
+
+/// Where an STE amplitude came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SteSource {
+    /// The `[ste]` table of rig.toml.
+    RigToml,
+    /// Fitted with zeta and omega_n at the design load.
+    Fitted,
+    /// Half the pp DTE at the curve's lowest speed (quasi-static DTE equals STE), corrected by
+    /// the fitted linear gain there.
+    LowSpeedEnd,
+}
+
+/// A model curve point: speed, pp DTE in um, impact case (1, 2, 3).
+#[derive(Clone, Copy, Debug, Serialize)]
+pub struct ModelPoint {
+    pub speed_rpm: f64,
+    pub dte_pp_um: f64,
+    pub case: u8,
+    /// Basin fraction for all-attractor points.
+    pub basin_fraction: Option<f64>,
+}
+
+/// Prediction and errors at one load.
+#[derive(Clone, Debug, Serialize)]
+pub struct LoadResult {
+    pub load_n: f64,
+    pub mean_force: f64,
+    pub ste_um: f64,
+    pub ste_amplitude: f64,
+    pub ste_source: SteSource,
+    pub force_ratio: f64,
+    /// True for the design load (the fitted curve).
+    pub fitted: bool,
+    pub measured: Vec<(f64, f64)>,
+    pub up: Vec<ModelPoint>,
+    pub down: Vec<ModelPoint>,
+    pub all: Vec<ModelPoint>,
+    /// RMS error against the nearer of the up and down branches at each measured speed, um.
+    pub rms_um: f64,
+    pub rms_up_um: f64,
+    pub rms_down_um: f64,
+    pub jump_measured_rpm: Option<f64>,
+    pub jump_up_rpm: Option<f64>,
+    pub jump_down_rpm: Option<f64>,
+    /// Model up-jump minus measured jump, rpm.
+    pub jump_error_rpm: Option<f64>,
+    /// Residuals (measured minus best branch) at the measured speeds.
+    pub residuals: Vec<(f64, f64)>,
+}
+
+/// Everything `validate munro` computed.
+#[derive(Clone, Debug, Serialize)]
+pub struct MunroValidation {
+    pub fit: FitResult,
+    /// Profile-likelihood 95% intervals per fitted parameter (None: not bounded within x10).
+    pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
+    pub zeta: f64,
+    pub omega_n_hz: f64,
+    pub half_backlash_um: f64,
+    pub mesh_stiffness_n_per_um: f64,
+    pub stiffness_source: String,
+    /// The fitted linear model keeps the teeth in contact at the design load at every measured speed.
+    pub design_load_in_contact: bool,
+    pub loads: Vec<LoadResult>,
+}
+
+struct DesignFit<'a> {
+    dim: &'a Dimensional,
+    points: Vec<&'a MunroPoint>,
+    ste_um: Option<f64>,
+}
+
+impl Residuals for DesignFit<'_> {
+    fn names(&self) -> Vec<String> {
+        let mut n = vec!["zeta".to_string(), "omega_n_hz".to_string()];
+        if self.ste_um.is_none() {
+            n.push("ste_um".into());
+        }
+        n
+    }
+    fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
+        let (zeta, wn) = (p[0], p[1]);
+        let e = self
+            .ste_um
+            .unwrap_or_else(|| p.get(2).copied().unwrap_or(f64::NAN));
+        Ok(self
+            .points
+            .iter()
+            .map(|pt| pt.dte_pp_um - dte_pp_um(e, zeta, self.dim.omega(pt.speed_rpm, wn)))
+            .collect())
+    }
+}
+
+/// STE amplitude at a load from rig.toml, if listed.
+fn ste_from_rig(data: &MunroData, load: f64) -> Option<f64> {
+    let t = data.rig.ste.as_ref()?;
+    t.load_n
+        .iter()
+        .zip(&t.amplitude_um)
+        .find(|(l, _)| (*l - load).abs() <= 1e-6 * load.abs().max(1.0))
+        .map(|(_, a)| *a)
+}
+
+/// Run the Munro validation on a loaded data set.
+pub fn validate_munro(
+    data: &MunroData,
+    opts: &MunroOptions,
+    progress: &dyn Progress,
+) -> Result<MunroValidation> {
+    let rig = &data.rig.rig;
+    let dim = Dimensional::from_rig(rig)?;
+    let design = rig.design_load_n;
+    let design_curve = data.curve(design);
+    if design_curve.len() < 5 {
+        return Err(GearError::Data {
+            file: data.dir.join("rig.toml"),
+            line: 0,
+            field: "design_load_n".into(),
+            message: format!(
+                "the fit needs the design-load curve ({design} N) with at least 5 points; found {}",
+                design_curve.len()
+            ),
+        });
+    }
+    let ste_design = ste_from_rig(data, design);
+    let problem = DesignFit {
+        dim: &dim,
+        points: design_curve.clone(),
+        ste_um: ste_design,
+    };
+    // Starts: resonance at the measured peak; damping light to heavy; STE from the low-speed end.
+    let peak = design_curve
+        .iter()
+        .max_by(|a, b| a.dte_pp_um.total_cmp(&b.dte_pp_um))
+        .map(|p| dim.mesh_frequency_hz(p.speed_rpm))
+        .unwrap_or(1000.0);
+    let e0 = (design_curve[0].dte_pp_um / 2.0).max(1e-3);
+    let mut starts = Vec::new();
+    for z in [0.01, 0.03, 0.08] {
+        for f in [0.9, 1.0, 1.1] {
+            let mut s = vec![z, peak * f];
+            if ste_design.is_none() {
+                s.push(e0);
+            }
+            starts.push(s);
+        }
+    }
+    let fit_result = fit(
+        &problem,
+        &FitOptions {
+            starts,
+            sigma: None,
+            max_iters: 3000,
+        },
+    )?;
+    let ci95_profile = (0..fit_result.params.len())
+        .map(|i| profile_interval(&problem, &fit_result, i))
+        .collect::<Result<Vec<_>>>()?;
+    let (zeta, wn) = (fit_result.params[0], fit_result.params[1]);
+    let (ste_design, design_source) = match ste_design {
+        Some(e) => (e, SteSource::RigToml),
+        None => (fit_result.params[2], SteSource::Fitted),
+    };
+    let design_in_contact = design_curve.iter().all(|p| {
+        stays_in_contact(
+            dim.mean_force(design),
+            dim.ste_amplitude(ste_design),
+            zeta,
+            dim.omega(p.speed_rpm, wn),
+        )
+    });
+    let loads = data.loads();
+    progress.start(loads.len() as u64, "loads");
+    let results: Vec<Result<LoadResult>> = loads
+        .par_iter()
+        .map(|&load| {
+            let curve = data.curve(load);
+            let fitted = (load - design).abs() <= 1e-6 * design;
+            let (ste, source) = if fitted {
+                (ste_design, design_source)
+            } else if let Some(e) = ste_from_rig(data, load) {
+                (e, SteSource::RigToml)
+            } else {
+                let p0 = curve[0];
+                let gain = super::linear::dte_gain(zeta, dim.omega(p0.speed_rpm, wn));
+                (p0.dte_pp_um / (2.0 * gain), SteSource::LowSpeedEnd)
+            };
+            let r = predict_load(&dim, load, ste, source, fitted, &curve, zeta, wn, opts);
+            progress.advance(1);
+            r
+        })
+        .collect();
+    progress.finish();
+    Ok(MunroValidation {
+        ci95_profile,
+        zeta,
+        omega_n_hz: wn,
+        half_backlash_um: dim.half_backlash_m * 1e6,
+        mesh_stiffness_n_per_um: dim.mesh_stiffness_n_per_m * 1e-6,
+        stiffness_source: format!("{:?}", dim.stiffness_source),
+        design_load_in_contact: design_in_contact,
+        loads: results.into_iter().collect::<Result<Vec<_>>>()?,
+        fit: fit_result,
+    })
+}
+
+#[allow(clippy::too_many_arguments)]
+fn predict_load(
+    dim: &Dimensional,
+    load: f64,
+    ste_um: f64,
+    ste_source: SteSource,
+    fitted: bool,
+    curve: &[&MunroPoint],
+    zeta: f64,
+    wn: f64,
+    opts: &MunroOptions,
+) -> Result<LoadResult> {
+    let fm = dim.mean_force(load);
+    let fah = dim.ste_amplitude(ste_um);
+    let model = GearPair::paper(fm, fah, zeta, 1.0)?;
+    let measured: Vec<(f64, f64)> = curve.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect();
+    let (lo, hi) = (measured[0].0, measured[measured.len() - 1].0);
+    let n = opts.dense_points.max(2);
+    let mut speeds: Vec<f64> = (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect();
+    speeds.extend(measured.iter().map(|m| m.0));
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, wn)).collect();
+    let factory = |m: &GearPair| -> Result<Box<dyn crate::sim::PeriodFlow>> {
+        Ok(Box::new(ExactFlow::new(m)?))
+    };
+    let opts_ss = SteadyOptions::default();
+    let carried = |branch: Branch| -> Result<Vec<ModelPoint>> {
+        let plan = SweepPlan {
+            omegas: omegas.clone(),
+            branch,
+            x0: [1.0 + fm, 0.0],
+            grid: IcGrid::new(-2.0, 2.0, 1)?,
+            opts: opts_ss.clone(),
+        };
+        Ok(
+            sweep(&factory, &model, &plan, &crate::progress::NoProgress)?
+                .iter()
+                .map(|p| ModelPoint {
+                    speed_rpm: dim.speed_rpm(p.omega, wn),
+                    dte_pp_um: dim.dte_um(p.steady.dte_pp),
+                    case: p.steady.impact.case(),
+                    basin_fraction: None,
+                })
+                .collect(),
+        )
+    };
+    let up = carried(Branch::Up)?;
+    let down = carried(Branch::Down)?;
+    let grid = IcGrid::new(-2.0, 2.0, opts.ic_per_axis.max(1))?;
+    let k = opts.attractor_speeds.max(2);
+    let mut all = Vec::new();
+    for i in 0..k {
+        let s = lo + (hi - lo) * i as f64 / (k - 1) as f64;
+        let om = dim.omega(s, wn);
+        let flow = ExactFlow::new(&model.at_omega(om)?)?;
+        let map = find_attractors(&flow, &grid, &opts_ss, &crate::progress::NoProgress)?;
+        all.extend(map.attractors.iter().map(|a| ModelPoint {
+            speed_rpm: s,
+            dte_pp_um: dim.dte_um(a.steady.dte_pp),
+            case: a.steady.impact.case(),
+            basin_fraction: Some(a.basin_fraction),
+        }));
+    }
+    let at = |branch: &[ModelPoint], s: f64| {
+        branch
+            .iter()
+            .find(|p| (p.speed_rpm - s).abs() <= 1e-6 * s.abs().max(1.0))
+            .map(|p| p.dte_pp_um)
+            .unwrap_or(f64::NAN)
+    };
+    let mut d_up = Vec::new();
+    let mut d_down = Vec::new();
+    let mut d_best = Vec::new();
+    let mut residuals = Vec::new();
+    for &(s, y) in &measured {
+        let (u, d) = (y - at(&up, s), y - at(&down, s));
+        let best = if u.abs() <= d.abs() { u } else { d };
+        d_up.push(u);
+        d_down.push(d);
+        d_best.push(best);
+        residuals.push((s, best));
+    }
+    let curve_of = |b: &[ModelPoint]| {
+        b.iter()
+            .map(|p| (p.speed_rpm, p.dte_pp_um))
+            .collect::<Vec<_>>()
+    };
+    let jump_measured = jump_location(&measured, 6.0);
+    let jump_up = jump_location(&curve_of(&up), 6.0);
+    let jump_down = jump_location(&curve_of(&down), 6.0);
+    Ok(LoadResult {
+        load_n: load,
+        mean_force: fm,
+        ste_um,
+        ste_amplitude: fah,
+        ste_source,
+        force_ratio: fm / fah,
+        fitted,
+        rms_um: rms(&d_best),
+        rms_up_um: rms(&d_up),
+        rms_down_um: rms(&d_down),
+        jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
+        jump_measured_rpm: jump_measured,
+        jump_up_rpm: jump_up,
+        jump_down_rpm: jump_down,
+        residuals,
+        measured,
+        up,
+        down,
+        all,
+    })
+}

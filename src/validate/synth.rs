@@ -1,0 +1,377 @@
+//! Synthetic data sets in the layout of design.md section 4, made by simulating the model from
+//! stated truth parameters and adding seeded noise. They stand in for Munro's and Kubo's curves
+//! until digitized ones are added, and they are labelled `kind = "synthetic"` with their truth.
+
+use super::noise::Rng;
+use crate::data::{write_rig, DataKind, Rig, RigFile, Source, SteTable};
+use crate::error::{GearError, Result};
+use crate::model::{Dimensional, GearPair, Term};
+use crate::progress::Progress;
+use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, RkFlow, SteadyOptions, SweepPlan};
+use std::path::Path;
+
+/// Physical effects that can be hidden in synthetic data (absent from the paper's model).
+#[derive(Clone, Debug, Default)]
+pub struct HiddenEffects {
+    /// Mesh-stiffness variation amplitude eps of k(t) = 1 + eps cos(Omega t + psi).
+    pub stiffness_eps: f64,
+    /// Phase psi of the stiffness variation (rad).
+    pub stiffness_phase: f64,
+    /// Second STE harmonic amplitude as a fraction of the first.
+    pub ste2_ratio: f64,
+    /// Phase of the second STE harmonic (rad).
+    pub ste2_phase: f64,
+}
+
+impl HiddenEffects {
+    fn is_none(&self) -> bool {
+        self.stiffness_eps == 0.0 && self.ste2_ratio == 0.0
+    }
+
+    /// Apply the effects to a model of the paper's form.
+    pub fn apply(&self, mut model: GearPair) -> Result<GearPair> {
+        if self.stiffness_eps != 0.0 {
+            model.stiffness = vec![Term {
+                order: 1,
+                amplitude: self.stiffness_eps,
+                phase: self.stiffness_phase,
+            }];
+        }
+        if self.ste2_ratio != 0.0 {
+            let a1 = model.ste.first().map_or(0.0, |t| t.amplitude);
+            model.ste.push(Term {
+                order: 2,
+                amplitude: self.ste2_ratio * a1,
+                phase: self.ste2_phase,
+            });
+        }
+        model.validated()
+    }
+}
+
+/// Truth and measurement settings of a synthetic Munro-style set (pp DTE versus speed per load).
+#[derive(Clone, Debug)]
+pub struct MunroTruth {
+    /// The rig (geometry, design load, backlash).
+    pub rig: Rig,
+    /// Damping ratio.
+    pub zeta: f64,
+    /// Natural frequency of the mesh mode, Hz.
+    pub omega_n_hz: f64,
+    /// (load N, STE amplitude um) per load; the first is taken as the design load's.
+    pub ste_um: Vec<(f64, f64)>,
+    /// Speeds: start, stop, step in rpm.
+    pub speeds_rpm: (f64, f64, f64),
+    /// Standard deviation of the additive measurement noise, um.
+    pub noise_um: f64,
+    /// Seed of the noise.
+    pub seed: u64,
+    /// Write the STE amplitudes into rig.toml (else the pipeline estimates them from the curves).
+    pub publish_ste: bool,
+    /// Effects hidden in the data.
+    pub hidden: HiddenEffects,
+}
+
+/// Munro's rig as stated in Sec. 7: 32/32 teeth, diametral pitch 4 /in (module 6.35 mm), face
+/// 12.7 mm, design load 3780 N, assumed backlash 2b = 0.1 mm; 20 degree pressure angle assumed.
+pub fn munro_rig() -> Rig {
+    Rig {
+        name: "Munro four-square rig (geometry of Sec. 7)".into(),
+        pinion_teeth: 32,
+        gear_teeth: 32,
+        module_mm: 6.35,
+        pressure_angle_deg: 20.0,
+        face_width_mm: 12.7,
+        design_load_n: 3780.0,
+        backlash_mm: 0.1,
+        mesh_stiffness_n_per_um: None,
+        contact_ratio: None,
+        zeta: None,
+        omega_n_hz: None,
+        test_load_n: None,
+    }
+}
+
+impl MunroTruth {
+    /// The default stand-in for Munro's Figs 19-22: the paper's zeta = 0.0175, a resonance inside
+    /// the speed range, an STE that is smallest at the design load (profile modification) so the
+    /// force ratio there is about 50 as the paper says, and loads 1, 3/4, 1/2, 1/4 of design.
+    pub fn default_munro() -> Self {
+        let d = 3780.0;
+        MunroTruth {
+            rig: munro_rig(),
+            zeta: 0.0175,
+            omega_n_hz: 1600.0,
+            ste_um: vec![(d, 0.3), (0.75 * d, 1.5), (0.5 * d, 2.5), (0.25 * d, 3.5)],
+            speeds_rpm: (1000.0, 5000.0, 50.0),
+            noise_um: 0.15,
+            seed: 1,
+            publish_ste: false,
+            hidden: HiddenEffects::default(),
+        }
+    }
+}
+
+/// Flow factory: exact for the paper's model, DOP853 when k(t) varies.
+fn flow_for(m: &GearPair) -> Result<Box<dyn PeriodFlow>> {
+    if m.has_stiffness_variation() {
+        Ok(Box::new(RkFlow::new(m, 1e-9)?))
+    } else {
+        Ok(Box::new(ExactFlow::new(m)?))
+    }
+}
+
+/// Simulated up-sweep (speed increasing, as a test run) of pp DTE in um at one load.
+pub fn simulate_dte_curve(
+    dim: &Dimensional,
+    model: &GearPair,
+    omega_n_hz: f64,
+    speeds: &[f64],
+    progress: &dyn Progress,
+) -> Result<Vec<f64>> {
+    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
+    let plan = SweepPlan {
+        omegas,
+        branch: Branch::Up,
+        x0: [1.0 + model.mean_force, 0.0],
+        grid: IcGrid::new(-2.0, 2.0, 1)?,
+        opts: SteadyOptions::default(),
+    };
+    let pts = sweep(&flow_for, model, &plan, progress)?;
+    Ok(pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect())
+}
+
+fn speed_grid((start, stop, step): (f64, f64, f64)) -> Result<Vec<f64>> {
+    crate::sim::frequency_range(start, stop, step).map_err(|_| {
+        GearError::param(
+            "speeds_rpm",
+            step,
+            "speed range must be start > 0, stop >= start, step > 0",
+        )
+    })
+}
+
+/// Write a synthetic Munro-style data set (rig.toml with its truth, dte.csv) into `dir`.
+pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
+    let dim = Dimensional::from_rig(&truth.rig)?;
+    let speeds = speed_grid(truth.speeds_rpm)?;
+    let mut rng = Rng::new(truth.seed);
+    let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
+    for &(load, ste) in &truth.ste_um {
+        let model = GearPair::paper(
+            dim.mean_force(load),
+            dim.ste_amplitude(ste),
+            truth.zeta,
+            1.0,
+        )?;
+        let model = truth.hidden.apply(model)?;
+        let clean = simulate_dte_curve(&dim, &model, truth.omega_n_hz, &speeds, progress)?;
+        for (s, y) in speeds.iter().zip(clean) {
+            let noisy = (y + truth.noise_um * rng.normal()).max(0.0);
+            rows.push_str(&format!("{load},{s},{noisy:.5}\n"));
+        }
+    }
+    let mut t = toml::Table::new();
+    t.insert("zeta".into(), truth.zeta.into());
+    t.insert("omega_n_hz".into(), truth.omega_n_hz.into());
+    t.insert(
+        "load_n".into(),
+        truth
+            .ste_um
+            .iter()
+            .map(|x| toml::Value::from(x.0))
+            .collect::<Vec<_>>()
+            .into(),
+    );
+    t.insert(
+        "ste_um".into(),
+        truth
+            .ste_um
+            .iter()
+            .map(|x| toml::Value::from(x.1))
+            .collect::<Vec<_>>()
+            .into(),
+    );
+    t.insert("noise_um".into(), truth.noise_um.into());
+    t.insert("seed".into(), (truth.seed as i64).into());
+    t.insert(
+        "branch".into(),
+        "up (speed increasing, state carried)".into(),
+    );
+    insert_hidden(&mut t, &truth.hidden);
+    let ste = truth.publish_ste.then(|| SteTable {
+        load_n: truth.ste_um.iter().map(|x| x.0).collect(),
+        amplitude_um: truth.ste_um.iter().map(|x| x.1).collect(),
+    });
+    let rig = RigFile {
+        rig: truth.rig.clone(),
+        ste,
+        source: Source {
+            kind: DataKind::Synthetic,
+            citation: "Synthetic stand-in for Munro (1962) as shown in Kahraman & Singh (1990) Figs 19-22: \
+                       simulated from the truth below, not measured"
+                .into(),
+            figure: Some("layout of Figs 19-22 (loads 1, 3/4, 1/2, 1/4 of design)".into()),
+            method: None,
+            uncertainty: None,
+            generator: Some(format!("geardyn synth {}", env!("CARGO_PKG_VERSION"))),
+            truth: Some(t),
+        },
+    };
+    write_set(dir, &rig, "dte.csv", &rows)
+}
+
+fn insert_hidden(t: &mut toml::Table, h: &HiddenEffects) {
+    let mut e = toml::Table::new();
+    e.insert("stiffness_eps".into(), h.stiffness_eps.into());
+    e.insert("stiffness_phase".into(), h.stiffness_phase.into());
+    e.insert("ste2_ratio".into(), h.ste2_ratio.into());
+    e.insert("ste2_phase".into(), h.ste2_phase.into());
+    e.insert("none".into(), h.is_none().into());
+    t.insert("hidden_effects".into(), e.into());
+}
+
+/// Write rig.toml and one CSV, replacing any previous set in `dir` only once both are ready.
+fn write_set(dir: &Path, rig: &RigFile, csv_name: &str, rows: &str) -> Result<()> {
+    std::fs::create_dir_all(dir).map_err(|e| GearError::Io {
+        path: dir.to_path_buf(),
+        source: e,
+    })?;
+    write_rig(&dir.join("rig.toml"), rig)?;
+    std::fs::write(dir.join(csv_name), rows).map_err(|e| GearError::Io {
+        path: dir.join(csv_name),
+        source: e,
+    })
+}
+
+/// Truth of a synthetic Kubo-style set: the dynamic-factor envelope of several tooth pairs.
+#[derive(Clone, Debug)]
+pub struct KuboTruth {
+    /// The rig (placeholder geometry; the load the curve is measured at is `test_load_n`).
+    pub rig: Rig,
+    /// Damping ratio (Kubo's rig is heavily damped, about 0.1).
+    pub zeta: f64,
+    /// Natural frequency, Hz.
+    pub omega_n_hz: f64,
+    /// STE amplitude at the test load, um.
+    pub ste_um: f64,
+    /// Speeds: start, stop, step in rpm.
+    pub speeds_rpm: (f64, f64, f64),
+    /// Tooth pairs whose dynamic factors make the envelope.
+    pub tooth_pairs: usize,
+    /// Relative scatter between tooth pairs (standard deviation).
+    pub pair_scatter: f64,
+    /// Seed.
+    pub seed: u64,
+    /// Publish the STE amplitude in rig.toml.
+    pub publish_ste: bool,
+    /// Effects hidden in the data.
+    pub hidden: HiddenEffects,
+}
+
+impl KuboTruth {
+    /// Default stand-in for Fig. 23: zeta 0.1, a resonance inside the speed range and an STE
+    /// that separates the teeth near resonance. The geometry is a placeholder, not Kubo's.
+    pub fn default_kubo() -> Self {
+        KuboTruth {
+            rig: Rig {
+                name: "Heavily damped four-square rig (placeholder geometry, Kubo-like damping)"
+                    .into(),
+                pinion_teeth: 25,
+                gear_teeth: 25,
+                module_mm: 4.0,
+                pressure_angle_deg: 20.0,
+                face_width_mm: 10.0,
+                design_load_n: 2000.0,
+                backlash_mm: 0.1,
+                mesh_stiffness_n_per_um: None,
+                contact_ratio: None,
+                zeta: None,
+                omega_n_hz: None,
+                test_load_n: Some(2000.0),
+            },
+            zeta: 0.1,
+            omega_n_hz: 2500.0,
+            ste_um: 3.0,
+            speeds_rpm: (2000.0, 10000.0, 100.0),
+            tooth_pairs: 8,
+            pair_scatter: 0.04,
+            seed: 2,
+            publish_ste: true,
+            hidden: HiddenEffects::default(),
+        }
+    }
+}
+
+/// Write a synthetic Kubo-style set (rig.toml with its truth, dynamic_factor.csv) into `dir`.
+pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
+    let dim = Dimensional::from_rig(&truth.rig)?;
+    let load = truth.rig.test_load_n.unwrap_or(truth.rig.design_load_n);
+    let speeds = speed_grid(truth.speeds_rpm)?;
+    let model = GearPair::paper(
+        dim.mean_force(load),
+        dim.ste_amplitude(truth.ste_um),
+        truth.zeta,
+        1.0,
+    )?;
+    let model = truth.hidden.apply(model)?;
+    let omegas: Vec<f64> = speeds
+        .iter()
+        .map(|&s| dim.omega(s, truth.omega_n_hz))
+        .collect();
+    let plan = SweepPlan {
+        omegas,
+        branch: Branch::Up,
+        x0: [1.0 + model.mean_force, 0.0],
+        grid: IcGrid::new(-2.0, 2.0, 1)?,
+        opts: SteadyOptions::default(),
+    };
+    let pts = sweep(&flow_for, &model, &plan, progress)?;
+    let mut rng = Rng::new(truth.seed);
+    let mut rows = String::from("speed_rpm,dynamic_factor_min,dynamic_factor_max\n");
+    for (s, p) in speeds.iter().zip(&pts) {
+        let d = p.steady.dl_max.unwrap_or(f64::NAN);
+        let pairs: Vec<f64> = (0..truth.tooth_pairs.max(1))
+            .map(|_| d * (1.0 + truth.pair_scatter * rng.normal()))
+            .collect();
+        let lo = pairs.iter().copied().fold(f64::INFINITY, f64::min).max(0.0);
+        let hi = pairs
+            .iter()
+            .copied()
+            .fold(f64::NEG_INFINITY, f64::max)
+            .max(lo);
+        rows.push_str(&format!("{s},{lo:.5},{hi:.5}\n"));
+    }
+    let mut t = toml::Table::new();
+    t.insert("zeta".into(), truth.zeta.into());
+    t.insert("omega_n_hz".into(), truth.omega_n_hz.into());
+    t.insert("ste_um".into(), truth.ste_um.into());
+    t.insert("load_n".into(), load.into());
+    t.insert("tooth_pairs".into(), (truth.tooth_pairs as i64).into());
+    t.insert("pair_scatter".into(), truth.pair_scatter.into());
+    t.insert("seed".into(), (truth.seed as i64).into());
+    t.insert(
+        "branch".into(),
+        "up (speed increasing, state carried)".into(),
+    );
+    insert_hidden(&mut t, &truth.hidden);
+    let rig = RigFile {
+        rig: truth.rig.clone(),
+        ste: truth.publish_ste.then(|| SteTable {
+            load_n: vec![load],
+            amplitude_um: vec![truth.ste_um],
+        }),
+        source: Source {
+            kind: DataKind::Synthetic,
+            citation: "Synthetic stand-in for Kubo's dynamic-factor envelope (Kahraman & Singh 1990 Fig. 23, \
+                       from Ozguven & Houser 1988): simulated from the truth below, not measured"
+                .into(),
+            figure: Some("layout of Fig. 23 (envelope of tooth pairs)".into()),
+            method: None,
+            uncertainty: None,
+            generator: Some(format!("geardyn synth {}", env!("CARGO_PKG_VERSION"))),
+            truth: Some(t),
+        },
+    };
+    write_set(dir, &rig, "dynamic_factor.csv", &rows)
+}

@@ -1,0 +1,200 @@
+//! The validation pipeline on synthetic data with known truth: the design-load fit recovers zeta
+//! and omega_n inside their reported 95% intervals, the reduced-load predictions match the truth's
+//! own curves, and the command line writes fits/ and reports/ (and nothing on bad data).
+
+mod common;
+use common::geardyn;
+use geardyn::data::load_munro;
+use geardyn::model::{Dimensional, GearPair};
+use geardyn::progress::NoProgress;
+use geardyn::validate::{
+    simulate_dte_curve, synth_munro, validate_munro, MunroOptions, MunroTruth,
+};
+
+fn within(v: f64, ci: (Option<f64>, Option<f64>)) -> bool {
+    ci.0.is_none_or(|lo| lo <= v) && ci.1.is_none_or(|hi| v <= hi)
+}
+
+/// Truth recovery over several noise seeds: the 95% profile interval must contain the truth in
+/// each (a 95% interval misses with probability 0.05 per seed; the seeds are fixed, so this test is
+/// deterministic and was checked to hold for them, and a systematic bias would fail it).
+#[test]
+fn fit_recovers_truth_and_predictions_match_truth_curves() {
+    for seed in [1u64, 7, 42] {
+        let dir = tempfile::tempdir().unwrap();
+        let mut truth = MunroTruth::default_munro();
+        truth.seed = seed;
+        truth.publish_ste = true;
+        synth_munro(&truth, dir.path(), &NoProgress).unwrap();
+        let data = load_munro(dir.path()).unwrap();
+        let opts = MunroOptions {
+            attractor_speeds: 3,
+            ..MunroOptions::default()
+        };
+        let r = validate_munro(&data, &opts, &NoProgress).unwrap();
+        assert!(
+            within(truth.zeta, r.ci95_profile[0]),
+            "seed {seed}: zeta {} ci {:?}",
+            r.zeta,
+            r.ci95_profile[0]
+        );
+        assert!(
+            within(truth.omega_n_hz, r.ci95_profile[1]),
+            "seed {seed}: omega_n {} ci {:?}",
+            r.omega_n_hz,
+            r.ci95_profile[1]
+        );
+        let (c0, c1) = (r.fit.ci95_covariance[0], r.fit.ci95_covariance[1]);
+        assert!(
+            c0.0 <= truth.zeta && truth.zeta <= c0.1,
+            "seed {seed}: covariance interval {c0:?}"
+        );
+        assert!(
+            c1.0 <= truth.omega_n_hz && truth.omega_n_hz <= c1.1,
+            "seed {seed}: covariance interval {c1:?}"
+        );
+        // Reduced loads with F_hat >= 2.8 (3/4 and 1/2 of design): the model's up-branch follows
+        // the truth's noise-free curve to within the noise level (0.15 um) in RMS. At 1/4 load
+        // the response is subharmonic/chaotic above ~4200 rpm, where no point-wise agreement can
+        // be expected, so it is compared below that speed only.
+        let dim = Dimensional::from_rig(&data.rig.rig).unwrap();
+        for l in r.loads.iter().filter(|l| !l.fitted) {
+            let ste = truth
+                .ste_um
+                .iter()
+                .find(|x| (x.0 - l.load_n).abs() < 1e-6)
+                .unwrap()
+                .1;
+            let model = GearPair::paper(
+                dim.mean_force(l.load_n),
+                dim.ste_amplitude(ste),
+                truth.zeta,
+                1.0,
+            )
+            .unwrap();
+            let speeds: Vec<f64> = l
+                .measured
+                .iter()
+                .map(|m| m.0)
+                .filter(|&s| l.force_ratio > 2.0 || s < 4100.0)
+                .collect();
+            let clean =
+                simulate_dte_curve(&dim, &model, truth.omega_n_hz, &speeds, &NoProgress).unwrap();
+            let diffs: Vec<f64> = speeds
+                .iter()
+                .zip(&clean)
+                .map(|(s, c)| {
+                    l.up.iter()
+                        .find(|p| (p.speed_rpm - s).abs() < 1e-6)
+                        .unwrap()
+                        .dte_pp_um
+                        - c
+                })
+                .collect();
+            let rms = geardyn::validate::rms(&diffs);
+            assert!(
+                rms < 0.15,
+                "seed {seed}, {} N: RMS to truth {rms} um",
+                l.load_n
+            );
+        }
+    }
+}
+
+/// The shipped data set runs end to end through the CLI and writes the artifacts; every image
+/// the HTML report references exists and is a PNG.
+#[test]
+fn cli_validate_writes_fits_and_reports() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (fits, reports) = (tmp.path().join("fits"), tmp.path().join("reports"));
+    for which in ["munro", "kubo"] {
+        let out = geardyn(&[
+            "validate",
+            which,
+            "--data",
+            &format!("{}/data/{which}", env!("CARGO_MANIFEST_DIR")),
+            "--fits",
+            fits.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ]);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(
+            stdout.lines().next().unwrap().contains("SYNTHETIC"),
+            "first line must state the data kind"
+        );
+        let json: serde_json::Value = serde_json::from_str(
+            &std::fs::read_to_string(fits.join(format!("{which}.json"))).unwrap(),
+        )
+        .unwrap();
+        for key in [
+            "zeta",
+            "omega_n_hz",
+            "zeta_ci95",
+            "omega_n_hz_ci95",
+            "data_kind",
+            "per_load",
+            "provenance",
+        ] {
+            assert!(!json[key].is_null(), "{which}.json lacks {key}");
+        }
+        assert_eq!(json["data_kind"], "synthetic");
+        let html = std::fs::read_to_string(reports.join(which).join("index.html")).unwrap();
+        assert!(html.contains("SYNTHETIC DATA"));
+        let mut images = 0;
+        for part in html.split("<img src=\"").skip(1) {
+            let name = &part[..part.find('"').unwrap()];
+            let bytes = std::fs::read(reports.join(which).join(name)).unwrap();
+            assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n", "{name}");
+            let svg = reports.join(which).join(name.replace(".png", ".svg"));
+            assert!(svg.exists(), "{} missing", svg.display());
+            images += 1;
+        }
+        assert!(images >= 1);
+    }
+}
+
+/// Bad data: one clear error naming file, line and field; non-zero exit; nothing written.
+#[test]
+fn cli_validate_bad_data_writes_nothing() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("bad");
+    std::fs::create_dir_all(&data).unwrap();
+    std::fs::copy(
+        format!("{}/data/munro/rig.toml", env!("CARGO_MANIFEST_DIR")),
+        data.join("rig.toml"),
+    )
+    .unwrap();
+    std::fs::write(
+        data.join("dte.csv"),
+        "load_n,speed_rpm,dte_pp_um\n3780,1000,0.7\n3780,abc,0.8\n",
+    )
+    .unwrap();
+    let (fits, reports) = (tmp.path().join("fits"), tmp.path().join("reports"));
+    let out = geardyn(&[
+        "validate",
+        "munro",
+        "--data",
+        data.to_str().unwrap(),
+        "--fits",
+        fits.to_str().unwrap(),
+        "--reports",
+        reports.to_str().unwrap(),
+    ]);
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("dte.csv") && err.contains(":3") && err.contains("speed_rpm"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"));
+    assert!(
+        !fits.exists() && !reports.exists(),
+        "partial output written"
+    );
+}
