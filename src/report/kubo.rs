@@ -3,7 +3,7 @@
 
 use super::data_kind_banner;
 use super::html::Page;
-use super::staging::{write_file_atomic, Staged};
+use super::staging::{finish_report, Staged};
 use crate::data::{DataKind, KuboData};
 use crate::error::Result;
 use crate::plot::{write_xy, Series, XyPlot};
@@ -139,16 +139,11 @@ pub fn write_kubo_report(
         "dynamic_factor.png",
         "dynamic factor against the measured envelope",
     );
-    let (html, md) = page.finish("geardyn validate kubo");
-    stage.write("index.html", &html)?;
-    stage.write("report.md", &md)?;
-    let json = serde_json::to_string_pretty(&kubo_json(data, r)).unwrap_or_default();
-    let dest = stage.commit()?;
-    let fit_path = fits_dir.join("kubo.json");
-    write_file_atomic(&fit_path, &json)?;
-    Ok(vec![
-        fit_path,
-        dest.join("index.html"),
-        dest.join("report.md"),
-    ])
+    finish_report(
+        stage,
+        page,
+        "geardyn validate kubo",
+        &fits_dir.join("kubo.json"),
+        &kubo_json(data, r),
+    )
 }

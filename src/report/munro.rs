@@ -3,7 +3,7 @@
 
 use super::data_kind_banner;
 use super::html::Page;
-use super::staging::{write_file_atomic, Staged};
+use super::staging::{finish_report, Staged};
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
@@ -192,18 +192,13 @@ pub fn write_munro_report(
             &format!("residuals at {} N", l.load_n),
         );
     }
-    let (html, md) = page.finish("geardyn validate munro");
-    stage.write("index.html", &html)?;
-    stage.write("report.md", &md)?;
-    let json = serde_json::to_string_pretty(&munro_json(data, r)).unwrap_or_default();
-    let dest = stage.commit()?;
-    let fit_path = fits_dir.join("munro.json");
-    write_file_atomic(&fit_path, &json)?;
-    Ok(vec![
-        fit_path,
-        dest.join("index.html"),
-        dest.join("report.md"),
-    ])
+    finish_report(
+        stage,
+        page,
+        "geardyn validate munro",
+        &fits_dir.join("munro.json"),
+        &munro_json(data, r),
+    )
 }
 
 fn fmt_ci(c: Option<&(Option<f64>, Option<f64>)>) -> String {

@@ -79,3 +79,26 @@ pub fn write_file_atomic(path: &Path, text: &str) -> Result<()> {
     std::fs::write(&tmp, text).map_err(|e| io(&tmp, e))?;
     std::fs::rename(&tmp, path).map_err(|e| io(path, e))
 }
+
+/// Finish a report: write the page (HTML and Markdown) into the staged folder, move the folder
+/// into place, then write the fitted-parameter JSON; returns the files written.
+pub fn finish_report(
+    stage: Staged,
+    page: super::html::Page,
+    title: &str,
+    json_path: &Path,
+    json: &serde_json::Value,
+) -> Result<Vec<PathBuf>> {
+    let (html, md) = page.finish(title);
+    stage.write("index.html", &html)?;
+    stage.write("report.md", &md)?;
+    let text = serde_json::to_string_pretty(json)
+        .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?;
+    let dest = stage.commit()?;
+    write_file_atomic(json_path, &text)?;
+    Ok(vec![
+        json_path.to_path_buf(),
+        dest.join("index.html"),
+        dest.join("report.md"),
+    ])
+}

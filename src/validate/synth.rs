@@ -206,17 +206,12 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
     let rig = RigFile {
         rig: truth.rig.clone(),
         ste,
-        source: Source {
-            kind: DataKind::Synthetic,
-            citation: "Synthetic stand-in for Munro (1962) as shown in Kahraman & Singh (1990) Figs 19-22: \
-                       simulated from the truth below, not measured"
-                .into(),
-            figure: Some("layout of Figs 19-22 (loads 1, 3/4, 1/2, 1/4 of design)".into()),
-            method: None,
-            uncertainty: None,
-            generator: Some(format!("geardyn synth {}", env!("CARGO_PKG_VERSION"))),
-            truth: Some(t),
-        },
+        source: synthetic_source(
+            "Synthetic stand-in for Munro (1962) as shown in Kahraman & Singh (1990) Figs 19-22: \
+                       simulated from the truth below, not measured",
+            "layout of Figs 19-22 (loads 1, 3/4, 1/2, 1/4 of design)",
+            t,
+        ),
     };
     write_set(dir, &rig, "dte.csv", &rows)
 }
@@ -229,6 +224,19 @@ fn insert_hidden(t: &mut toml::Table, h: &HiddenEffects) {
     e.insert("ste2_phase".into(), h.ste2_phase.into());
     e.insert("none".into(), h.is_none().into());
     t.insert("hidden_effects".into(), e.into());
+}
+
+/// Provenance of a synthetic set: labelled synthetic, with its generator and truth.
+fn synthetic_source(citation: &str, figure: &str, truth: toml::Table) -> Source {
+    Source {
+        kind: DataKind::Synthetic,
+        citation: citation.into(),
+        figure: Some(figure.into()),
+        method: None,
+        uncertainty: None,
+        generator: Some(format!("geardyn synth {}", env!("CARGO_PKG_VERSION"))),
+        truth: Some(truth),
+    }
 }
 
 /// Write rig.toml and one CSV, replacing any previous set in `dir` only once both are ready.
@@ -361,17 +369,8 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
             load_n: vec![load],
             amplitude_um: vec![truth.ste_um],
         }),
-        source: Source {
-            kind: DataKind::Synthetic,
-            citation: "Synthetic stand-in for Kubo's dynamic-factor envelope (Kahraman & Singh 1990 Fig. 23, \
-                       from Ozguven & Houser 1988): simulated from the truth below, not measured"
-                .into(),
-            figure: Some("layout of Fig. 23 (envelope of tooth pairs)".into()),
-            method: None,
-            uncertainty: None,
-            generator: Some(format!("geardyn synth {}", env!("CARGO_PKG_VERSION"))),
-            truth: Some(t),
-        },
+        source: synthetic_source("Synthetic stand-in for Kubo's dynamic-factor envelope (Kahraman & Singh 1990 Fig. 23, \
+                       from Ozguven & Houser 1988): simulated from the truth below, not measured", "layout of Fig. 23 (envelope of tooth pairs)", t),
     };
     write_set(dir, &rig, "dynamic_factor.csv", &rows)
 }
