@@ -77,6 +77,32 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     text.push_str(&format!(
         "  Poincare point difference between the two: {diff:.2e}\n"
     ));
+    // Harmonic balance (issue 3): describing functions over 121 frequencies with every branch, and
+    // AFT continuation with H = 15 over 0.3-1.5, at F_m 0.1, F_ah 0.05, zeta 0.05.
+    let omegas: Vec<f64> = (0..121).map(|i| 0.3 + 0.01 * i as f64).collect();
+    let t = Instant::now();
+    let sols = geardyn::hb::df_response(0.1, 0.05, 0.05, &omegas, geardyn::hb::DfMethod::Exact)?;
+    text.push_str(&format!(
+        "describing-function response, 121 frequencies, all branches ({} solutions): {:.1} ms\n",
+        sols.len(),
+        t.elapsed().as_secs_f64() * 1e3
+    ));
+    let hb_model = GearPair::paper(0.1, 0.05, 0.05, 0.3)?;
+    let t = Instant::now();
+    let branch = geardyn::hb::continue_branch(
+        &hb_model,
+        0.3,
+        1.5,
+        &geardyn::hb::AftOptions::default(),
+        &geardyn::hb::ContinuationOptions::default(),
+        &NoProgress,
+    )?;
+    text.push_str(&format!(
+        "AFT continuation H = 15, Omega 0.3-1.5 with stability ({} points, {} folds): {:.1} ms\n",
+        branch.len(),
+        branch.iter().filter(|p| p.fold).count(),
+        t.elapsed().as_secs_f64() * 1e3
+    ));
     let munro = std::path::Path::new("data/munro");
     if munro.join("rig.toml").exists() {
         let t = Instant::now();
