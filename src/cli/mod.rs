@@ -4,6 +4,7 @@ mod attractors;
 mod basins;
 mod bench;
 mod common;
+mod compare;
 mod digitize;
 mod digitize_parse;
 mod hbm;
@@ -45,6 +46,9 @@ enum Command {
     Sweep(sweep::Args),
     /// Figure image (PNG) to CSV: the curve of one colour, with axis calibration (Figs 19-23).
     Digitize(digitize::Args),
+    /// Harmonic balance (df-exact, AFT) and simulation overlaid, with the steady states each
+    /// method misses (Figs 11-13).
+    Compare(compare::Args),
 }
 
 /// Run the parsed command.
@@ -59,5 +63,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Digitize(a) => digitize::run(a),
         Command::Validate(a) => validate::run(a),
         Command::Synth(a) => synth::run(a),
+        Command::Compare(a) => compare::run(a),
     }
 }
