@@ -12,6 +12,7 @@ mod progress_bar;
 mod response_plot;
 mod simulate;
 mod simulate_figures;
+mod study;
 mod sweep;
 mod synth;
 mod validate;
@@ -49,6 +50,9 @@ enum Command {
     /// Harmonic balance (df-exact, AFT) and simulation overlaid, with the steady states each
     /// method misses (Figs 11-13).
     Compare(compare::Args),
+    /// The paper's studies: parametric (Figs 15-18), excitation (Figs 24, 25), superposition
+    /// (Figs 26, 27), combined excitation (Fig. 29).
+    Study(study::Args),
 }
 
 /// Run the parsed command.
@@ -64,5 +68,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Validate(a) => validate::run(a),
         Command::Synth(a) => synth::run(a),
         Command::Compare(a) => compare::run(a),
+        Command::Study(a) => study::run(a),
     }
 }
