@@ -9,7 +9,7 @@ use super::aft_guess::guess_from_state;
 use super::aft_point::HbPoint;
 use super::aft_solve::solve_at;
 use super::continuation::{continue_branch, continue_from, ContinuationOptions};
-use crate::error::Result;
+use crate::error::{GearError, Result};
 use crate::model::GearPair;
 use crate::progress::NoProgress;
 use crate::sim::{steady_state, ExactFlow, SteadyOptions};
@@ -78,20 +78,57 @@ pub fn branch_from_start(
 ) -> Result<Vec<HbPoint>> {
     match continue_branch(model, omega_start, omega_end, opts, cont, &NoProgress) {
         Ok(b) => Ok(b),
-        Err(first) => {
-            let m0 = model.at_omega(omega_start)?;
-            let flow = ExactFlow::new(&m0)?;
-            let s = steady_state(
-                &flow,
-                [1.0 + model.mean_force, 0.0],
-                &SteadyOptions::default(),
-            )?;
-            let Some(&x0) = s.poincare.first() else {
-                return Err(first);
-            };
-            let guess = guess_from_state(&m0, x0, opts)?;
-            let start = solve_at(&m0, &guess, opts)?;
-            continue_from(model, &start, omega_end, opts, cont, &NoProgress)
+        Err(first) => seeded_branch(model, omega_start, omega_end, opts, cont).map_err(|_| first),
+    }
+}
+
+/// A branch seeded at `omega_seed` by the simulated steady state from the static equilibrium
+/// (1 + F_m, 0), polished by Newton and continued towards `omega_end`.
+fn seeded_branch(
+    model: &GearPair,
+    omega_seed: f64,
+    omega_end: f64,
+    opts: &AftOptions,
+    cont: &ContinuationOptions,
+) -> Result<Vec<HbPoint>> {
+    let m0 = model.at_omega(omega_seed)?;
+    let flow = ExactFlow::new(&m0)?;
+    let s = steady_state(
+        &flow,
+        [1.0 + model.mean_force, 0.0],
+        &SteadyOptions::default(),
+    )?;
+    let Some(&x0) = s.poincare.first() else {
+        return Err(GearError::Numerical(
+            "steady state without section point".into(),
+        ));
+    };
+    let guess = guess_from_state(&m0, x0, opts)?;
+    let start = solve_at(&m0, &guess, opts)?;
+    continue_from(model, &start, omega_end, opts, cont, &NoProgress)
+}
+
+/// Branches that together cover [`omega_start`, `omega_end`]: [`branch_from_start`], and when
+/// that branch does not reach `omega_end` (it turned back or stalled), a second one seeded by
+/// simulation at `omega_end` and continued down towards `omega_start` (as for eq. 4 at F_hat 0.5,
+/// Fig. 25b, which has no contact-only solution anywhere). A failing second seed is left out.
+pub fn branches_covering(
+    model: &GearPair,
+    omega_start: f64,
+    omega_end: f64,
+    opts: &AftOptions,
+    cont: &ContinuationOptions,
+) -> Result<Vec<Vec<HbPoint>>> {
+    let first = branch_from_start(model, omega_start, omega_end, opts, cont)?;
+    let reach = first
+        .iter()
+        .map(|p| p.omega)
+        .fold(f64::NEG_INFINITY, f64::max);
+    let mut out = vec![first];
+    if reach < omega_end - 1e-6 {
+        if let Ok(b) = seeded_branch(model, omega_end, omega_start, opts, cont) {
+            out.push(b);
         }
     }
+    Ok(out)
 }

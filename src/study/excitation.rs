@@ -7,7 +7,7 @@ use super::figures::{branch_series, case_markers, panel, Figure};
 use super::output::{StudyOutput, StudyRow};
 use crate::error::Result;
 use crate::hb::{
-    branch_at, branch_from_start, df_response, AftOptions, ContinuationOptions, DfMethod, HbPoint,
+    branch_at, branches_covering, df_response, AftOptions, ContinuationOptions, DfMethod, HbPoint,
 };
 use crate::model::{GearPair, Impact, Term};
 use rayon::prelude::*;
@@ -40,6 +40,9 @@ fn model(internal: bool, fh: f64) -> Result<GearPair> {
     }
     .validated()
 }
+
+/// The continued branches and their solutions on the grid (merged).
+type Covered = (Vec<Vec<HbPoint>>, Vec<Vec<HbPoint>>);
 
 /// Findings of one branch on the grid.
 fn describe(at: &[Vec<HbPoint>], omegas: &[f64]) -> serde_json::Value {
@@ -85,14 +88,26 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         .iter()
         .flat_map(|&fh| [(true, fh), (false, fh)])
         .collect();
-    let branches: Vec<Result<super::Traced>> = jobs
+    let branches: Vec<Result<Covered>> = jobs
         .par_iter()
         .map(|&(internal, fh)| {
             let m = model(internal, fh)?;
-            let b =
-                branch_from_start(&m, OMEGA.0, OMEGA.1, &opts, &ContinuationOptions::default())?;
-            let at = branch_at(&m, &b, &omegas, &opts);
-            Ok((b, at))
+            let cont = ContinuationOptions::default();
+            let bs = branches_covering(&m, OMEGA.0, OMEGA.1, &opts, &cont)?;
+            let mut at: Vec<Vec<HbPoint>> = vec![Vec::new(); omegas.len()];
+            for b in &bs {
+                for (k, list) in branch_at(&m, b, &omegas, &opts).into_iter().enumerate() {
+                    for p in list {
+                        if !at[k]
+                            .iter()
+                            .any(|o| (o.qa - p.qa).abs() <= 1e-7 * (1.0 + p.qa))
+                        {
+                            at[k].push(p);
+                        }
+                    }
+                }
+            }
+            Ok((bs, at))
         })
         .collect();
     let mut rows = Vec::new();
@@ -117,7 +132,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         );
         let mut summary = serde_json::json!({"force_ratio": fh, "amplitude": fah});
         for (j, internal) in [true, false].into_iter().enumerate() {
-            let (branch, at) = match &branches[2 * k + j] {
+            let (bs, at) = match &branches[2 * k + j] {
                 Ok(v) => v,
                 Err(e) => {
                     return Err(crate::error::GearError::Numerical(format!(
@@ -130,21 +145,24 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
             } else {
                 "eq. 4 torque (AFT)"
             };
-            let tri = |f: fn(&HbPoint) -> f64| -> Vec<(f64, f64, Option<bool>)> {
-                branch.iter().map(|p| (p.omega, f(p), p.stable)).collect()
-            };
-            qa_series.extend(branch_series(&tri(|p| p.qa), label, 4 + j));
-            qm_series.extend(branch_series(&tri(|p| p.qm), label, 4 + j));
             let series = format!("F_hat = {fh}, {label}");
-            rows.extend(branch.iter().map(|p| StudyRow {
-                series: series.clone(),
-                omega: p.omega,
-                qa: p.qa,
-                qm: Some(p.qm),
-                case: Some(p.case),
-                stable: p.stable,
-                period: Some(1),
-            }));
+            for (bi, branch) in bs.iter().enumerate() {
+                let tri = |f: fn(&HbPoint) -> f64| -> Vec<(f64, f64, Option<bool>)> {
+                    branch.iter().map(|p| (p.omega, f(p), p.stable)).collect()
+                };
+                let name = if bi == 0 { label } else { "" };
+                qa_series.extend(branch_series(&tri(|p| p.qa), name, 4 + j));
+                qm_series.extend(branch_series(&tri(|p| p.qm), name, 4 + j));
+                rows.extend(branch.iter().map(|p| StudyRow {
+                    series: series.clone(),
+                    omega: p.omega,
+                    qa: p.qa,
+                    qm: Some(p.qm),
+                    case: Some(p.case),
+                    stable: p.stable,
+                    period: Some(1),
+                }));
+            }
             summary[if internal {
                 "internal_eq5"
             } else {

@@ -20,7 +20,7 @@ pub struct Figure {
 
 /// A branch traced in order, as (Omega, value, stability): runs of equal stability become
 /// separate series, solid when stable (or unknown) and dashed when unstable; only the first run
-/// of each kind carries a legend label.
+/// of each kind carries a legend label (none when `label` is empty).
 pub fn branch_series(
     points: &[(f64, f64, Option<bool>)],
     label: &str,
@@ -38,7 +38,9 @@ pub fn branch_series(
         // Include the next point so that consecutive runs join.
         let stop = (end + 1).min(points.len());
         let pts: Vec<(f64, f64)> = points[start..stop].iter().map(|p| (p.0, p.1)).collect();
-        let name = if unstable && !seen_unstable {
+        let name = if label.is_empty() {
+            String::new()
+        } else if unstable && !seen_unstable {
             seen_unstable = true;
             format!("{label} (unstable)")
         } else if !unstable && !seen_stable {
