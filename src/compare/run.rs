@@ -18,6 +18,10 @@ use rayon::prelude::*;
 /// that is higher).
 const AFT_START: f64 = 0.2;
 
+/// The AFT continuation runs this far beyond the last grid frequency, so that a branch folding
+/// back above the grid (the upper branch of a jump, Figs 11-12) returns into it.
+const AFT_OVERSHOOT: f64 = 0.5;
+
 /// Parameters of a comparison of harmonic balance and simulation for eq. 5.
 #[derive(Clone, Debug)]
 pub struct CompareSettings {
@@ -107,7 +111,7 @@ pub fn compare(settings: &CompareSettings, progress: &dyn Progress) -> Result<Co
     let branch = branch_from_start(
         &model,
         first.min(AFT_START),
-        last,
+        last + AFT_OVERSHOOT,
         &opts,
         &ContinuationOptions::default(),
     )?;
