@@ -196,6 +196,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
     let (peak_t, peak_h) = (peak_omega(0), peak_omega(1));
     let near = |w: f64, c: Option<f64>| c.is_some_and(|c| (w - c).abs() <= 0.05);
     let mut sup_pts = Vec::new();
+    let mut no_stable: Vec<f64> = Vec::new();
     let (mut single, mut nearest) = (Vec::new(), Vec::new());
     let (mut near_t, mut near_h) = (Vec::new(), Vec::new());
     for (i, &w) in omegas.iter().enumerate() {
@@ -220,6 +221,9 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
                 });
                 sup_pts.push((w, qa));
             }
+        }
+        if both.is_empty() {
+            no_stable.push(w);
         }
         if here.len() == 1 && both.len() == 1 {
             single.push(here[0] - both[0].qa);
@@ -255,6 +259,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         "ste_alone_peak_omega_t": peak_h,
         "rms_near_torque_peak": rms(&near_t),
         "rms_near_ste_peak": rms(&near_h),
+        "omegas_without_stable_simultaneous_period1": no_stable,
     });
     let caption = format!(
         "F_m = {FM}, zeta = {ZETA}, F_ah = {FAH}, F_aT = {FAT}, Omega_h = 2 Omega_T; AFT H = {HARMONICS}, {n} frequencies"

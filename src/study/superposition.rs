@@ -183,7 +183,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         "near_resonance": {"omega_1": window(1), "omega_1_2": window(2), "omega_1_3": window(3)},
     });
     let caption = format!(
-        "F_m = {FM}, zeta = {ZETA}, F_ah1 = {}, F_ah2 = {}, F_ah3 = {}; simulation sweep up, {n} frequencies",
+        "F_m {FM}, zeta {ZETA}, F_ah1..3 = {}, {}, {}; sim. sweep up, {n} pts",
         FAH[0], FAH[1], FAH[2]
     );
     let line = |i: usize| -> Vec<(f64, f64)> {
