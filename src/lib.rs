@@ -4,6 +4,7 @@
 //! spur gear pair", J. Sound Vib. 142(1), 1990 (see `design.md` of the project for the generalised
 //! form). The library does no printing; the `geardyn` binary is a thin command line over it.
 
+pub mod compare;
 pub mod data;
 pub mod digitize;
 pub mod error;
@@ -14,6 +15,7 @@ pub mod plot;
 pub mod progress;
 pub mod report;
 pub mod sim;
+pub mod study;
 pub mod validate;
 
 pub use error::{GearError, Result};

@@ -4,6 +4,7 @@ mod attractors;
 mod basins;
 mod bench;
 mod common;
+mod compare;
 mod digitize;
 mod digitize_parse;
 mod hbm;
@@ -11,6 +12,7 @@ mod progress_bar;
 mod response_plot;
 mod simulate;
 mod simulate_figures;
+mod study;
 mod sweep;
 mod synth;
 mod validate;
@@ -45,6 +47,12 @@ enum Command {
     Sweep(sweep::Args),
     /// Figure image (PNG) to CSV: the curve of one colour, with axis calibration (Figs 19-23).
     Digitize(digitize::Args),
+    /// Harmonic balance (df-exact, AFT) and simulation overlaid, with the steady states each
+    /// method misses (Figs 11-13).
+    Compare(compare::Args),
+    /// The paper's studies: parametric (Figs 15-18), excitation (Figs 24, 25), superposition
+    /// (Figs 26, 27), combined excitation (Fig. 29).
+    Study(study::Args),
 }
 
 /// Run the parsed command.
@@ -59,5 +67,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Digitize(a) => digitize::run(a),
         Command::Validate(a) => validate::run(a),
         Command::Synth(a) => synth::run(a),
+        Command::Compare(a) => compare::run(a),
+        Command::Study(a) => study::run(a),
     }
 }

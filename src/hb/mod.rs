@@ -20,6 +20,7 @@ mod continuation;
 pub mod describing;
 mod df_solve;
 mod mean_balance;
+mod resample;
 mod roots;
 mod scan;
 mod transitions;
@@ -31,6 +32,7 @@ pub use aft_solve::solve_at;
 pub use continuation::{continue_branch, continue_from, ContinuationOptions};
 pub use describing::{g_exact, g_truncated, h_exact, h_truncated, mean_force, n_a, n_m, DfMethod};
 pub use df_solve::{df_response, df_solutions, DfSolution};
+pub use resample::{branch_at, branch_from_start, branches_covering};
 pub use transitions::transition_frequencies;
 
 #[cfg(test)]

@@ -1,0 +1,75 @@
+//! Overlay of every method (Figs 11-13): q_a and q_m versus Omega.
+
+use super::{Comparison, Source};
+use crate::plot::{Marker, Series, XyPlot};
+use crate::study::figures::{branch_series, panel};
+
+/// Two panels (q_a, q_m): df-exact markers, the AFT branch (stable solid, unstable dashed),
+/// sweeps up and down and every attractor (non-period-1 attractors as crosses).
+pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
+    let s = &c.settings;
+    let caption = format!(
+        "F_m = {}, F_ah = {} (F_hat = {:.3}), zeta = {}, AFT H = {}, IC grid {}:{}:{}",
+        s.fm,
+        s.fah,
+        s.fm / s.fah,
+        s.zeta,
+        s.harmonics,
+        s.grid.lo,
+        s.grid.hi,
+        s.grid.n
+    );
+    let make = |label: &str, pick: fn(&super::ComparePoint) -> f64| {
+        let of = |src: Source, f: &dyn Fn(&super::ComparePoint) -> bool| -> Vec<(f64, f64)> {
+            c.points
+                .iter()
+                .filter(|p| p.source == src && f(p))
+                .map(|p| (p.omega, pick(p)))
+                .collect()
+        };
+        let mut series = vec![
+            Series::markers("HB df-exact", of(Source::DfExact, &|_| true))
+                .with_color(7)
+                .with_marker(Marker::Dot),
+        ];
+        let branch: Vec<(f64, f64, Option<bool>)> = c
+            .points
+            .iter()
+            .filter(|p| p.source == Source::Aft)
+            .map(|p| (p.omega, pick(p), p.stable))
+            .collect();
+        series.extend(branch_series(&branch, "HB AFT", 0));
+        series.push(
+            Series::markers("sim sweep up", of(Source::SweepUp, &|_| true))
+                .with_color(1)
+                .with_marker(Marker::Triangle),
+        );
+        series.push(
+            Series::markers("sim sweep down", of(Source::SweepDown, &|_| true))
+                .with_color(2)
+                .with_marker(Marker::Square),
+        );
+        series.push(
+            Series::markers(
+                "sim attractors (period 1)",
+                of(Source::Attractors, &|p| p.period == Some(1)),
+            )
+            .with_color(3)
+            .with_marker(Marker::Circle),
+        );
+        series.push(
+            Series::markers(
+                "sim attractors (not period 1)",
+                of(Source::Attractors, &|p| p.period != Some(1)),
+            )
+            .with_color(4)
+            .with_marker(Marker::Cross),
+        );
+        let p = panel(label.to_string(), caption.clone(), label, series);
+        match (s.omegas.first(), s.omegas.last()) {
+            (Some(&lo), Some(&hi)) if hi > lo => p.with_x_range(lo, hi),
+            _ => p,
+        }
+    };
+    vec![make("q_a", |p| p.qa), make("q_m", |p| p.qm)]
+}
