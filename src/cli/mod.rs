@@ -51,7 +51,7 @@ enum Command {
     /// method misses (Figs 11-13).
     Compare(compare::Args),
     /// The paper's studies: parametric (Figs 15-18), excitation (Figs 24, 25), superposition
-    /// (Figs 26, 27), combined excitation (Fig. 29).
+    /// (Figs 26-28), combined excitation (Fig. 29).
     Study(study::Args),
 }
 

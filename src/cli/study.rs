@@ -30,6 +30,8 @@ enum Name {
     Excitation,
     /// Figs 26, 27: three STE harmonics, simultaneous vs superposed (simulation).
     Superposition,
+    /// Fig. 28: three STE harmonics, describing-function solutions superposed vs AFT simultaneous.
+    SuperpositionHb,
     /// Fig. 29: torque at Omega_T plus STE at 2 Omega_T, superposed vs simultaneous (AFT).
     Combined,
 }
@@ -42,6 +44,7 @@ impl From<Name> for StudyName {
             Name::Damping => StudyName::Damping,
             Name::Excitation => StudyName::Excitation,
             Name::Superposition => StudyName::Superposition,
+            Name::SuperpositionHb => StudyName::SuperpositionHb,
             Name::Combined => StudyName::Combined,
         }
     }

@@ -9,6 +9,7 @@
 //! | `damping` | Fig. 18 | df-exact, F_m 0.1, F_hat 2, zeta 0.025 ... 0.1 |
 //! | `excitation` | Figs 24, 25 | AFT (H = 15) for eq. 5 and eq. 4, plus df-exact for eq. 5 |
 //! | `superposition` | Figs 26, 27 | simulation sweeps, three STE harmonics (eq. 20) |
+//! | `superposition-hb` | Fig. 28 | df-exact per harmonic, superposed with phases; AFT simultaneous |
 //! | `combined` | Fig. 29 | AFT, torque at Omega_T and STE at Omega_h = 2 Omega_T |
 
 mod combined;
@@ -17,6 +18,7 @@ pub mod figures;
 mod output;
 mod parametric;
 mod superposition;
+mod superposition_hb;
 
 pub use figures::Figure;
 pub use output::{write_outputs, StudyOutput, StudyRow};
@@ -40,18 +42,21 @@ pub enum StudyName {
     Excitation,
     /// Figs 26, 27: three STE harmonics simultaneously versus their superposition.
     Superposition,
+    /// Fig. 28: superposition of the describing-function solutions of three STE harmonics.
+    SuperpositionHb,
     /// Fig. 29: torque and STE excitation combined, Omega_h = 2 Omega_T.
     Combined,
 }
 
 impl StudyName {
     /// Every study.
-    pub const ALL: [StudyName; 6] = [
+    pub const ALL: [StudyName; 7] = [
         StudyName::ParametricLoad,
         StudyName::ParametricMean,
         StudyName::Damping,
         StudyName::Excitation,
         StudyName::Superposition,
+        StudyName::SuperpositionHb,
         StudyName::Combined,
     ];
 
@@ -63,6 +68,7 @@ impl StudyName {
             StudyName::Damping => "damping",
             StudyName::Excitation => "excitation",
             StudyName::Superposition => "superposition",
+            StudyName::SuperpositionHb => "superposition-hb",
             StudyName::Combined => "combined",
         }
     }
@@ -73,6 +79,7 @@ impl StudyName {
             StudyName::ParametricLoad | StudyName::ParametricMean | StudyName::Damping => 281,
             StudyName::Excitation | StudyName::Combined => 141,
             StudyName::Superposition => 141,
+            StudyName::SuperpositionHb => 281,
         }
     }
 }
@@ -107,6 +114,7 @@ pub fn run_study(name: StudyName, opts: &StudyOptions) -> Result<StudyOutput> {
         StudyName::Damping => parametric::damping(n),
         StudyName::Excitation => excitation::run(n),
         StudyName::Superposition => superposition::run(n),
+        StudyName::SuperpositionHb => superposition_hb::run(n),
         StudyName::Combined => combined::run(n),
     }
 }
