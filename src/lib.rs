@@ -7,6 +7,7 @@
 pub mod compare;
 pub mod data;
 pub mod digitize;
+pub mod discover;
 pub mod error;
 pub mod fit;
 pub mod hb;

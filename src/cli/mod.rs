@@ -6,6 +6,7 @@ mod bench;
 mod common;
 mod compare;
 mod digitize;
+mod discover;
 mod digitize_parse;
 mod hbm;
 mod progress_bar;
@@ -53,6 +54,9 @@ enum Command {
     /// The paper's studies: parametric (Figs 15-18), excitation (Figs 24, 25), superposition
     /// (Figs 26-28), combined excitation (Fig. 29).
     Study(study::Args),
+    /// Discrepancy discovery: test M0 against the curves, name the missing effect from a
+    /// library, add it, and show the gap before and after (issue 5).
+    Discover(discover::Args),
 }
 
 /// Run the parsed command.
@@ -69,5 +73,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Synth(a) => synth::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Study(a) => study::run(a),
+        Command::Discover(a) => discover::run(a),
     }
 }

@@ -34,6 +34,30 @@ struct Hidden {
     /// Phase of the hidden second STE harmonic (rad).
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     ste2_phase: f64,
+    /// Hidden third STE harmonic as a fraction of the first.
+    #[arg(long, default_value_t = 0.0)]
+    ste3_ratio: f64,
+    /// Phase of the hidden third STE harmonic (rad).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    ste3_phase: f64,
+    /// Hidden load-dependent damping: zeta (W / W_design)^gamma, this gamma (Munro only).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    damping_exponent: f64,
+    /// Hidden true half backlash over the stated one (Munro only; 1 = none).
+    #[arg(long, default_value_t = 1.0)]
+    backlash_factor: f64,
+    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (Munro only).
+    #[arg(long, default_value_t = 0.0)]
+    torque_ripple_ratio: f64,
+    /// Phase of the hidden torque ripple (rad).
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    torque_ripple_phase: f64,
+    /// Out-of-library effect: a measuring-chain resonance at this mesh frequency, Hz (Munro only).
+    #[arg(long, default_value_t = 0.0)]
+    sensor_peak_hz: f64,
+    /// Relative height of that measuring-chain peak.
+    #[arg(long, default_value_t = 0.0)]
+    sensor_peak_gain: f64,
 }
 
 impl Hidden {
@@ -43,6 +67,14 @@ impl Hidden {
             stiffness_phase: self.stiffness_phase,
             ste2_ratio: self.ste2_ratio,
             ste2_phase: self.ste2_phase,
+            ste3_ratio: self.ste3_ratio,
+            ste3_phase: self.ste3_phase,
+            damping_exponent: self.damping_exponent,
+            backlash_factor: self.backlash_factor,
+            torque_ripple_ratio: self.torque_ripple_ratio,
+            torque_ripple_phase: self.torque_ripple_phase,
+            sensor_peak_hz: self.sensor_peak_hz,
+            sensor_peak_gain: self.sensor_peak_gain,
         }
     }
 }

@@ -7,7 +7,9 @@ use crate::data::{write_rig, DataKind, Rig, RigFile, Source, SteTable};
 use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
-use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, RkFlow, SteadyOptions, SweepPlan};
+use crate::sim::{
+    sweep, Branch, ExactFlow, IcGrid, PeriodFlow, RkFlow, SteadyOptions, SweepPlan, SweepPoint,
+};
 use std::path::Path;
 
 /// Physical effects that can be hidden in synthetic data (absent from the paper's model).
@@ -21,11 +23,77 @@ pub struct HiddenEffects {
     pub ste2_ratio: f64,
     /// Phase of the second STE harmonic (rad).
     pub ste2_phase: f64,
+    /// Third STE harmonic amplitude as a fraction of the first.
+    pub ste3_ratio: f64,
+    /// Phase of the third STE harmonic (rad).
+    pub ste3_phase: f64,
+    /// Load-dependent damping zeta(W) = zeta (W / W_design)^gamma: the exponent gamma (0: none).
+    pub damping_exponent: f64,
+    /// True half backlash over the one stated in rig.toml (0 or 1: the stated one).
+    pub backlash_factor: f64,
+    /// External torque ripple at mesh frequency, F_aT sin(Omega t + phi), as a fraction of the
+    /// design-load mean force (the same newtons at every load).
+    pub torque_ripple_ratio: f64,
+    /// Phase phi of the torque ripple (rad).
+    pub torque_ripple_phase: f64,
+    /// An effect outside the discovery library: a lightly damped resonance of the measuring chain
+    /// at this mesh frequency (Hz) multiplies the pp DTE by 1 + g / (1 + ((f - f_s) / (0.03 f_s))^2)
+    /// (0: none).
+    pub sensor_peak_hz: f64,
+    /// Relative height g of that transducer peak.
+    pub sensor_peak_gain: f64,
 }
 
 impl HiddenEffects {
     fn is_none(&self) -> bool {
-        self.stiffness_eps == 0.0 && self.ste2_ratio == 0.0
+        self.stiffness_eps == 0.0
+            && self.ste2_ratio == 0.0
+            && self.ste3_ratio == 0.0
+            && self.damping_exponent == 0.0
+            && (self.backlash_factor == 0.0 || self.backlash_factor == 1.0)
+            && self.torque_ripple_ratio == 0.0
+            && (self.sensor_peak_hz == 0.0 || self.sensor_peak_gain == 0.0)
+    }
+
+    /// The true dimensional scales: the stated ones with the hidden backlash factor applied.
+    pub fn true_dimensional(&self, dim: &Dimensional) -> Dimensional {
+        let mut d = dim.clone();
+        if self.backlash_factor > 0.0 {
+            d.half_backlash_m *= self.backlash_factor;
+        }
+        d
+    }
+
+    /// Apply the effects that depend on the load: [`HiddenEffects::apply`], then the damping law
+    /// at `load_ratio` = W / W_design and the torque ripple relative to `design_mean_force`.
+    pub fn apply_at_load(
+        &self,
+        model: GearPair,
+        load_ratio: f64,
+        design_mean_force: f64,
+    ) -> Result<GearPair> {
+        let mut model = self.apply(model)?;
+        if self.damping_exponent != 0.0 {
+            model.zeta *= load_ratio.powf(self.damping_exponent);
+        }
+        if self.torque_ripple_ratio != 0.0 {
+            model.torque.push(Term {
+                order: 1,
+                amplitude: self.torque_ripple_ratio * design_mean_force,
+                phase: self.torque_ripple_phase,
+            });
+        }
+        model.validated()
+    }
+
+    /// Gain of the measuring chain at mesh frequency `f_hz` (1 without a sensor peak).
+    pub fn sensor_gain(&self, f_hz: f64) -> f64 {
+        if self.sensor_peak_hz > 0.0 && self.sensor_peak_gain != 0.0 {
+            let x = (f_hz - self.sensor_peak_hz) / (0.03 * self.sensor_peak_hz);
+            1.0 + self.sensor_peak_gain / (1.0 + x * x)
+        } else {
+            1.0
+        }
     }
 
     /// Apply the effects to a model of the paper's form.
@@ -43,6 +111,14 @@ impl HiddenEffects {
                 order: 2,
                 amplitude: self.ste2_ratio * a1,
                 phase: self.ste2_phase,
+            });
+        }
+        if self.ste3_ratio != 0.0 {
+            let a1 = model.ste.first().map_or(0.0, |t| t.amplitude);
+            model.ste.push(Term {
+                order: 3,
+                amplitude: self.ste3_ratio * a1,
+                phase: self.ste3_phase,
             });
         }
         model.validated()
@@ -112,13 +188,44 @@ impl MunroTruth {
     }
 }
 
+/// Relative tolerance of the Runge-Kutta flow used when k(t) varies.
+const RK_RTOL: f64 = 1e-9;
+
 /// Flow factory: exact for the paper's model, DOP853 when k(t) varies.
 fn flow_for(m: &GearPair) -> Result<Box<dyn PeriodFlow>> {
+    flow_with_rtol(m, RK_RTOL)
+}
+
+/// Exact flow for k = 1, DOP853 at relative tolerance `rtol` when k(t) varies.
+fn flow_with_rtol(m: &GearPair, rtol: f64) -> Result<Box<dyn PeriodFlow>> {
     if m.has_stiffness_variation() {
-        Ok(Box::new(RkFlow::new(m, 1e-9)?))
+        Ok(Box::new(RkFlow::new(m, rtol)?))
     } else {
         Ok(Box::new(ExactFlow::new(m)?))
     }
+}
+
+/// Simulated up-sweep (speed increasing, state carried from one speed to the next, as a test
+/// run) at the given pinion speeds: the full steady state at each (pp DTE, period, impact).
+/// `rk_rtol` is the DOP853 tolerance used when k(t) varies (the exact solver otherwise).
+pub fn simulate_up_sweep(
+    dim: &Dimensional,
+    model: &GearPair,
+    omega_n_hz: f64,
+    speeds: &[f64],
+    rk_rtol: f64,
+    progress: &dyn Progress,
+) -> Result<Vec<SweepPoint>> {
+    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
+    let plan = SweepPlan {
+        omegas,
+        branch: Branch::Up,
+        x0: [1.0 + model.mean_force, 0.0],
+        grid: IcGrid::new(-2.0, 2.0, 1)?,
+        opts: SteadyOptions::default(),
+    };
+    let factory = |m: &GearPair| flow_with_rtol(m, rk_rtol);
+    sweep(&factory, model, &plan, progress)
 }
 
 /// Simulated up-sweep (speed increasing, as a test run) of pp DTE in um at one load.
@@ -129,15 +236,7 @@ pub fn simulate_dte_curve(
     speeds: &[f64],
     progress: &dyn Progress,
 ) -> Result<Vec<f64>> {
-    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
-    let plan = SweepPlan {
-        omegas,
-        branch: Branch::Up,
-        x0: [1.0 + model.mean_force, 0.0],
-        grid: IcGrid::new(-2.0, 2.0, 1)?,
-        opts: SteadyOptions::default(),
-    };
-    let pts = sweep(&flow_for, model, &plan, progress)?;
+    let pts = simulate_up_sweep(dim, model, omega_n_hz, speeds, RK_RTOL, progress)?;
     Ok(pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect())
 }
 
@@ -157,16 +256,23 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
     let speeds = speed_grid(truth.speeds_rpm)?;
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
+    // Hidden backlash: the data come from the true b; rig.toml states the nominal one.
+    let true_dim = truth.hidden.true_dimensional(&dim);
+    let design_fm = true_dim.mean_force(truth.rig.design_load_n);
     for &(load, ste) in &truth.ste_um {
         let model = GearPair::paper(
-            dim.mean_force(load),
-            dim.ste_amplitude(ste),
+            true_dim.mean_force(load),
+            true_dim.ste_amplitude(ste),
             truth.zeta,
             1.0,
         )?;
-        let model = truth.hidden.apply(model)?;
-        let clean = simulate_dte_curve(&dim, &model, truth.omega_n_hz, &speeds, progress)?;
+        let model =
+            truth
+                .hidden
+                .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
+        let clean = simulate_dte_curve(&true_dim, &model, truth.omega_n_hz, &speeds, progress)?;
         for (s, y) in speeds.iter().zip(clean) {
+            let y = y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s));
             let noisy = (y + truth.noise_um * rng.normal()).max(0.0);
             rows.push_str(&format!("{load},{s},{noisy:.5}\n"));
         }
@@ -222,6 +328,14 @@ fn insert_hidden(t: &mut toml::Table, h: &HiddenEffects) {
     e.insert("stiffness_phase".into(), h.stiffness_phase.into());
     e.insert("ste2_ratio".into(), h.ste2_ratio.into());
     e.insert("ste2_phase".into(), h.ste2_phase.into());
+    e.insert("ste3_ratio".into(), h.ste3_ratio.into());
+    e.insert("ste3_phase".into(), h.ste3_phase.into());
+    e.insert("damping_exponent".into(), h.damping_exponent.into());
+    e.insert("backlash_factor".into(), h.backlash_factor.into());
+    e.insert("torque_ripple_ratio".into(), h.torque_ripple_ratio.into());
+    e.insert("torque_ripple_phase".into(), h.torque_ripple_phase.into());
+    e.insert("sensor_peak_hz".into(), h.sensor_peak_hz.into());
+    e.insert("sensor_peak_gain".into(), h.sensor_peak_gain.into());
     e.insert("none".into(), h.is_none().into());
     t.insert("hidden_effects".into(), e.into());
 }

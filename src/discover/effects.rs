@@ -1,0 +1,219 @@
+//! The candidate library: physical effects missing from the paper's model (M0), each with
+//! parameters delta such that delta = 0 gives M0 back exactly (nested models, so that a
+//! likelihood-ratio test between M0 and M0 + effect is meaningful).
+
+use crate::error::Result;
+use crate::model::{Dimensional, GearPair, Term};
+use serde::Serialize;
+
+/// One candidate effect of the library.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Candidate {
+    /// k(t) = 1 + eps cos(Omega t + psi) (design.md 1; the effect the paper names for the Kubo
+    /// mismatch, Sec. 7 and 9). delta = (eps cos psi, eps sin psi).
+    MeshStiffnessVariation,
+    /// 2nd and 3rd STE harmonics F_ahj sin(j Omega t + phi_j), j = 2, 3 (eq. 20) as fractions
+    /// r_j of the first: delta = (r2 cos phi2, r2 sin phi2, r3 cos phi3, r3 sin phi3).
+    SteHarmonics,
+    /// Load-dependent damping zeta(W) = zeta (W / W_design)^gamma. delta = (gamma).
+    DampingLaw,
+    /// Half backlash b free: b = b_stated exp(beta) (Sec. 2.1 scales F_m, F_ah and the DTE in
+    /// um by b). delta = (beta).
+    Backlash,
+    /// External torque ripple at mesh frequency F_aT sin(Omega t + phi) (eq. 20's F_aT term),
+    /// the same newtons at every load, F_aT = a F_m(design). delta = (a cos phi, a sin phi).
+    TorqueRipple,
+}
+
+/// Every candidate, in report order.
+pub const LIBRARY: [Candidate; 5] = [
+    Candidate::MeshStiffnessVariation,
+    Candidate::SteHarmonics,
+    Candidate::DampingLaw,
+    Candidate::Backlash,
+    Candidate::TorqueRipple,
+];
+
+impl Candidate {
+    /// The name used in discovery.json.
+    pub fn name(self) -> &'static str {
+        match self {
+            Candidate::MeshStiffnessVariation => "mesh_stiffness_variation",
+            Candidate::SteHarmonics => "ste_harmonics",
+            Candidate::DampingLaw => "damping_law",
+            Candidate::Backlash => "backlash",
+            Candidate::TorqueRipple => "torque_ripple",
+        }
+    }
+
+    /// Number of parameters delta.
+    pub fn dim(self) -> usize {
+        match self {
+            Candidate::SteHarmonics => 4,
+            Candidate::MeshStiffnessVariation | Candidate::TorqueRipple => 2,
+            Candidate::DampingLaw | Candidate::Backlash => 1,
+        }
+    }
+
+    /// What [`Candidate::estimate`] reports.
+    pub fn estimate_name(self) -> &'static str {
+        match self {
+            Candidate::MeshStiffnessVariation => "eps",
+            Candidate::SteHarmonics => "r2 (2nd harmonic / 1st)",
+            Candidate::DampingLaw => "gamma",
+            Candidate::Backlash => "b / b_stated",
+            Candidate::TorqueRipple => "F_aT / F_m(design)",
+        }
+    }
+
+    /// The reported scalar of an effect and its gradient with respect to delta (for the delta
+    /// method): an amplitude hypot(c, s) for the phase-carrying effects, gamma, or exp(beta).
+    pub fn estimate(self, delta: &[f64]) -> (f64, Vec<f64>) {
+        match self {
+            Candidate::MeshStiffnessVariation
+            | Candidate::SteHarmonics
+            | Candidate::TorqueRipple => {
+                let a = delta[0].hypot(delta[1]);
+                let mut g = vec![0.0; delta.len()];
+                if a > 0.0 {
+                    g[0] = delta[0] / a;
+                    g[1] = delta[1] / a;
+                }
+                (a, g)
+            }
+            Candidate::DampingLaw => (delta[0], vec![1.0]),
+            Candidate::Backlash => (delta[0].exp(), vec![delta[0].exp()]),
+        }
+    }
+
+    /// Probe points delta of the dictionary used for the score ranking and the likelihood-ratio
+    /// statistic: amplitudes times phases for the phase-carrying effects, signed steps otherwise.
+    /// The smallest non-zero amplitude level comes first.
+    pub fn probes(self) -> Vec<Vec<f64>> {
+        let polar = |amps: &[f64], phases: usize, slot: usize, dim: usize| {
+            let mut v = Vec::new();
+            for &a in amps {
+                for k in 0..phases {
+                    let ph = 2.0 * std::f64::consts::PI * k as f64 / phases as f64;
+                    let mut d = vec![0.0; dim];
+                    d[slot] = a * ph.cos();
+                    d[slot + 1] = a * ph.sin();
+                    v.push(d);
+                }
+            }
+            v
+        };
+        match self {
+            Candidate::MeshStiffnessVariation => polar(&[0.05, 0.15, 0.3], 6, 0, 2),
+            Candidate::SteHarmonics => {
+                let mut v = polar(&[0.15, 0.35, 0.6], 6, 0, 4);
+                v.extend(polar(&[0.15, 0.35], 6, 2, 4));
+                v
+            }
+            Candidate::DampingLaw => [-1.0, -0.5, -0.2, 0.2, 0.5, 1.0]
+                .iter()
+                .map(|g| vec![*g])
+                .collect(),
+            Candidate::Backlash => [-0.5, -0.25, -0.1, 0.1, 0.25, 0.5]
+                .iter()
+                .map(|b| vec![*b])
+                .collect(),
+            Candidate::TorqueRipple => polar(&[0.01, 0.03, 0.08], 6, 0, 2),
+        }
+    }
+
+    /// Starting points of the nonlinear refit: the best probe is added by the caller.
+    pub fn scale(self) -> f64 {
+        match self {
+            Candidate::TorqueRipple => 0.01,
+            _ => 0.05,
+        }
+    }
+}
+
+/// A candidate with its parameters (or M0 when `candidate` is None).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Effect {
+    pub candidate: Option<Candidate>,
+    pub delta: Vec<f64>,
+}
+
+impl Effect {
+    /// The paper's model.
+    pub fn none() -> Self {
+        Effect {
+            candidate: None,
+            delta: Vec::new(),
+        }
+    }
+
+    /// A candidate at parameters `delta`.
+    pub fn of(candidate: Candidate, delta: Vec<f64>) -> Self {
+        Effect {
+            candidate: Some(candidate),
+            delta,
+        }
+    }
+
+    /// The dimensional scales under the effect (only the backlash changes them).
+    pub fn dimensional(&self, dim: &Dimensional) -> Dimensional {
+        let mut d = dim.clone();
+        if self.candidate == Some(Candidate::Backlash) {
+            d.half_backlash_m *= self.delta[0].exp();
+        }
+        d
+    }
+
+    /// The model at one load: M0 (zeta, F_m, F_ah) with the effect added. `load_ratio` is
+    /// W / W_design and `design_fm` the design-load F_m (both under the effect's scales).
+    pub fn model(
+        &self,
+        zeta: f64,
+        fm: f64,
+        fah: f64,
+        load_ratio: f64,
+        design_fm: f64,
+    ) -> Result<GearPair> {
+        let mut m = GearPair::paper(fm, fah, zeta, 1.0)?;
+        let d = &self.delta;
+        let polar = |c: f64, s: f64| (c.hypot(s), s.atan2(c));
+        match self.candidate {
+            None | Some(Candidate::Backlash) => {}
+            Some(Candidate::MeshStiffnessVariation) => {
+                let (eps, psi) = polar(d[0], d[1]);
+                if eps > 0.0 {
+                    m.stiffness = vec![Term {
+                        order: 1,
+                        amplitude: eps,
+                        phase: psi,
+                    }];
+                }
+            }
+            Some(Candidate::SteHarmonics) => {
+                for (j, slot) in [(2u32, 0usize), (3, 2)] {
+                    let (r, ph) = polar(d[slot], d[slot + 1]);
+                    if r > 0.0 {
+                        m.ste.push(Term {
+                            order: j,
+                            amplitude: r * fah,
+                            phase: ph,
+                        });
+                    }
+                }
+            }
+            Some(Candidate::DampingLaw) => m.zeta *= load_ratio.powf(d[0]),
+            Some(Candidate::TorqueRipple) => {
+                let (a, ph) = polar(d[0], d[1]);
+                if a > 0.0 {
+                    m.torque.push(Term {
+                        order: 1,
+                        amplitude: a * design_fm,
+                        phase: ph,
+                    });
+                }
+            }
+        }
+        m.validated()
+    }
+}

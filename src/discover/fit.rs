@@ -1,0 +1,157 @@
+//! Fits of M0 and M0 + effect to the training curves (zeta, omega_n, one STE amplitude per load,
+//! and the effect's delta), and of the STE amplitude alone on a held-out curve with everything
+//! else fixed (a held-out load's STE is a property of that load, not something the training
+//! loads can predict). Residuals are (measured - model) / sigma at the points kept by a mask.
+
+use super::effects::{Candidate, Effect};
+use super::forward::{predict, predict_many, CurvePrediction, Globals, Setup};
+use super::lm::{levenberg_marquardt, LmFit};
+use crate::error::{GearError, Result};
+use crate::validate::{dte_gain, dte_pp_um};
+
+/// Points kept per curve (same shape as the curves).
+pub type Mask = Vec<Vec<bool>>;
+
+/// A fitted model on a set of curves.
+#[derive(Clone, Debug)]
+pub struct ModelFit {
+    pub globals: Globals,
+    /// STE amplitude (um) per fitted curve.
+    pub ste_um: Vec<f64>,
+    pub effect: Effect,
+    /// Residuals (sigma units, masked points only) and Jacobian: parameter layout
+    /// [zeta, omega_n_hz, ste_um per curve, delta...].
+    pub lm: LmFit,
+}
+
+/// Masked, normalised residuals of predictions against the curves `idx`.
+pub fn residuals_of(
+    setup: &Setup,
+    idx: &[usize],
+    preds: &[CurvePrediction],
+    mask: &Mask,
+    sigma: f64,
+) -> Vec<f64> {
+    let mut r = Vec::new();
+    for (k, &i) in idx.iter().enumerate() {
+        let c = &setup.curves[i];
+        for (j, y) in c.dte_pp_um.iter().enumerate() {
+            if mask[i][j] {
+                r.push((y - preds[k].dte_pp_um[j]) / sigma);
+            }
+        }
+    }
+    r
+}
+
+fn unpack(p: &[f64], n_curves: usize, cand: Option<Candidate>) -> (Globals, Vec<f64>, Effect) {
+    let g = Globals {
+        zeta: p[0],
+        omega_n_hz: p[1],
+    };
+    let ste = p[2..2 + n_curves].to_vec();
+    let effect = match cand {
+        None => Effect::none(),
+        Some(c) => Effect::of(c, p[2 + n_curves..].to_vec()),
+    };
+    (g, ste, effect)
+}
+
+/// Fit zeta, omega_n, the STE of each curve in `idx` and (with `cand`) the effect's delta from
+/// `start` (same layout as [`ModelFit::lm`]).
+pub fn fit_model(
+    setup: &Setup,
+    idx: &[usize],
+    mask: &Mask,
+    sigma: f64,
+    cand: Option<Candidate>,
+    start: &[f64],
+    max_iter: usize,
+) -> Result<ModelFit> {
+    let n = idx.len();
+    let f = |p: &[f64]| -> Result<Vec<f64>> {
+        let (g, ste, effect) = unpack(p, n, cand);
+        let preds = predict_many(setup, idx, g, &ste, &effect)?;
+        Ok(residuals_of(setup, idx, &preds, mask, sigma))
+    };
+    let mut scales = vec![0.005, 10.0];
+    scales.extend(std::iter::repeat_n(0.05, n));
+    if let Some(c) = cand {
+        scales.extend(std::iter::repeat_n(c.scale(), c.dim()));
+    }
+    let lm = levenberg_marquardt(&f, start, &scales, max_iter)?;
+    let (globals, ste_um, effect) = unpack(&lm.params, n, cand);
+    Ok(ModelFit {
+        globals,
+        ste_um,
+        effect,
+        lm,
+    })
+}
+
+/// STE amplitude of curve `i` alone, with zeta, omega_n and the effect fixed.
+pub fn fit_ste(
+    setup: &Setup,
+    i: usize,
+    mask: &Mask,
+    sigma: f64,
+    g: Globals,
+    effect: &Effect,
+    start: f64,
+) -> Result<(f64, LmFit)> {
+    let f = |p: &[f64]| -> Result<Vec<f64>> {
+        let pred = predict(setup, i, g, p[0], effect)?;
+        Ok(residuals_of(setup, &[i], &[pred], mask, sigma))
+    };
+    let lm = levenberg_marquardt(&f, &[start], &[0.05], 8)?;
+    Ok((lm.params[0].abs(), lm))
+}
+
+/// Quasi-static STE estimate of a curve from its lowest-speed point: pp DTE = 2 e |H_x|.
+pub fn ste_from_low_speed(setup: &Setup, i: usize, g: Globals) -> f64 {
+    let c = &setup.curves[i];
+    let om = setup.dim.omega(c.speeds_rpm[0], g.omega_n_hz);
+    (c.dte_pp_um[0] / (2.0 * dte_gain(g.zeta, om))).max(1e-3)
+}
+
+/// Starting zeta, omega_n and STE from the closed form of eq. 13 (teeth in contact) fitted to
+/// the highest-load curve, `setup.curves[i0]`, from a few starts around its measured peak.
+pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
+    let c = &setup.curves[i0];
+    let dim = &setup.dim;
+    let f = |p: &[f64]| -> Result<Vec<f64>> {
+        Ok(c.speeds_rpm
+            .iter()
+            .zip(&c.dte_pp_um)
+            .map(|(s, y)| y - dte_pp_um(p[2].abs(), p[0].abs(), dim.omega(*s, p[1])))
+            .collect())
+    };
+    let peak = c
+        .speeds_rpm
+        .iter()
+        .zip(&c.dte_pp_um)
+        .max_by(|a, b| a.1.total_cmp(b.1))
+        .map(|(s, _)| dim.mesh_frequency_hz(*s))
+        .unwrap_or(1000.0);
+    let e0 = (c.dte_pp_um[0] / 2.0).max(1e-3);
+    let mut best: Option<LmFit> = None;
+    for z in [0.01, 0.03, 0.08] {
+        for w in [0.97, 1.0, 1.03] {
+            if let Ok(fit) = levenberg_marquardt(&f, &[z, peak * w, e0], &[0.005, 10.0, 0.05], 60) {
+                if best.as_ref().is_none_or(|b| fit.rss < b.rss) {
+                    best = Some(fit);
+                }
+            }
+        }
+    }
+    let b = best.ok_or_else(|| {
+        GearError::Numerical("no start of the linear (eq. 13) fit converged".into())
+    })?;
+    Ok((
+        Globals {
+            zeta: b.params[0].abs().clamp(1e-3, 0.5),
+            omega_n_hz: b.params[1],
+        },
+        b.params[2].abs(),
+    ))
+}

@@ -1,0 +1,221 @@
+//! Outputs of `geardyn discover`: discovery.json (design.md 3: effect, candidates [{name,
+//! estimate, ci95, p_value}], gap_before, gap_after, and more), report.md / index.html and the
+//! residual plots before and after (PNG + SVG) with the Omega windows marked. The folder is
+//! staged and moved into place only when complete.
+
+use super::run::{Discovery, Gap, ResidualCurve};
+use crate::data::{DataKind, MunroData};
+use crate::error::{GearError, Result};
+use crate::plot::{write_xy, Series, XyPlot};
+use crate::report::{data_kind_banner, Page, Staged};
+use serde_json::json;
+use std::path::{Path, PathBuf};
+
+/// The discovery.json record; its first field is the data-kind notice.
+pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
+    json!({
+        "notice": data_kind_banner(&data.rig),
+        "data_kind": data.rig.source.kind.name(),
+        "effect": d.effect,
+        "ambiguous_with": d.ambiguous_with,
+        "closest_candidate": d.closest_candidate,
+        "detected": d.detected,
+        "candidates": d.candidates.iter().map(|c| json!({
+            "name": c.name,
+            "estimate": c.estimate,
+            "estimate_of": c.estimate_name,
+            "ci95": c.ci95.map(|(a, b)| [a, b]),
+            "p_value": c.p_value,
+            "p_holm": c.p_holm,
+            "identifiable": c.identifiable,
+            "note": c.note,
+            "score": c.score,
+            "score_p_approx": c.score_p_approx,
+            "lr": c.lr,
+            "refit_lr": c.refit_lr,
+            "delta": c.delta,
+        })).collect::<Vec<_>>(),
+        "gap_before": d.gap_before,
+        "gap_after": d.gap_after,
+        "gap_leading_candidate": d.gap_leading,
+        "detection": d.detection,
+        "post_fit": d.post_fit,
+        "sigma_um": d.sigma_um,
+        "sigma_source": d.sigma_source,
+        "m0": { "zeta": d.zeta_m0, "omega_n_hz": d.omega_n_hz_m0 },
+        "training_loads_n": d.training_loads_n,
+        "held_out_loads_n": d.held_out_loads_n,
+        "excluded_points": d.excluded_points,
+        "bootstrap_replicates": d.bootstrap,
+        "windows": d.windows,
+        "provenance": {
+            "geardyn": env!("CARGO_PKG_VERSION"),
+            "data_dir": data.dir.display().to_string(),
+            "truth_read": false,
+        },
+    })
+}
+
+fn residual_plot(curves: &[ResidualCurve], d: &Discovery, title: &str, stem: &Path) -> Result<Vec<PathBuf>> {
+    let mut plot = XyPlot::new(title, "Omega = mesh frequency / omega_n (M0)", "residual (measured - model), um")
+        .with_caption(format!(
+            "Shaded: windows around Omega = 1/3, 1/2, 2/3, 1, 2 (+-{:.0}%); points excluded from the tests (non-period-1 or next to a jump) not drawn",
+            100.0 * super::windows::HALF_WIDTH
+        ));
+    let (lo, hi) = curves
+        .iter()
+        .flat_map(|c| c.points.iter().map(|p| p.1))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+    for w in &d.windows {
+        if w.hi >= lo && w.lo <= hi {
+            plot = plot.with_band(w.lo, w.hi).with_vline(w.centre, w.label);
+        }
+    }
+    for (k, c) in curves.iter().enumerate() {
+        let pts: Vec<(f64, f64)> = c.points.iter().filter(|p| p.3).map(|p| (p.1, p.2)).collect();
+        let label = format!("{:.0} N ({})", c.load_n, if c.training { "training" } else { "held out" });
+        plot = plot.with_series(Series::line_markers(label, pts).with_color(k));
+    }
+    write_xy(&plot, stem)
+}
+
+fn gap_text(g: &Gap) -> String {
+    format!(
+        "RMS {:.3} um over {} points, worst window {} at {:.3} um",
+        g.rms_um,
+        g.points,
+        g.worst_window.as_deref().unwrap_or("-"),
+        g.worst_window_rms_um
+    )
+}
+
+fn opt(v: Option<f64>, prec: usize) -> String {
+    v.map_or("-".into(), |x| format!("{x:.prec$}"))
+}
+
+/// A few lines for the terminal.
+pub fn summary_text(d: &Discovery) -> String {
+    let mut s = format!(
+        "effect: {}{}\nM0: zeta {:.5}, omega_n {:.1} Hz; noise sigma {:.3} um ({})\n",
+        d.effect,
+        if d.ambiguous_with.is_empty() {
+            d.closest_candidate.as_ref().map_or(String::new(), |c| format!(" (closest candidate {c} leaves a discrepancy)"))
+        } else {
+            format!(" between {}", d.ambiguous_with.join(", "))
+        },
+        d.zeta_m0,
+        d.omega_n_hz_m0,
+        d.sigma_um,
+        d.sigma_source
+    );
+    for c in &d.candidates {
+        s.push_str(&format!(
+            "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}\n",
+            c.name,
+            c.lr,
+            opt(c.p_value, 3),
+            c.estimate_name,
+            opt(c.estimate, 4),
+            opt(c.ci95.map(|x| x.0), 4),
+            opt(c.ci95.map(|x| x.1), 4),
+            c.note.as_ref().map_or(String::new(), |n| format!("  ({n})"))
+        ));
+    }
+    s.push_str(&format!("gap before: training {}\n", gap_text(&d.gap_before.training)));
+    s.push_str(&format!("gap after:  training {}\n", gap_text(&d.gap_after.training)));
+    if let (Some(b), Some(a)) = (&d.gap_before.held_out, &d.gap_after.held_out) {
+        s.push_str(&format!("gap before: held out {}\n", gap_text(b)));
+        s.push_str(&format!("gap after:  held out {}\n", gap_text(a)));
+    }
+    if d.effect == "unexplained" || d.effect == "ambiguous" {
+        if let Some(g) = &d.gap_leading {
+            s.push_str(&format!("leading candidate refitted: training {}\n", gap_text(&g.training)));
+            if let Some(h) = &g.held_out {
+                s.push_str(&format!("leading candidate refitted: held out {}\n", gap_text(h)));
+            }
+        }
+    }
+    s
+}
+
+/// Write the output folder `out`; returns the files written.
+pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Vec<PathBuf>> {
+    let banner = data_kind_banner(&data.rig);
+    let stage = Staged::new(out)?;
+    let mut files = vec!["discovery.json".to_string()];
+    for (name, curves, title) in [
+        ("residuals_before", &d.residuals_before, "Residuals of M0 (paper's model)"),
+        ("residuals_after", &d.residuals_after, "Residuals with the leading candidate added (M0 if none)"),
+    ] {
+        for p in residual_plot(curves, d, title, &stage.path(name))? {
+            if let Some(f) = p.file_name() {
+                files.push(f.to_string_lossy().into_owned());
+            }
+        }
+    }
+    let text = serde_json::to_string_pretty(&discovery_json(data, d))
+        .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?;
+    stage.write("discovery.json", &format!("{text}\n"))?;
+    let mut page = Page::new(
+        "geardyn discover: discrepancy discovery",
+        &banner,
+        data.rig.source.kind == DataKind::Synthetic,
+    );
+    page.paragraph(&format!(
+        "Effect: {}{}. Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. Noise sigma {:.3} um ({}). {} points excluded from the tests. {} bootstrap replicates under M0.",
+        d.effect,
+        if d.ambiguous_with.is_empty() { String::new() } else { format!(" ({})", d.ambiguous_with.join(", ")) },
+        d.training_loads_n,
+        d.held_out_loads_n,
+        d.zeta_m0,
+        d.omega_n_hz_m0,
+        d.sigma_um,
+        d.sigma_source,
+        d.excluded_points,
+        d.bootstrap
+    ));
+    page.heading("Detection (bootstrap p-values under M0, Holm-adjusted)");
+    let test_rows = |t: &[super::run::TestResult]| -> Vec<Vec<String>> {
+        t.iter()
+            .map(|x| vec![x.name.clone(), format!("{:.2}", x.statistic), opt(x.p_value, 4), opt(x.p_holm, 4)])
+            .collect()
+    };
+    page.table(&["test", "statistic", "p", "p (Holm)"], &test_rows(&d.detection));
+    page.heading("Candidates");
+    let rows: Vec<Vec<String>> = d
+        .candidates
+        .iter()
+        .map(|c| {
+            vec![
+                c.name.to_string(),
+                format!("{:.2}", c.score),
+                format!("{:.2}", c.lr),
+                opt(c.p_value, 4),
+                opt(c.p_holm, 4),
+                format!("{} = {}", c.estimate_name, opt(c.estimate, 4)),
+                c.ci95.map_or("-".into(), |(a, b)| format!("{a:.4} .. {b:.4}")),
+                c.note.clone().unwrap_or_default(),
+            ]
+        })
+        .collect();
+    page.table(&["candidate", "score", "LR", "p (bootstrap)", "p (Holm)", "estimate", "95% interval", "note"], &rows);
+    if !d.post_fit.is_empty() {
+        page.heading("Detection tests after adding the leading candidate");
+        page.table(&["test", "statistic", "p", "p (Holm)"], &test_rows(&d.post_fit));
+    }
+    page.heading("Gap before and after");
+    let mut g = vec![vec!["training".into(), gap_text(&d.gap_before.training), gap_text(&d.gap_after.training)]];
+    if let (Some(b), Some(a)) = (&d.gap_before.held_out, &d.gap_after.held_out) {
+        g.push(vec!["held out".into(), gap_text(b), gap_text(a)]);
+    }
+    page.table(&["loads", "before (M0)", "after"], &g);
+    page.image("residuals_before.png", "residuals of M0 versus Omega");
+    page.image("residuals_after.png", "residuals after adding the effect versus Omega");
+    let (html, md) = page.finish("geardyn discover");
+    stage.write("index.html", &html)?;
+    stage.write("report.md", &md)?;
+    files.push("index.html".into());
+    files.push("report.md".into());
+    let dest = stage.commit()?;
+    Ok(files.into_iter().map(|f| dest.join(f)).collect())
+}
