@@ -7,6 +7,7 @@ mod common;
 mod compare;
 mod digitize;
 mod discover;
+mod discover_study;
 mod digitize_parse;
 mod hbm;
 mod progress_bar;
@@ -57,6 +58,9 @@ enum Command {
     /// Discrepancy discovery: test M0 against the curves, name the missing effect from a
     /// library, add it, and show the gap before and after (issue 5).
     Discover(discover::Args),
+    /// Null-rate and recovery studies of `discover` on seeded synthetic sets with one effect
+    /// hidden (or none), with Wilson 95% intervals.
+    DiscoverStudy(discover_study::Args),
 }
 
 /// Run the parsed command.
@@ -74,5 +78,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Compare(a) => compare::run(a),
         Command::Study(a) => study::run(a),
         Command::Discover(a) => discover::run(a),
+        Command::DiscoverStudy(a) => discover_study::run(a),
     }
 }

@@ -76,6 +76,8 @@ pub struct CurvePrediction {
     pub period1: Vec<bool>,
     /// The teeth separate somewhere in the period (q_min < 1).
     pub separated: Vec<bool>,
+    /// The back flanks touch somewhere in the period (q_min < -1, double-sided impacts).
+    pub back_contact: Vec<bool>,
 }
 
 /// Parameters shared by all loads.
@@ -123,6 +125,7 @@ pub fn predict(
         dte_pp_um: pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect(),
         period1: pts.iter().map(|p| p.steady.period == Some(1)).collect(),
         separated: pts.iter().map(|p| p.steady.q_min < 1.0).collect(),
+        back_contact: pts.iter().map(|p| p.steady.q_min < -1.0).collect(),
     })
 }
 

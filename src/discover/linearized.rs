@@ -44,8 +44,6 @@ pub struct Statistics {
     pub lr: Vec<(f64, usize)>,
     /// Per candidate: largest one-direction score (r . d)^2 / |d|^2 over its probes.
     pub score: Vec<f64>,
-    /// Projected, normalised residual per curve (masked points only).
-    pub residuals: Vec<Vec<f64>>,
 }
 
 /// Names of the detection statistics, in [`Statistics::detection`] order.
@@ -153,7 +151,6 @@ impl Linearized {
             detection,
             lr,
             score,
-            residuals,
         }
     }
 }

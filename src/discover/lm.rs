@@ -13,8 +13,6 @@ use rayon::prelude::*;
 pub struct LmFit {
     /// Parameters at the optimum.
     pub params: Vec<f64>,
-    /// Residuals there.
-    pub residuals: Vec<f64>,
     /// Residual sum of squares there.
     pub rss: f64,
     /// Jacobian of the residuals (n x p) there.
@@ -115,7 +113,6 @@ where
     }
     Ok(LmFit {
         params: p,
-        residuals: r,
         rss: s,
         jacobian: j,
     })

@@ -17,6 +17,7 @@ mod lm;
 mod report;
 mod run;
 pub mod stats;
+mod study;
 mod windows;
 
 pub use effects::{Candidate, Effect, LIBRARY};
@@ -26,4 +27,5 @@ pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, Gap, GapSet,
     ResidualCurve, TestResult,
 };
+pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 pub use windows::{windows, Window};

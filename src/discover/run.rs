@@ -5,7 +5,7 @@
 
 use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, ModelFit};
-use super::forward::{predict_many, CurvePrediction, Globals, Setup};
+use super::forward::{predict_many, CurvePrediction, Setup};
 use super::linearized::{detection_names, Linearized, Statistics};
 use super::stats::{bootstrap_p, chi2_sf, holm};
 use super::windows::{windows, Window};
@@ -357,6 +357,15 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
             "alpha must be in (0, 1) and the bootstrap needs at least 19 replicates",
         ));
     }
+    // The smallest Monte Carlo p-value is 1 / (B + 1); after Holm over the 8 detection tests
+    // it must still be able to fall below alpha / 2.
+    if 8.0 / (opts.bootstrap as f64 + 1.0) >= opts.alpha / 2.0 {
+        return Err(GearError::param(
+            "bootstrap",
+            opts.bootstrap as f64,
+            "too few bootstrap replicates: 8 / (B + 1) must be below alpha / 2 (B >= 320 at alpha 0.05)",
+        ));
+    }
     let n_curves = setup.curves.len();
     let (train, held) = split(n_curves);
     let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
@@ -383,9 +392,7 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     let mut start = vec![g0.zeta, g0.omega_n_hz, e0];
     start.extend(train[1..].iter().map(|&i| ste_from_low_speed(setup, i, g0)));
     let all: Mask = setup.curves.iter().map(|c| vec![true; c.speeds_rpm.len()]).collect();
-    let t0 = std::time::Instant::now();
     let m0 = fit_model(setup, &train, &all, sigma, None, &start, 25)?;
-    if std::env::var("GD_TIME").is_ok() { eprintln!("m0 fit {:?}", t0.elapsed()); }
     progress.advance(1);
     // Held-out STE from the quasi-static end for the mask; fitted afterwards.
     let pre_ste: Vec<f64> = (0..n_curves)
@@ -407,7 +414,6 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
         .collect();
     let ws = windows();
 
-    if std::env::var("GD_TIME").is_ok() { eprintln!("m0 refit+predict {:?}", t0.elapsed()); }
     // 2. Probe dictionary at the M0 fit (training curves).
     let probe_curves: Vec<Result<(usize, Vec<f64>)>> = probes
         .par_iter()
@@ -454,7 +460,6 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
         zero: None,
     };
 
-    if std::env::var("GD_TIME").is_ok() { eprintln!("dict {:?}", t0.elapsed()); }
     // 3. Observed statistics and the bootstrap under M0.
     let observed = lin.statistics(&measured);
     let reps: Vec<Statistics> = (0..opts.bootstrap)
@@ -475,14 +480,18 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     let detected = min_holm(&detection) < opts.alpha / 2.0;
 
     // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
-    let separated = train.iter().any(|&i| f0[i].separated.iter().zip(&mask[i]).any(|(s, m)| *s && *m));
+    // In single-sided impacts the teeth fly through the gap and return to the same flank: the
+    // other flank, 2b away, is never reached, so b only enters with back-side contact.
+    let back_contact = train
+        .iter()
+        .any(|&i| f0[i].back_contact.iter().zip(&mask[i]).any(|(s, m)| *s && *m));
     let mut cands: Vec<CandidateResult> = LIBRARY
         .iter()
         .enumerate()
         .map(|(c, &cand)| {
             let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max) / (observed.sigma * observed.sigma);
-            let (identifiable, note) = if cand == Candidate::Backlash && !separated {
-                (false, Some("not identifiable: no tooth separation in the training curves, where b only scales the response and the STE amplitudes absorb it".to_string()))
+            let (identifiable, note) = if cand == Candidate::Backlash && !back_contact {
+                (false, Some("not identifiable: no back-side contact (double-sided impact) in the training curves; in contact or with single-sided impacts the response in um does not depend on b".to_string()))
             } else if biggest < 1.0 {
                 (false, Some("not identifiable: its largest probe changes the fitted curves by less than the noise".to_string()))
             } else {
@@ -569,7 +578,6 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     }
     progress.advance(1);
 
-    if std::env::var("GD_TIME").is_ok() { eprintln!("refits {:?}", t0.elapsed()); }
     // 5. Decide.
     let sig: Vec<usize> = refits.iter().map(|(c, _)| *c).collect();
     let mut effect = if detected { "unexplained".to_string() } else { "none".to_string() };

@@ -1,0 +1,216 @@
+//! Null-rate and recovery studies of the discovery workflow: many seeded synthetic Munro-style
+//! sets with one effect hidden (or none), each run through [`discover`] exactly as a user would
+//! (the generated rig.toml records the truth; the workflow does not read it, the study compares
+//! afterwards). Rates come with Wilson 95% intervals.
+
+use super::effects::Candidate;
+use super::run::{discover, DiscoverOptions, Discovery};
+use super::stats::wilson95;
+use crate::data::load_munro;
+use crate::error::{GearError, Result};
+use crate::progress::Progress;
+use crate::validate::{synth_munro, HiddenEffects, MunroTruth};
+use serde::Serialize;
+use std::path::Path;
+
+/// What a study hides in its data sets.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Hidden {
+    /// M0 plus noise: the null case (expected effect "none").
+    None,
+    /// One library effect at the study's moderate strength.
+    Library(Candidate),
+    /// A measuring-chain resonance at 2300 Hz, +50% (outside the library: expected "unexplained").
+    SensorPeak,
+}
+
+impl Hidden {
+    /// Parse "none", "sensor_peak" or a candidate name.
+    pub fn parse(s: &str) -> Option<Hidden> {
+        match s {
+            "none" => Some(Hidden::None),
+            "sensor_peak" => Some(Hidden::SensorPeak),
+            _ => super::effects::LIBRARY
+                .iter()
+                .find(|c| c.name() == s)
+                .map(|c| Hidden::Library(*c)),
+        }
+    }
+
+    /// The discovery answer that counts as correct.
+    pub fn expected(self) -> &'static str {
+        match self {
+            Hidden::None => "none",
+            Hidden::SensorPeak => "unexplained",
+            Hidden::Library(c) => c.name(),
+        }
+    }
+
+    /// The hidden effects and the true value of the candidate's reported estimate.
+    pub fn effects(self) -> (HiddenEffects, Option<f64>) {
+        let mut h = HiddenEffects::default();
+        let truth = match self {
+            Hidden::None => None,
+            Hidden::SensorPeak => {
+                h.sensor_peak_hz = 2300.0;
+                h.sensor_peak_gain = 0.5;
+                None
+            }
+            Hidden::Library(c) => Some(match c {
+                Candidate::MeshStiffnessVariation => {
+                    h.stiffness_eps = 0.2;
+                    0.2
+                }
+                Candidate::SteHarmonics => {
+                    h.ste2_ratio = 0.4;
+                    0.4
+                }
+                Candidate::DampingLaw => {
+                    h.damping_exponent = 1.0;
+                    1.0
+                }
+                Candidate::Backlash => {
+                    h.backlash_factor = 1.5;
+                    1.5
+                }
+                Candidate::TorqueRipple => {
+                    h.torque_ripple_ratio = 0.03;
+                    0.03
+                }
+            }),
+        };
+        (h, truth)
+    }
+}
+
+/// One seed's outcome.
+#[derive(Clone, Debug, Serialize)]
+pub struct SeedOutcome {
+    pub seed: u64,
+    pub effect: String,
+    pub correct: bool,
+    pub estimate: Option<f64>,
+    pub ci95: Option<(f64, f64)>,
+    pub covered: Option<bool>,
+    pub held_out_rms_before_um: Option<f64>,
+    pub held_out_rms_after_um: Option<f64>,
+    pub seconds: f64,
+}
+
+/// Summary of a study.
+#[derive(Clone, Debug, Serialize)]
+pub struct StudySummary {
+    pub hidden: Hidden,
+    pub expected: &'static str,
+    pub true_value: Option<f64>,
+    pub seeds: usize,
+    pub correct: usize,
+    pub correct_rate: f64,
+    pub correct_ci95: (f64, f64),
+    /// For the null study: any answer other than "none" (false positives) and its interval.
+    pub false_positive_rate: Option<(f64, (f64, f64))>,
+    /// True value inside the 95% interval, over the correctly named seeds.
+    pub coverage: Option<(usize, usize)>,
+    /// Held-out RMS smaller after than before, over the correctly named seeds.
+    pub held_out_shrunk: Option<(usize, usize)>,
+    pub outcomes: Vec<SeedOutcome>,
+}
+
+/// Settings of the generated sets.
+#[derive(Clone, Debug)]
+pub struct StudyOptions {
+    pub first_seed: u64,
+    pub seeds: usize,
+    /// Speed grid of the sets (start, stop, step rpm); coarser grids run faster.
+    pub speeds_rpm: (f64, f64, f64),
+    pub noise_um: f64,
+    pub discover: DiscoverOptions,
+}
+
+impl Default for StudyOptions {
+    fn default() -> Self {
+        StudyOptions {
+            first_seed: 1,
+            seeds: 100,
+            speeds_rpm: (1000.0, 5000.0, 50.0),
+            noise_um: 0.15,
+            discover: DiscoverOptions::default(),
+        }
+    }
+}
+
+/// Run one study; `scratch` is a folder for the generated sets (each replaced by the next).
+pub fn run_study(
+    hidden: Hidden,
+    opts: &StudyOptions,
+    scratch: &Path,
+    progress: &dyn Progress,
+) -> Result<StudySummary> {
+    if opts.seeds == 0 {
+        return Err(GearError::param("seeds", 0.0, "a study needs at least one seed"));
+    }
+    let (effects, truth) = hidden.effects();
+    let mut outcomes = Vec::new();
+    progress.start(opts.seeds as u64, "seeds");
+    for k in 0..opts.seeds {
+        let seed = opts.first_seed + k as u64;
+        let mut t = MunroTruth::default_munro();
+        t.seed = seed;
+        t.noise_um = opts.noise_um;
+        t.speeds_rpm = opts.speeds_rpm;
+        t.hidden = effects.clone();
+        let dir = scratch.join("set");
+        synth_munro(&t, &dir, &crate::progress::NoProgress)?;
+        let data = load_munro(&dir)?;
+        let start = std::time::Instant::now();
+        let mut dopts = opts.discover.clone();
+        dopts.seed = opts.discover.seed.wrapping_add(seed);
+        let d: Discovery = discover(&data, &dopts, &crate::progress::NoProgress)?;
+        let cand = d.candidates.iter().find(|c| c.name == d.effect);
+        let estimate = cand.and_then(|c| c.estimate);
+        let ci95 = cand.and_then(|c| c.ci95);
+        outcomes.push(SeedOutcome {
+            seed,
+            correct: d.effect == hidden.expected(),
+            covered: truth.zip(ci95).map(|(v, (lo, hi))| v >= lo && v <= hi),
+            estimate,
+            ci95,
+            held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
+            held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
+            effect: d.effect,
+            seconds: start.elapsed().as_secs_f64(),
+        });
+        progress.advance(1);
+    }
+    progress.finish();
+    let n = outcomes.len();
+    let correct = outcomes.iter().filter(|o| o.correct).count();
+    let good: Vec<&SeedOutcome> = outcomes.iter().filter(|o| o.correct).collect();
+    let coverage = truth.map(|_| (good.iter().filter(|o| o.covered == Some(true)).count(), good.len()));
+    let held_out_shrunk = truth.map(|_| {
+        let s = good
+            .iter()
+            .filter(|o| {
+                o.held_out_rms_before_um
+                    .zip(o.held_out_rms_after_um)
+                    .is_some_and(|(b, a)| a < b)
+            })
+            .count();
+        (s, good.len())
+    });
+    Ok(StudySummary {
+        hidden,
+        expected: hidden.expected(),
+        true_value: truth,
+        seeds: n,
+        correct,
+        correct_rate: correct as f64 / n as f64,
+        correct_ci95: wilson95(correct, n),
+        false_positive_rate: (hidden == Hidden::None)
+            .then(|| ((n - correct) as f64 / n as f64, wilson95(n - correct, n))),
+        coverage,
+        held_out_shrunk,
+        outcomes,
+    })
+}
