@@ -32,8 +32,12 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let hidden = Hidden::parse(&a.hidden)
-        .with_context(|| format!("unknown --hidden '{}': none, sensor_peak or a candidate name", a.hidden))?;
+    let hidden = Hidden::parse(&a.hidden).with_context(|| {
+        format!(
+            "unknown --hidden '{}': none, sensor_peak or a candidate name",
+            a.hidden
+        )
+    })?;
     let opts = StudyOptions {
         first_seed: a.first_seed,
         seeds: a.seeds,
@@ -71,10 +75,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ));
     }
     if let Some((c, n)) = s.coverage {
-        msg.push_str(&format!("true value {:?} inside the 95% interval in {c}/{n} correctly named seeds\n", s.true_value));
+        msg.push_str(&format!(
+            "true value {:?} inside the 95% interval in {c}/{n} correctly named seeds\n",
+            s.true_value
+        ));
     }
     if let Some((c, n)) = s.held_out_shrunk {
-        msg.push_str(&format!("held-out RMS gap shrank in {c}/{n} correctly named seeds\n"));
+        msg.push_str(&format!(
+            "held-out RMS gap shrank in {c}/{n} correctly named seeds\n"
+        ));
     }
     msg.push_str(&format!("wrote {}\n", a.out.display()));
     print_text(&msg)

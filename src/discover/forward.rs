@@ -120,7 +120,14 @@ pub fn predict(
             "natural frequency must be positive",
         ));
     }
-    let pts = simulate_up_sweep(&dim, &model, g.omega_n_hz, &c.speeds_rpm, RK_RTOL, &NoProgress)?;
+    let pts = simulate_up_sweep(
+        &dim,
+        &model,
+        g.omega_n_hz,
+        &c.speeds_rpm,
+        RK_RTOL,
+        &NoProgress,
+    )?;
     Ok(CurvePrediction {
         dte_pp_um: pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect(),
         period1: pts.iter().map(|p| p.steady.period == Some(1)).collect(),

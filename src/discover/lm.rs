@@ -57,7 +57,12 @@ fn rss(r: &[f64]) -> f64 {
 /// step is 1e-4 max(|p_i|, scales[i]). A residual evaluation that fails (e.g. a trial step to an
 /// invalid damping) counts as an infinitely bad step. Stops after `max_iter` Jacobians or when a
 /// step improves the sum of squares by less than 1e-9 relative.
-pub fn levenberg_marquardt<F>(f: &F, start: &[f64], scales: &[f64], max_iter: usize) -> Result<LmFit>
+pub fn levenberg_marquardt<F>(
+    f: &F,
+    start: &[f64],
+    scales: &[f64],
+    max_iter: usize,
+) -> Result<LmFit>
 where
     F: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {

@@ -56,7 +56,29 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
     })
 }
 
-fn residual_plot(curves: &[ResidualCurve], d: &Discovery, title: &str, stem: &Path) -> Result<Vec<PathBuf>> {
+/// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
+/// other keys), so the file's first data line says whether the curves are synthetic.
+pub fn discovery_json_text(data: &MunroData, d: &Discovery) -> Result<String> {
+    let json_err = |e: serde_json::Error| GearError::Numerical(format!("JSON: {e}"));
+    let mut v = discovery_json(data, d);
+    let notice = v
+        .as_object_mut()
+        .and_then(|o| o.remove("notice"))
+        .unwrap_or_default();
+    let rest = serde_json::to_string_pretty(&v).map_err(json_err)?;
+    let notice = serde_json::to_string(&notice).map_err(json_err)?;
+    Ok(format!(
+        "{{\n  \"notice\": {notice},{}\n",
+        rest.trim_start_matches('{')
+    ))
+}
+
+fn residual_plot(
+    curves: &[ResidualCurve],
+    d: &Discovery,
+    title: &str,
+    stem: &Path,
+) -> Result<Vec<PathBuf>> {
     let mut plot = XyPlot::new(title, "Omega = mesh frequency / omega_n (M0)", "residual (measured - model), um")
         .with_caption(format!(
             "Shaded: windows around Omega = 1/3, 1/2, 2/3, 1, 2 (+-{:.0}%); points excluded from the tests (non-period-1 or next to a jump) not drawn",
@@ -65,15 +87,26 @@ fn residual_plot(curves: &[ResidualCurve], d: &Discovery, title: &str, stem: &Pa
     let (lo, hi) = curves
         .iter()
         .flat_map(|c| c.points.iter().map(|p| p.1))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(x), b.max(x)));
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
     for w in &d.windows {
         if w.hi >= lo && w.lo <= hi {
             plot = plot.with_band(w.lo, w.hi).with_vline(w.centre, w.label);
         }
     }
     for (k, c) in curves.iter().enumerate() {
-        let pts: Vec<(f64, f64)> = c.points.iter().filter(|p| p.3).map(|p| (p.1, p.2)).collect();
-        let label = format!("{:.0} N ({})", c.load_n, if c.training { "training" } else { "held out" });
+        let pts: Vec<(f64, f64)> = c
+            .points
+            .iter()
+            .filter(|p| p.3)
+            .map(|p| (p.1, p.2))
+            .collect();
+        let label = format!(
+            "{:.0} N ({})",
+            c.load_n,
+            if c.training { "training" } else { "held out" }
+        );
         plot = plot.with_series(Series::line_markers(label, pts).with_color(k));
     }
     write_xy(&plot, stem)
@@ -99,7 +132,9 @@ pub fn summary_text(d: &Discovery) -> String {
         "effect: {}{}\nM0: zeta {:.5}, omega_n {:.1} Hz; noise sigma {:.3} um ({})\n",
         d.effect,
         if d.ambiguous_with.is_empty() {
-            d.closest_candidate.as_ref().map_or(String::new(), |c| format!(" (closest candidate {c} leaves a discrepancy)"))
+            d.closest_candidate.as_ref().map_or(String::new(), |c| {
+                format!(" (closest candidate {c} leaves a discrepancy)")
+            })
         } else {
             format!(" between {}", d.ambiguous_with.join(", "))
         },
@@ -118,20 +153,34 @@ pub fn summary_text(d: &Discovery) -> String {
             opt(c.estimate, 4),
             opt(c.ci95.map(|x| x.0), 4),
             opt(c.ci95.map(|x| x.1), 4),
-            c.note.as_ref().map_or(String::new(), |n| format!("  ({n})"))
+            c.note
+                .as_ref()
+                .map_or(String::new(), |n| format!("  ({n})"))
         ));
     }
-    s.push_str(&format!("gap before: training {}\n", gap_text(&d.gap_before.training)));
-    s.push_str(&format!("gap after:  training {}\n", gap_text(&d.gap_after.training)));
+    s.push_str(&format!(
+        "gap before: training {}\n",
+        gap_text(&d.gap_before.training)
+    ));
+    s.push_str(&format!(
+        "gap after:  training {}\n",
+        gap_text(&d.gap_after.training)
+    ));
     if let (Some(b), Some(a)) = (&d.gap_before.held_out, &d.gap_after.held_out) {
         s.push_str(&format!("gap before: held out {}\n", gap_text(b)));
         s.push_str(&format!("gap after:  held out {}\n", gap_text(a)));
     }
     if d.effect == "unexplained" || d.effect == "ambiguous" {
         if let Some(g) = &d.gap_leading {
-            s.push_str(&format!("leading candidate refitted: training {}\n", gap_text(&g.training)));
+            s.push_str(&format!(
+                "leading candidate refitted: training {}\n",
+                gap_text(&g.training)
+            ));
             if let Some(h) = &g.held_out {
-                s.push_str(&format!("leading candidate refitted: held out {}\n", gap_text(h)));
+                s.push_str(&format!(
+                    "leading candidate refitted: held out {}\n",
+                    gap_text(h)
+                ));
             }
         }
     }
@@ -144,8 +193,16 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     let stage = Staged::new(out)?;
     let mut files = vec!["discovery.json".to_string()];
     for (name, curves, title) in [
-        ("residuals_before", &d.residuals_before, "Residuals of M0 (paper's model)"),
-        ("residuals_after", &d.residuals_after, "Residuals with the leading candidate added (M0 if none)"),
+        (
+            "residuals_before",
+            &d.residuals_before,
+            "Residuals of M0 (paper's model)",
+        ),
+        (
+            "residuals_after",
+            &d.residuals_after,
+            "Residuals with the leading candidate added (M0 if none)",
+        ),
     ] {
         for p in residual_plot(curves, d, title, &stage.path(name))? {
             if let Some(f) = p.file_name() {
@@ -153,9 +210,7 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
             }
         }
     }
-    let text = serde_json::to_string_pretty(&discovery_json(data, d))
-        .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?;
-    stage.write("discovery.json", &format!("{text}\n"))?;
+    stage.write("discovery.json", &discovery_json_text(data, d)?)?;
     let mut page = Page::new(
         "geardyn discover: discrepancy discovery",
         &banner,
@@ -177,10 +232,20 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     page.heading("Detection (bootstrap p-values under M0, Holm-adjusted)");
     let test_rows = |t: &[super::run::TestResult]| -> Vec<Vec<String>> {
         t.iter()
-            .map(|x| vec![x.name.clone(), format!("{:.2}", x.statistic), opt(x.p_value, 4), opt(x.p_holm, 4)])
+            .map(|x| {
+                vec![
+                    x.name.clone(),
+                    format!("{:.2}", x.statistic),
+                    opt(x.p_value, 4),
+                    opt(x.p_holm, 4),
+                ]
+            })
             .collect()
     };
-    page.table(&["test", "statistic", "p", "p (Holm)"], &test_rows(&d.detection));
+    page.table(
+        &["test", "statistic", "p", "p (Holm)"],
+        &test_rows(&d.detection),
+    );
     page.heading("Candidates");
     let rows: Vec<Vec<String>> = d
         .candidates
@@ -193,24 +258,47 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
                 opt(c.p_value, 4),
                 opt(c.p_holm, 4),
                 format!("{} = {}", c.estimate_name, opt(c.estimate, 4)),
-                c.ci95.map_or("-".into(), |(a, b)| format!("{a:.4} .. {b:.4}")),
+                c.ci95
+                    .map_or("-".into(), |(a, b)| format!("{a:.4} .. {b:.4}")),
                 c.note.clone().unwrap_or_default(),
             ]
         })
         .collect();
-    page.table(&["candidate", "score", "LR", "p (bootstrap)", "p (Holm)", "estimate", "95% interval", "note"], &rows);
+    page.table(
+        &[
+            "candidate",
+            "score",
+            "LR",
+            "p (bootstrap)",
+            "p (Holm)",
+            "estimate",
+            "95% interval",
+            "note",
+        ],
+        &rows,
+    );
     if !d.post_fit.is_empty() {
         page.heading("Detection tests after adding the leading candidate");
-        page.table(&["test", "statistic", "p", "p (Holm)"], &test_rows(&d.post_fit));
+        page.table(
+            &["test", "statistic", "p", "p (Holm)"],
+            &test_rows(&d.post_fit),
+        );
     }
     page.heading("Gap before and after");
-    let mut g = vec![vec!["training".into(), gap_text(&d.gap_before.training), gap_text(&d.gap_after.training)]];
+    let mut g = vec![vec![
+        "training".into(),
+        gap_text(&d.gap_before.training),
+        gap_text(&d.gap_after.training),
+    ]];
     if let (Some(b), Some(a)) = (&d.gap_before.held_out, &d.gap_after.held_out) {
         g.push(vec!["held out".into(), gap_text(b), gap_text(a)]);
     }
     page.table(&["loads", "before (M0)", "after"], &g);
     page.image("residuals_before.png", "residuals of M0 versus Omega");
-    page.image("residuals_after.png", "residuals after adding the effect versus Omega");
+    page.image(
+        "residuals_after.png",
+        "residuals after adding the effect versus Omega",
+    );
     let (html, md) = page.finish("geardyn discover");
     stage.write("index.html", &html)?;
     stage.write("report.md", &md)?;

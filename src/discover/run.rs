@@ -220,7 +220,14 @@ fn make_mask(preds: &[CurvePrediction], sigma: f64) -> Mask {
         .collect()
 }
 
-fn gap(setup: &Setup, idx: &[usize], preds: &[CurvePrediction], mask: &Mask, omega: &[Vec<f64>], ws: &[Window]) -> Gap {
+fn gap(
+    setup: &Setup,
+    idx: &[usize],
+    preds: &[CurvePrediction],
+    mask: &Mask,
+    omega: &[Vec<f64>],
+    ws: &[Window],
+) -> Gap {
     let mut all = Vec::new();
     let mut per_w = vec![Vec::new(); ws.len()];
     for &i in idx {
@@ -251,7 +258,13 @@ fn gap(setup: &Setup, idx: &[usize], preds: &[CurvePrediction], mask: &Mask, ome
     }
 }
 
-fn residual_curves(setup: &Setup, train: &[usize], preds: &[CurvePrediction], mask: &Mask, omega: &[Vec<f64>]) -> Vec<ResidualCurve> {
+fn residual_curves(
+    setup: &Setup,
+    train: &[usize],
+    preds: &[CurvePrediction],
+    mask: &Mask,
+    omega: &[Vec<f64>],
+) -> Vec<ResidualCurve> {
     setup
         .curves
         .iter()
@@ -260,7 +273,14 @@ fn residual_curves(setup: &Setup, train: &[usize], preds: &[CurvePrediction], ma
             load_n: c.load_n,
             training: train.contains(&i),
             points: (0..c.speeds_rpm.len())
-                .map(|j| (c.speeds_rpm[j], omega[i][j], c.dte_pp_um[j] - preds[i].dte_pp_um[j], mask[i][j]))
+                .map(|j| {
+                    (
+                        c.speeds_rpm[j],
+                        omega[i][j],
+                        c.dte_pp_um[j] - preds[i].dte_pp_um[j],
+                        mask[i][j],
+                    )
+                })
                 .collect(),
         })
         .collect()
@@ -276,7 +296,11 @@ fn detection_tests(names: &[String], s: &Statistics, reps: &[Statistics]) -> Vec
             if t.is_nan() {
                 return None;
             }
-            let null: Vec<f64> = reps.iter().map(|r| r.detection[k]).filter(|x| !x.is_nan()).collect();
+            let null: Vec<f64> = reps
+                .iter()
+                .map(|r| r.detection[k])
+                .filter(|x| !x.is_nan())
+                .collect();
             Some(bootstrap_p(t, &null))
         })
         .collect();
@@ -337,19 +361,35 @@ fn refit_candidate(
             m2[i][j] = m2[i][j] && *keep;
         }
     }
-    let f3 = fit_model(setup, train, &m2, sigma, Some(cand), &f2.lm.params.clone(), iters / 2 + 1)?;
+    let f3 = fit_model(
+        setup,
+        train,
+        &m2,
+        sigma,
+        Some(cand),
+        &f2.lm.params.clone(),
+        iters / 2 + 1,
+    )?;
     Ok((f3, m2))
 }
 
 /// Run the discovery workflow on a Munro-style data set. Reads the curves and the rig's stated
 /// geometry only: never `[source.truth]`.
-pub fn discover(data: &MunroData, opts: &DiscoverOptions, progress: &dyn Progress) -> Result<Discovery> {
+pub fn discover(
+    data: &MunroData,
+    opts: &DiscoverOptions,
+    progress: &dyn Progress,
+) -> Result<Discovery> {
     let setup = Setup::from_munro(data)?;
     discover_setup(&setup, opts, progress)
 }
 
 /// [`discover`] on an already built setup.
-pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Progress) -> Result<Discovery> {
+pub fn discover_setup(
+    setup: &Setup,
+    opts: &DiscoverOptions,
+    progress: &dyn Progress,
+) -> Result<Discovery> {
     if !(opts.alpha > 0.0 && opts.alpha < 1.0) || opts.bootstrap < 19 {
         return Err(GearError::param(
             "alpha",
@@ -371,11 +411,19 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
     let (sigma, sigma_source) = match opts.noise_um {
         Some(s) if s > 0.0 && s.is_finite() => (s, "stated (--noise-um)"),
-        Some(s) => return Err(GearError::param("noise_um", s, "stated noise must be positive")),
+        Some(s) => {
+            return Err(GearError::param(
+                "noise_um",
+                s,
+                "stated noise must be positive",
+            ))
+        }
         None => (
             super::stats::noise_from_differences(&measured)
                 .filter(|s| *s > 0.0)
-                .ok_or_else(|| GearError::Numerical("cannot estimate the noise from the curves".into()))?,
+                .ok_or_else(|| {
+                    GearError::Numerical("cannot estimate the noise from the curves".into())
+                })?,
             "second differences of the curves (Gasser et al. 1986)",
         ),
     };
@@ -391,7 +439,11 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     let (g0, e0) = linear_start(setup, train[0])?;
     let mut start = vec![g0.zeta, g0.omega_n_hz, e0];
     start.extend(train[1..].iter().map(|&i| ste_from_low_speed(setup, i, g0)));
-    let all: Mask = setup.curves.iter().map(|c| vec![true; c.speeds_rpm.len()]).collect();
+    let all: Mask = setup
+        .curves
+        .iter()
+        .map(|c| vec![true; c.speeds_rpm.len()])
+        .collect();
     let m0 = fit_model(setup, &train, &all, sigma, None, &start, 25)?;
     progress.advance(1);
     // Held-out STE from the quasi-static end for the mask; fitted afterwards.
@@ -410,7 +462,12 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     let omega: Vec<Vec<f64>> = setup
         .curves
         .iter()
-        .map(|c| c.speeds_rpm.iter().map(|s| setup.dim.omega(*s, m0.globals.omega_n_hz)).collect())
+        .map(|c| {
+            c.speeds_rpm
+                .iter()
+                .map(|s| setup.dim.omega(*s, m0.globals.omega_n_hz))
+                .collect()
+        })
         .collect();
     let ws = windows();
 
@@ -482,9 +539,13 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
     // In single-sided impacts the teeth fly through the gap and return to the same flank: the
     // other flank, 2b away, is never reached, so b only enters with back-side contact.
-    let back_contact = train
-        .iter()
-        .any(|&i| f0[i].back_contact.iter().zip(&mask[i]).any(|(s, m)| *s && *m));
+    let back_contact = train.iter().any(|&i| {
+        f0[i]
+            .back_contact
+            .iter()
+            .zip(&mask[i])
+            .any(|(s, m)| *s && *m)
+    });
     let mut cands: Vec<CandidateResult> = LIBRARY
         .iter()
         .enumerate()
@@ -525,27 +586,38 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
     let significant = |c: &CandidateResult| c.p_holm.is_some_and(|p| p < opts.alpha / 2.0);
 
     // Refit the leading candidates by score, and every significant one.
-    let mut order: Vec<usize> = (0..cands.len()).filter(|&c| significant(&cands[c])).collect();
+    let mut order: Vec<usize> = (0..cands.len())
+        .filter(|&c| significant(&cands[c]))
+        .collect();
     order.sort_by(|&a, &b| cands[b].score.total_cmp(&cands[a].score));
     let refit: Vec<usize> = order.into_iter().take(opts.refit_top.max(1)).collect();
     let fits: Vec<(usize, Result<(ModelFit, f64)>)> = refit
         .par_iter()
         .map(|&c| {
             let k = observed.lr[c].1;
-            let f = refit_candidate(setup, &train, &mask, sigma, LIBRARY[c], &m0, &dict_delta[c][k], opts.refit_iterations)
-                .map(|(f, m2)| {
-                    // Drop in RSS on the points both models keep.
-                    let mut r0 = 0.0;
-                    for &i in &train {
-                        for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
-                            if m2[i][j] {
-                                r0 += ((y - f0[i].dte_pp_um[j]) / sigma).powi(2);
-                            }
+            let f = refit_candidate(
+                setup,
+                &train,
+                &mask,
+                sigma,
+                LIBRARY[c],
+                &m0,
+                &dict_delta[c][k],
+                opts.refit_iterations,
+            )
+            .map(|(f, m2)| {
+                // Drop in RSS on the points both models keep.
+                let mut r0 = 0.0;
+                for &i in &train {
+                    for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
+                        if m2[i][j] {
+                            r0 += ((y - f0[i].dte_pp_um[j]) / sigma).powi(2);
                         }
                     }
-                    let drop = r0 - f.lm.rss;
-                    (f, drop)
-                });
+                }
+                let drop = r0 - f.lm.rss;
+                (f, drop)
+            });
             (c, f)
         })
         .collect();
@@ -564,7 +636,10 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
             match cand {
                 Candidate::Backlash => {
                     let sb = sub[(0, 0)].max(0.0).sqrt();
-                    ((f.effect.delta[0] - 1.96 * sb).exp(), (f.effect.delta[0] + 1.96 * sb).exp())
+                    (
+                        (f.effect.delta[0] - 1.96 * sb).exp(),
+                        (f.effect.delta[0] + 1.96 * sb).exp(),
+                    )
                 }
                 Candidate::DampingLaw => (est - 1.96 * var.sqrt(), est + 1.96 * var.sqrt()),
                 _ => ((est - 1.96 * var.sqrt()).max(0.0), est + 1.96 * var.sqrt()),
@@ -580,7 +655,11 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
 
     // 5. Decide.
     let sig: Vec<usize> = refits.iter().map(|(c, _)| *c).collect();
-    let mut effect = if detected { "unexplained".to_string() } else { "none".to_string() };
+    let mut effect = if detected {
+        "unexplained".to_string()
+    } else {
+        "none".to_string()
+    };
     let mut ambiguous_with = Vec::new();
     let mut closest = None;
     let mut chosen: Option<ModelFit> = None;
@@ -614,7 +693,11 @@ pub fn discover_setup(setup: &Setup, opts: &DiscoverOptions, progress: &dyn Prog
                 .zip(&m1)
                 .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && !*b).collect())
                 .collect();
-            compare_mask = m1.iter().zip(&mask).map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && *b).collect()).collect();
+            compare_mask = m1
+                .iter()
+                .zip(&mask)
+                .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && *b).collect())
+                .collect();
             let mut lin1 = Linearized {
                 f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
                 zero: Some(zero),

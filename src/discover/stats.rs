@@ -147,7 +147,9 @@ mod tests {
 
     #[test]
     fn runs_test_sees_alternation_and_blocks() {
-        let alt: Vec<f64> = (0..40).map(|i| if i % 2 == 0 { 1.0 } else { -1.0 }).collect();
+        let alt: Vec<f64> = (0..40)
+            .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
+            .collect();
         let blocks: Vec<f64> = (0..40).map(|i| if i < 20 { 1.0 } else { -1.0 }).collect();
         assert!(runs_z(&[alt]) > 5.0);
         assert!(runs_z(&[blocks]) < -5.0);
@@ -167,7 +169,10 @@ mod tests {
     #[test]
     fn wilson_interval_brackets_the_proportion() {
         let (lo, hi) = wilson95(5, 100);
-        assert!(lo > 0.015 && lo < 0.03 && hi > 0.10 && hi < 0.12, "{lo} {hi}");
+        assert!(
+            lo > 0.015 && lo < 0.03 && hi > 0.10 && hi < 0.12,
+            "{lo} {hi}"
+        );
         assert_eq!(wilson95(0, 100).0, 0.0);
     }
 }

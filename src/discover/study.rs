@@ -148,7 +148,11 @@ pub fn run_study(
     progress: &dyn Progress,
 ) -> Result<StudySummary> {
     if opts.seeds == 0 {
-        return Err(GearError::param("seeds", 0.0, "a study needs at least one seed"));
+        return Err(GearError::param(
+            "seeds",
+            0.0,
+            "a study needs at least one seed",
+        ));
     }
     let (effects, truth) = hidden.effects();
     let mut outcomes = Vec::new();
@@ -187,7 +191,12 @@ pub fn run_study(
     let n = outcomes.len();
     let correct = outcomes.iter().filter(|o| o.correct).count();
     let good: Vec<&SeedOutcome> = outcomes.iter().filter(|o| o.correct).collect();
-    let coverage = truth.map(|_| (good.iter().filter(|o| o.covered == Some(true)).count(), good.len()));
+    let coverage = truth.map(|_| {
+        (
+            good.iter().filter(|o| o.covered == Some(true)).count(),
+            good.len(),
+        )
+    });
     let held_out_shrunk = truth.map(|_| {
         let s = good
             .iter()

@@ -17,15 +17,21 @@ pub const HALF_WIDTH: f64 = 0.05;
 
 /// The five windows.
 pub fn windows() -> Vec<Window> {
-    [("1/3", 1.0 / 3.0), ("1/2", 0.5), ("2/3", 2.0 / 3.0), ("1", 1.0), ("2", 2.0)]
-        .iter()
-        .map(|&(label, c)| Window {
-            label,
-            centre: c,
-            lo: c * (1.0 - HALF_WIDTH),
-            hi: c * (1.0 + HALF_WIDTH),
-        })
-        .collect()
+    [
+        ("1/3", 1.0 / 3.0),
+        ("1/2", 0.5),
+        ("2/3", 2.0 / 3.0),
+        ("1", 1.0),
+        ("2", 2.0),
+    ]
+    .iter()
+    .map(|&(label, c)| Window {
+        label,
+        centre: c,
+        lo: c * (1.0 - HALF_WIDTH),
+        hi: c * (1.0 + HALF_WIDTH),
+    })
+    .collect()
 }
 
 impl Window {

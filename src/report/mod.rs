@@ -7,9 +7,9 @@ mod kubo;
 mod munro;
 mod staging;
 
+pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
 pub use munro::{munro_json, write_munro_report};
-pub use html::Page;
 pub use staging::Staged;
 
 use crate::data::{DataKind, RigFile};

@@ -266,10 +266,9 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
             truth.zeta,
             1.0,
         )?;
-        let model =
-            truth
-                .hidden
-                .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
+        let model = truth
+            .hidden
+            .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
         let clean = simulate_dte_curve(&true_dim, &model, truth.omega_n_hz, &speeds, progress)?;
         for (s, y) in speeds.iter().zip(clean) {
             let y = y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s));
