@@ -456,7 +456,7 @@ pub fn discover_setup(
     let every: Vec<usize> = (0..n_curves).collect();
     let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
     let mask = make_mask(&pre, sigma);
-    let m0 = fit_model(setup, &train, &mask, sigma, None, &m0.lm.params.clone(), 10)?;
+    let m0 = fit_model(setup, &train, &mask, sigma, None, &m0.lm.params.clone(), 30)?;
     let (f0, held0) = predict_all(setup, &m0, &train, &held, &mask, sigma)?;
     progress.advance(1);
     let omega: Vec<Vec<f64>> = setup
