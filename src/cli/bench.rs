@@ -119,6 +119,24 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             rayon::current_num_threads()
         ));
     }
+    if munro.join("rig.toml").exists() {
+        // Discrepancy discovery (issue 5) on the four-load set: M0 fit, tests, 499 bootstrap
+        // replicates, candidate dictionary and refits of the significant candidates.
+        let t = Instant::now();
+        let data = geardyn::data::load_munro(munro)?;
+        let d = geardyn::discover::discover(
+            &data,
+            &geardyn::discover::DiscoverOptions::default(),
+            &NoProgress,
+        )?;
+        text.push_str(&format!(
+            "discover on data/munro (4 loads, {} speeds, effect {}): {:.1} s on {} threads\n",
+            data.points.len(),
+            d.effect,
+            t.elapsed().as_secs_f64(),
+            rayon::current_num_threads()
+        ));
+    }
     if a.basin_grid > 0 {
         let grid = IcGrid::new(-2.0, 2.0, a.basin_grid)?;
         let t = Instant::now();

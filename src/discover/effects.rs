@@ -217,3 +217,37 @@ impl Effect {
         m.validated()
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Nesting: every candidate at delta = 0 is the paper's model itself.
+    #[test]
+    fn zero_delta_gives_the_paper_model() {
+        let m0 = GearPair::paper(0.3, 0.01, 0.02, 1.0).unwrap();
+        for c in LIBRARY {
+            let e = Effect::of(c, vec![0.0; c.dim()]);
+            assert_eq!(
+                e.model(0.02, 0.3, 0.01, 0.5, 0.6).unwrap(),
+                m0,
+                "{}",
+                c.name()
+            );
+        }
+        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let e = Effect::of(Candidate::Backlash, vec![0.0]);
+        assert_eq!(e.dimensional(&dim), dim);
+    }
+
+    /// The probes stay inside the models' admissible ranges (eps < 1, zeta > 0).
+    #[test]
+    fn probes_build_valid_models() {
+        for c in LIBRARY {
+            for d in c.probes() {
+                assert_eq!(d.len(), c.dim());
+                Effect::of(c, d).model(0.02, 0.3, 0.01, 0.25, 0.6).unwrap();
+            }
+        }
+    }
+}

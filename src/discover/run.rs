@@ -157,7 +157,8 @@ pub fn split(n: usize) -> (Vec<usize>, Vec<usize>) {
 }
 
 /// All predictions of a model: training curves with their fitted STE, held-out curves with an
-/// STE fitted alone. Returns predictions of every curve and the held-out STE amplitudes.
+/// STE fitted alone (from `held_start`, else the quasi-static estimate). Returns predictions of
+/// every curve and, per held-out curve, its STE amplitude and sensitivity column.
 fn predict_all(
     setup: &Setup,
     fit: &ModelFit,
@@ -165,7 +166,8 @@ fn predict_all(
     held: &[usize],
     mask: &Mask,
     sigma: f64,
-) -> Result<(Vec<CurvePrediction>, Vec<(usize, f64, DVector<f64>)>)> {
+    held_start: Option<&[HeldFit]>,
+) -> Result<(Vec<CurvePrediction>, Vec<HeldFit>)> {
     let mut preds: Vec<Option<CurvePrediction>> = vec![None; setup.curves.len()];
     for (p, &i) in predict_many(setup, train, fit.globals, &fit.ste_um, &fit.effect)?
         .into_iter()
@@ -173,20 +175,22 @@ fn predict_all(
     {
         preds[i] = Some(p);
     }
-    let held_fits: Vec<Result<(usize, f64, DVector<f64>, CurvePrediction)>> = held
+    let held_fits: Vec<Result<(HeldFit, CurvePrediction)>> = held
         .par_iter()
         .map(|&i| {
-            let start = ste_from_low_speed(setup, i, fit.globals);
+            let start = held_start
+                .and_then(|h| h.iter().find(|x| x.0 == i))
+                .map_or_else(|| ste_from_low_speed(setup, i, fit.globals), |x| x.1);
             let (e, lm) = fit_ste(setup, i, mask, sigma, fit.globals, &fit.effect, start)?;
             let p = super::forward::predict(setup, i, fit.globals, e, &fit.effect)?;
-            Ok((i, e, lm.jacobian.column(0).into_owned(), p))
+            Ok(((i, e, lm.jacobian.column(0).into_owned()), p))
         })
         .collect();
     let mut held_out = Vec::new();
     for h in held_fits {
-        let (i, e, col, p) = h?;
-        preds[i] = Some(p);
-        held_out.push((i, e, col));
+        let (hf, p) = h?;
+        preds[hf.0] = Some(p);
+        held_out.push(hf);
     }
     let preds = preds
         .into_iter()
@@ -194,6 +198,9 @@ fn predict_all(
         .collect::<Result<Vec<_>>>()?;
     Ok((preds, held_out))
 }
+
+/// A held-out curve's index, fitted STE (um) and its sensitivity column.
+type HeldFit = (usize, f64, DVector<f64>);
 
 /// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
 /// measured pp there depends on history beyond the model) and the two points around every
@@ -457,7 +464,7 @@ pub fn discover_setup(
     let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
     let mask = make_mask(&pre, sigma);
     let m0 = fit_model(setup, &train, &mask, sigma, None, &m0.lm.params.clone(), 30)?;
-    let (f0, held0) = predict_all(setup, &m0, &train, &held, &mask, sigma)?;
+    let (f0, held0) = predict_all(setup, &m0, &train, &held, &mask, sigma, None)?;
     progress.advance(1);
     let omega: Vec<Vec<f64>> = setup
         .curves
@@ -479,8 +486,8 @@ pub fn discover_setup(
             let p = predict_many(setup, &train, m0.globals, &m0.ste_um, &e)?;
             let mut v = Vec::new();
             for (k, &i) in train.iter().enumerate() {
-                for j in 0..setup.curves[i].speeds_rpm.len() {
-                    if mask[i][j] {
+                for (j, keep) in mask[i].iter().enumerate() {
+                    if *keep {
                         v.push(p[k].dte_pp_um[j] - f0[i].dte_pp_um[j]);
                     }
                 }
@@ -686,7 +693,7 @@ pub fn discover_setup(
             }
         }
         if let Some((_, f)) = refits.iter().find(|(c, _)| *c == best) {
-            let (preds, _) = predict_all(setup, f, &train, &held, &mask, sigma)?;
+            let (preds, _) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
             let m1 = make_mask(&preds, sigma);
             let zero: Mask = mask
                 .iter()
