@@ -113,10 +113,16 @@ fn residual_plot(
 }
 
 fn gap_text(g: &Gap) -> String {
+    let loads: Vec<String> = g
+        .per_load
+        .iter()
+        .map(|(l, r, _)| format!("{l:.0} N {r:.3}"))
+        .collect();
     format!(
-        "RMS {:.3} um over {} points, worst window {} at {:.3} um",
+        "RMS {:.3} um over {} points ({}), worst window {} at {:.3} um",
         g.rms_um,
         g.points,
+        loads.join(", "),
         g.worst_window.as_deref().unwrap_or("-"),
         g.worst_window_rms_um
     )

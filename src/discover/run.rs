@@ -98,6 +98,9 @@ pub struct Gap {
     pub worst_window_rms_um: f64,
     pub worst_window: Option<String>,
     pub points: usize,
+    /// (load N, RMS um, points) per load: one load on another branch of coexisting steady
+    /// states can dominate the RMS, and this shows which.
+    pub per_load: Vec<(f64, f64, usize)>,
 }
 
 /// Gap on training and held-out loads.
@@ -237,11 +240,15 @@ fn gap(
 ) -> Gap {
     let mut all = Vec::new();
     let mut per_w = vec![Vec::new(); ws.len()];
+    let mut per_load = Vec::new();
+    let mut per_load_res: Vec<Vec<f64>> = Vec::new();
     for &i in idx {
+        let mut this = Vec::new();
         for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
             if mask[i][j] {
                 let r = y - preds[i].dte_pp_um[j];
                 all.push(r);
+                this.push(r);
                 for (k, w) in ws.iter().enumerate() {
                     if w.contains(omega[i][j]) {
                         per_w[k].push(r);
@@ -249,8 +256,12 @@ fn gap(
                 }
             }
         }
+        per_load_res.push(this);
     }
     let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+    for (&i, v) in idx.iter().zip(&per_load_res) {
+        per_load.push((setup.curves[i].load_n, rms(v), v.len()));
+    }
     let worst = per_w
         .iter()
         .enumerate()
@@ -262,6 +273,7 @@ fn gap(
         worst_window_rms_um: worst.map_or(0.0, |w| w.1),
         worst_window: worst.map(|w| ws[w.0].label.to_string()),
         points: all.len(),
+        per_load,
     }
 }
 
@@ -680,15 +692,22 @@ pub fn discover_setup(
         let lb = cands[b].refit_lr.unwrap_or(cands[b].lr);
         la.total_cmp(&lb)
     }) {
+        // Two refitted candidates are ambiguous when the data cannot tell their fits apart:
+        // residual sums of squares within chi2(0.95; 1) = 3.84 sigma^2 of each other, or
+        // nearly collinear probe directions on the measured grid (|cos| above
+        // `collinear_cos`) with refit sums of squares within 3.84 + 0.5% of the larger drop
+        // (collinear directions make equal fits; a clear difference in fit overrules the
+        // first-order collinearity of the probes). The coarse dictionary LR is not used.
         let dir = |c: usize| &dict[c][observed.lr[c].1];
-        let lr_best = cands[best].lr;
+        let drop_best = cands[best].refit_lr.unwrap_or(cands[best].lr);
         for &o in &sig {
             if o == best {
                 continue;
             }
             let (a, b) = (dir(best), dir(o));
             let cos = a.dot(b) / (a.norm() * b.norm()).max(1e-300);
-            if cos.abs() > opts.collinear_cos && cands[o].lr > 0.8 * lr_best {
+            let diff = drop_best - cands[o].refit_lr.unwrap_or(cands[o].lr);
+            if diff < 3.84 || (cos.abs() > opts.collinear_cos && diff < 3.84 + 0.005 * drop_best) {
                 ambiguous_with.push(cands[o].name.to_string());
             }
         }
