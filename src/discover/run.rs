@@ -681,10 +681,9 @@ pub fn discover_setup(
     };
     let mut ambiguous_with = Vec::new();
     let mut closest = None;
-    let mut chosen: Option<ModelFit> = None;
+    let mut refitted = false;
     let mut post_fit = Vec::new();
-    let (pre_m0, _) = (f0.clone(), ());
-    let mut after_preds = pre_m0.clone();
+    let mut after_preds = f0.clone();
     let mut compare_mask = mask.clone();
     let mut refit_preds: Option<Vec<CurvePrediction>> = None;
     if let Some(&best) = sig.iter().max_by(|&&a, &&b| {
@@ -734,12 +733,12 @@ pub fn discover_setup(
             post_fit = detection_tests(&names, &post, &reps);
             refit_preds = Some(preds.clone());
             after_preds = preds;
-            chosen = Some(f.clone());
+            refitted = true;
         }
         if !ambiguous_with.is_empty() {
             ambiguous_with.insert(0, cands[best].name.to_string());
             effect = "ambiguous".into();
-        } else if chosen.is_some()
+        } else if refitted
             && post_fit
                 .first()
                 .and_then(|t| t.p_value)
@@ -750,13 +749,12 @@ pub fn discover_setup(
             // the held-out gap, not used to reject the name.
             effect = "unexplained".into();
             closest = Some(cands[best].name.to_string());
-        } else if chosen.is_some() {
+        } else if refitted {
             effect = cands[best].name.to_string();
         }
     }
-    if effect != "ambiguous" && !LIBRARY.iter().any(|c| c.name() == effect) {
+    if !LIBRARY.iter().any(|c| c.name() == effect) {
         after_preds = f0.clone();
-        chosen = None;
     }
     progress.advance(1);
     progress.finish();
@@ -764,7 +762,6 @@ pub fn discover_setup(
         training: gap(setup, &train, preds, &compare_mask, &omega, &ws),
         held_out: (!held.is_empty()).then(|| gap(setup, &held, preds, &compare_mask, &omega, &ws)),
     };
-    let _ = chosen;
     // The leading candidate's gap even when it did not explain the discrepancy (diagnostics).
     let gap_leading = refit_preds.as_deref().map(gap_set);
     Ok(Discovery {
