@@ -241,7 +241,11 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
             .map(|x| {
                 vec![
                     x.name.clone(),
-                    format!("{:.2}", x.statistic),
+                    if x.statistic.is_nan() {
+                        "- (no points in the window)".to_string()
+                    } else {
+                        format!("{:.2}", x.statistic)
+                    },
                     opt(x.p_value, 4),
                     opt(x.p_holm, 4),
                 ]
