@@ -4,6 +4,7 @@
 mod attractors;
 mod exact;
 mod extrema;
+mod fast_math;
 mod flow;
 mod ic_grid;
 mod lyapunov;
