@@ -126,15 +126,10 @@ pub fn run(n: usize) -> Result<StudyOutput> {
             });
         }
     }
-    rows.extend(aft.iter().map(|p| StudyRow {
-        series: "AFT H = 15, three harmonics simultaneously".into(),
-        omega: p.omega,
-        qa: p.qa,
-        qm: Some(p.qm),
-        case: Some(p.case),
-        stable: p.stable,
-        period: Some(1),
-    }));
+    rows.extend(
+        aft.iter()
+            .map(|p| StudyRow::from_hb("AFT H = 15, three harmonics simultaneously", p)),
+    );
     // Where both are single-valued, compare the superposition with the simultaneous AFT branch
     // (interpolated along the continuation between neighbouring points on the same side).
     let mut diffs = Vec::new();
