@@ -160,7 +160,8 @@ pub(crate) fn build(
         "F_hat 0.5, zeta 0.05: case I and case II solutions of both techniques are very close",
         light,
     ));
-    claims.push(case3_only_hb_claim(light));
+    let onsets = [case3_onset(0.05)?, case3_onset(0.1)?, case3_onset(0.2)?];
+    claims.push(case3_only_hb_claim(light, onsets[2]));
     claims.push(multivalued_claim("S5-05a", "Fig. 11", (0.6, 0.7), heavy));
     claims.push(multivalued_claim("S5-05b", "Fig. 12", (0.4, 0.7), light));
     claims.push(carried_claim(heavy, light));
@@ -194,8 +195,34 @@ pub(crate) fn build(
     let load = find("parametric-load").ok_or_else(missing)?;
     let mean = find("parametric-mean").ok_or_else(missing)?;
     let damp = find("damping").ok_or_else(missing)?;
-    claims.extend(parametric_claims(load, mean, damp));
+    claims.extend(parametric_claims(load, mean, damp, &onsets));
     Ok((claims, figs))
+}
+
+/// Largest damping ratio (scanned down from 0.05 in steps of 0.001 to 0.01) at which the
+/// df-exact response of F_m 0.1, F_ah `fah` on Omega 0.2-1.6 (step 0.005) has a case III solution.
+fn case3_onset(fah: f64) -> Result<Option<f64>> {
+    let omegas: Vec<f64> = (0..=280).map(|i| 0.2 + 0.005 * i as f64).collect();
+    for k in 0..=40 {
+        let zeta = (50 - k) as f64 / 1000.0;
+        if df_response(0.1, fah, zeta, &omegas, DfMethod::Exact)?
+            .iter()
+            .any(|s| s.case == Impact::Double)
+        {
+            return Ok(Some(zeta));
+        }
+    }
+    Ok(None)
+}
+
+/// "case III appears below zeta ~ 0.032 (df-exact scan)" or "no case III down to zeta 0.01".
+fn onset_text(fhat: f64, onset: Option<f64>) -> String {
+    match onset {
+        Some(z) => format!(
+            "at F_hat {fhat} df-exact has case III only for zeta <= {z:.3} (scan step 0.001)"
+        ),
+        None => format!("at F_hat {fhat} df-exact has no case III for any zeta down to 0.01"),
+    }
 }
 
 fn fig10_claim(df: &[crate::hb::DfSolution]) -> Claim {
@@ -384,7 +411,7 @@ fn no_case3_claim(c: &Comparison) -> Claim {
     )
 }
 
-fn case3_only_hb_claim(c: &Comparison) -> Claim {
+fn case3_only_hb_claim(c: &Comparison, onset: Option<f64>) -> Claim {
     let (hb, sim) = (count_case3(c, false), count_case3(c, true));
     Claim::new(
         "S5-04",
@@ -394,7 +421,15 @@ fn case3_only_hb_claim(c: &Comparison) -> Claim {
         format!("case III points: df-exact {hb}, simulation {sim}"),
         agree_if(hb > 0 && sim == 0),
         if hb == 0 {
-            "the describing-function solution has no case III at zeta 0.05: for Omega <= 1, q_a <= F_ah Omega / (2 zeta) while case III needs q_a > 1 + |q_m|".into()
+            format!(
+                "{}; {}",
+                if sim > 0 {
+                    format!("reversed: simulation finds {sim} double-sided steady states, the describing-function solution none at zeta 0.05")
+                } else {
+                    "neither method finds case III at zeta 0.05".to_string()
+                },
+                onset_text(0.5, onset)
+            )
         } else if sim > 0 {
             "simulation finds double-sided impacts too".into()
         } else {
@@ -499,6 +534,7 @@ fn non_period_one_claim(c: &Comparison, conf: &Confirmations) -> Claim {
             .filter(|p| p.source.is_simulation() && p.period != Some(1))
             .map(|p| p.omega)
             .collect();
+        v.sort_by(f64::total_cmp);
         v.dedup();
         v
     };
@@ -568,7 +604,13 @@ fn fig14_claim(fr: &[(f64, f64)]) -> Claim {
     )
 }
 
-fn parametric_claims(load: &Value, mean: &Value, damp: &Value) -> Vec<Claim> {
+/// `onsets`: case III onset damping for F_ah 0.05, 0.1, 0.2 (F_hat 2, 1, 0.5).
+fn parametric_claims(
+    load: &Value,
+    mean: &Value,
+    damp: &Value,
+    onsets: &[Option<f64>; 3],
+) -> Vec<Claim> {
     let mut out = Vec::new();
     let c = |v: &Value, i: usize, k: &str| range(v, &["curves", &i.to_string(), k]);
     // F_hat 10.
@@ -622,8 +664,11 @@ fn parametric_claims(load: &Value, mean: &Value, damp: &Value) -> Vec<Claim> {
         if any {
             "case III appears".into()
         } else {
-            "no case III at zeta 0.05: q_a <= F_ah Omega / (2 zeta) < 1 + |q_m| for Omega <= 1"
-                .into()
+            format!(
+                "no case III at zeta 0.05: {}; {}",
+                onset_text(1.0, onsets[1]),
+                onset_text(0.5, onsets[2])
+            )
         },
     ));
     let mv5 = c(load, 3, "multivalued_omega_range");
@@ -644,7 +689,7 @@ fn parametric_claims(load: &Value, mean: &Value, damp: &Value) -> Vec<Claim> {
         agree_if(c3[1].is_some()),
         if c3[1].is_none() {
             format!(
-                "no case III; the multivalued region {} is case I with a single-sided upper branch",
+                "no case III, so regions (ii) and (iii) do not exist; the multivalued region {} holds case I and case II solutions",
                 fmt_range(mv5)
             )
         } else {
@@ -688,12 +733,18 @@ fn parametric_claims(load: &Value, mean: &Value, damp: &Value) -> Vec<Claim> {
         "6",
         "Fig. 18(a)",
         "F_m 0.1, F_hat 2, zeta 0.025: double-sided impacts are found",
-        format!("df-exact case III Omega range at zeta 0.025: {}", fmt_range(c3d)),
+        format!(
+            "df-exact case III Omega range at zeta 0.025: {}",
+            fmt_range(c3d)
+        ),
         agree_if(c3d.is_some()),
         if c3d.is_some() {
             "case III present".into()
         } else {
-            "no case III at F_hat 2, zeta 0.025 (the paper's text gives F_ah = 2, likely a typo for F_hat)".into()
+            format!(
+                "{} (the paper's text gives F_ah = 2, read as F_hat = 2 from the caption)",
+                onset_text(2.0, onsets[0])
+            )
         },
     ));
     let narrowing = widths.windows(2).all(|w| w[1] < w[0]);

@@ -50,10 +50,13 @@ fn alone(j: usize, omega: f64) -> Result<Vec<DfSolution>> {
     )
 }
 
+/// At one frequency: each harmonic's solutions alone, and every superposed q_a.
+type AtOmega = (Vec<Vec<DfSolution>>, Vec<f64>);
+
 /// Run the study on `n` frequencies.
 pub fn run(n: usize) -> Result<StudyOutput> {
     let omegas = super::grid(OMEGA.0, OMEGA.1, n)?;
-    let per_omega: Vec<Result<(Vec<Vec<DfSolution>>, Vec<f64>)>> = omegas
+    let per_omega: Vec<Result<AtOmega>> = omegas
         .par_iter()
         .map(|&w| {
             let singles: Vec<Vec<DfSolution>> =
