@@ -176,3 +176,21 @@ fn quick_reproduction_is_complete_deterministic_and_honest() {
         "Munro report labelled synthetic"
     );
 }
+
+/// A missing data folder fails at once with the file named, a non-zero status and no output.
+#[test]
+fn missing_data_fails_before_computing_and_writes_nothing() {
+    let tmp = tempfile::tempdir().expect("temp dir");
+    let out = tmp.path().join("out");
+    let o = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args(["reproduce", "--quick", "--data"])
+        .arg(tmp.path().join("no-such-data"))
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .expect("the geardyn binary runs");
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("munro") && err.contains("rig.toml"), "{err}");
+    assert!(!out.exists(), "no partial output");
+}

@@ -123,6 +123,8 @@ pub fn progress_units(res: &Resolution) -> Result<u64> {
 /// Compute every figure and claim of the paper.
 pub fn reproduce(opts: &ReproduceOptions, progress: &dyn Progress) -> Result<Reproduction> {
     let res = &opts.resolution;
+    // Bad data fail before the long computation starts.
+    let data = sec7::load(&opts.data_dir)?;
     progress.start(progress_units(res)?, "reproduce");
     // The independent computations run side by side (each is parallel inside); results are
     // collected in a fixed order, so the outputs do not depend on the schedule.
@@ -147,7 +149,7 @@ pub fn reproduce(opts: &ReproduceOptions, progress: &dyn Progress) -> Result<Rep
         || {
             rayon::join(
                 || sec4_6::run_comparisons(res, progress),
-                || rayon::join(run_studies, || sec7::build(res, &opts.data_dir, progress)),
+                || rayon::join(run_studies, || sec7::build(res, data, progress)),
             )
         },
     );

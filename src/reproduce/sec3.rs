@@ -770,12 +770,16 @@ fn chaos_figure(pt: Point, m: &AttractorMap) -> Result<Artifact> {
         .or_else(|| dominant(m));
     let panels = match a {
         Some(a) => {
-            let f = steady_figures(
-                &flow,
-                &a.steady,
-                &format!("{}: {}", pt.caption(), describe(a)),
-            )?;
-            vec![f.history, f.poincare]
+            let f = steady_figures(&flow, &a.steady, &pt.caption())?;
+            let what = format!(
+                " ({}, Lyapunov {:+.4})",
+                motion_name(a),
+                a.steady.lyapunov.unwrap_or(f64::NAN)
+            );
+            let (mut h, mut p) = (f.history, f.poincare);
+            h.title.push_str(&what);
+            p.title.push_str(&what);
+            vec![h, p]
         }
         None => Vec::new(),
     };
@@ -805,12 +809,14 @@ fn histories(
             let s = orbit_samples(&flow, &a.steady, n)?;
             panels.push(XyPlot {
                 title: format!(
-                    "F_hat = {:.2}, zeta = {}: {}",
+                    "F_hat = {:.2}, zeta = {}: {} {}, basin {:.1}%",
                     pt.fm / pt.fah,
                     pt.zeta,
-                    motion_name(a)
+                    motion_name(a),
+                    impact_name(a.steady.impact),
+                    100.0 * a.basin_fraction
                 ),
-                caption: Some(format!("{}; {}", pt.caption(), describe(a))),
+                caption: Some(pt.caption()),
                 x_label: "t".into(),
                 y_label: "q".into(),
                 series: vec![Series::line("q(t)", s.iter().map(|x| (x.t, x.q)).collect())],
@@ -843,7 +849,7 @@ fn impact_regimes(pt: Point, m: &AttractorMap) -> Result<Artifact> {
                 a.steady.impact.case(),
                 impact_name(a.steady.impact)
             ),
-            caption: Some(format!("{}; {}", pt.caption(), describe(a))),
+            caption: Some(pt.caption()),
             x_label: "t".into(),
             y_label: "q".into(),
             series: vec![

@@ -165,6 +165,7 @@ pub(crate) fn build(
     claims.push(multivalued_claim("S5-05a", "Fig. 11", (0.6, 0.7), heavy));
     claims.push(multivalued_claim("S5-05b", "Fig. 12", (0.4, 0.7), light));
     claims.push(carried_claim(heavy, light));
+    claims.push(jump_claim(heavy));
     claims.push(non_period_one_claim(light, confirmations));
 
     // Fig. 14.
@@ -491,6 +492,77 @@ fn multivalued_claim(id: &str, fig: &str, paper_range: (f64, f64), c: &Compariso
                 }
             ),
         },
+    )
+}
+
+/// Omega midway between the two consecutive points of a carried sweep with the largest change
+/// in q_a (the jump), and that change.
+fn sweep_jump(c: &Comparison, src: Source) -> Option<(f64, f64)> {
+    let mut pts: Vec<&ComparePoint> = c.points.iter().filter(|p| p.source == src).collect();
+    pts.sort_by(|a, b| a.omega.total_cmp(&b.omega));
+    pts.windows(2)
+        .map(|w| (0.5 * (w[0].omega + w[1].omega), w[1].qa - w[0].qa))
+        .max_by(|a, b| a.1.abs().total_cmp(&b.1.abs()))
+}
+
+/// Omega range where df-exact has two or more solutions.
+fn df_multivalued(c: &Comparison) -> Option<(f64, f64)> {
+    let ws: Vec<f64> = c
+        .settings
+        .omegas
+        .iter()
+        .copied()
+        .filter(|w| {
+            c.points
+                .iter()
+                .filter(|p| p.source == Source::DfExact && p.omega == *w)
+                .count()
+                >= 2
+        })
+        .collect();
+    ws.first().zip(ws.last()).map(|(a, b)| (*a, *b))
+}
+
+fn jump_claim(c: &Comparison) -> Claim {
+    let (up, down, mv) = (
+        sweep_jump(c, Source::SweepUp),
+        sweep_jump(c, Source::SweepDown),
+        df_multivalued(c),
+    );
+    let step = c
+        .settings
+        .omegas
+        .get(1)
+        .zip(c.settings.omegas.first())
+        .map_or(0.0, |(b, a)| b - a);
+    let tol = OMEGA_TOL + step;
+    let ok = match (up, down, mv) {
+        (Some((u, _)), Some((d, _)), Some((lo, hi))) => {
+            (u - hi).abs() <= tol && (d - lo).abs() <= tol
+        }
+        _ => false,
+    };
+    let f = |j: Option<(f64, f64)>| {
+        j.map_or("none".to_string(), |(w, dq)| {
+            format!("{w:.3} (q_a changes by {:.3})", dq.abs())
+        })
+    };
+    Claim::new(
+        "S5-09",
+        "5",
+        "Fig. 11",
+        "F_hat 2, zeta 0.05: simulation and theory predict the same transition (jump) frequencies",
+        format!(
+            "simulation jump up at Omega {}, jump down at {}; df-exact multivalued {}",
+            f(up),
+            f(down),
+            fmt_range(mv)
+        ),
+        agree_if(ok),
+        format!(
+            "the carried sweeps jump {} {tol:.3} of the ends of the df-exact multivalued range",
+            if ok { "within" } else { "further than" }
+        ),
     )
 }
 

@@ -5,7 +5,7 @@
 use super::artifacts::Artifact;
 use super::claims::{Claim, Verdict};
 use super::Resolution;
-use crate::data::{load_kubo, load_munro, DataKind};
+use crate::data::{load_kubo, load_munro, DataKind, KuboData, MunroData};
 use crate::error::Result;
 use crate::progress::{NoProgress, Progress};
 use crate::validate::{validate_kubo, validate_munro, KuboValidation, MunroValidation};
@@ -14,16 +14,29 @@ use std::path::Path;
 /// Output sub-folder of the validation reports (`munro/`, `kubo/`, `fits/`).
 pub const DIR: &str = "sec7-validation";
 
-/// Load, validate and build the claim rows of Sec. 7 from `data_dir/munro` and `data_dir/kubo`.
+/// The Munro and Kubo data sets, loaded (and validated) before any computation starts.
+pub(crate) struct DataSets {
+    munro: MunroData,
+    kubo: KuboData,
+}
+
+/// Load `data_dir/munro` and `data_dir/kubo`.
+pub(crate) fn load(data_dir: &Path) -> Result<DataSets> {
+    Ok(DataSets {
+        munro: load_munro(&data_dir.join("munro"))?,
+        kubo: load_kubo(&data_dir.join("kubo"))?,
+    })
+}
+
+/// Validate both data sets and build the claim rows of Sec. 7.
 pub(crate) fn build(
     res: &Resolution,
-    data_dir: &Path,
+    data: DataSets,
     progress: &dyn Progress,
 ) -> Result<(Vec<Claim>, Vec<Artifact>)> {
-    let munro = load_munro(&data_dir.join("munro"))?;
+    let DataSets { munro, kubo } = data;
     let m = validate_munro(&munro, &res.munro, &NoProgress)?;
     progress.advance(1);
-    let kubo = load_kubo(&data_dir.join("kubo"))?;
     let k = validate_kubo(&kubo, &res.kubo, &NoProgress)?;
     progress.advance(1);
     let munro_kind = munro.rig.source.kind;
