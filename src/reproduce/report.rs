@@ -1,7 +1,7 @@
 //! The reproduction's report: REPRODUCTION.md and index.html (claim table, verdict counts,
 //! figure index), claims.json and claims.csv, after every figure and study output.
 
-use super::artifacts::{write_artifact, FigureEntry};
+use super::artifacts::{write_artifact, Artifact, FigureEntry};
 use super::claims::{verdict_counts, Claim};
 use super::Reproduction;
 use crate::error::{GearError, Result};
@@ -217,6 +217,35 @@ pub fn figure_index() -> Vec<FigureEntry> {
     ]
 }
 
+/// [`figure_index`] with Figs 19-22 pointing at the Munro curves actually validated (design
+/// load first, then decreasing loads), for data sets other than the shipped one.
+fn figure_index_of(r: &Reproduction) -> Vec<FigureEntry> {
+    let mut index = figure_index();
+    let loads: Vec<f64> = r
+        .artifacts
+        .iter()
+        .find_map(|a| match a {
+            Artifact::Munro { result, .. } => {
+                let mut l: Vec<f64> = result.loads.iter().map(|l| l.load_n).collect();
+                l.sort_by(|a, b| b.total_cmp(a));
+                Some(l)
+            }
+            _ => None,
+        })
+        .unwrap_or_default();
+    for (k, e) in index
+        .iter_mut()
+        .filter(|e| matches!(e.figure.as_str(), "19" | "20" | "21" | "22"))
+        .enumerate()
+    {
+        e.files = loads
+            .get(k)
+            .map(|l| vec![format!("{}/munro/load_{l:.0}", super::sec7::DIR)])
+            .unwrap_or_default();
+    }
+    index
+}
+
 fn io(path: &Path) -> impl Fn(std::io::Error) -> GearError + '_ {
     move |source| GearError::Io {
         path: path.to_path_buf(),
@@ -315,7 +344,7 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
         &rows,
     );
     page.heading("Figures");
-    let index = figure_index();
+    let index = figure_index_of(r);
     let frows: Vec<Vec<String>> = index
         .iter()
         .map(|e| {
