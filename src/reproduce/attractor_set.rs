@@ -170,16 +170,21 @@ pub fn match_expected(m: &AttractorMap, expected: &[Expected]) -> Matching {
     Matching { missing, extra }
 }
 
-/// True when every attractor of `extra` (indices into `exact`) is found again by the DOP853 map
-/// with the same kind and q_a within [`CONFIRM_QA_TOL`] (periodic), or the same kind (non-periodic).
-pub fn confirmed(exact: &AttractorMap, extra: &[usize], rk: &AttractorMap) -> bool {
-    extra.iter().all(|&i| {
-        let a = &exact.attractors[i];
-        rk.attractors.iter().any(|b| {
-            kind(a) == kind(b)
-                && (a.steady.period.is_none()
-                    || (a.steady.qa - b.steady.qa).abs()
-                        <= CONFIRM_QA_TOL * (1.0 + a.steady.qa.abs()))
-        })
+/// True when attractor `i` of `exact` is found again by the DOP853 map: a periodic orbit with
+/// the same period and impact regime and q_a within [`CONFIRM_QA_TOL`]; a non-periodic attractor
+/// with the same impact regime and kind of motion (chaotic or not), the DOP853 map holding at
+/// least as many such attractors as the exact one (so that one DOP853 attractor cannot confirm
+/// two exact ones).
+pub fn confirmed(exact: &AttractorMap, i: usize, rk: &AttractorMap) -> bool {
+    let same = |a: &Attractor, b: &Attractor| {
+        kind(a) == kind(b)
+            && a.steady.motion == b.steady.motion
+            && (a.steady.period.is_none()
+                || (a.steady.qa - b.steady.qa).abs() <= CONFIRM_QA_TOL * (1.0 + a.steady.qa.abs()))
+    };
+    exact.attractors.get(i).is_some_and(|a| {
+        let in_exact = exact.attractors.iter().filter(|b| same(a, b)).count();
+        let in_rk = rk.attractors.iter().filter(|b| same(a, b)).count();
+        in_rk >= in_exact.max(1)
     })
 }

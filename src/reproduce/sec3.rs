@@ -440,32 +440,46 @@ fn list_claim(s: &Spec, m: &AttractorMap, conf: &Confirmations) -> Claim {
     Claim::new(s.id, "3", s.figure, s.paper, found, verdict, expl)
 }
 
-/// Verdict for attractors beyond the paper's list: "more than the paper" only when DOP853 finds
-/// them too.
+/// Verdict for attractors beyond the paper's list: "more than the paper" for those DOP853 finds
+/// too; the others are named but not counted.
 fn extra_verdict(
     pt: Point,
     m: &AttractorMap,
     extra: &[usize],
     conf: &Confirmations,
 ) -> (Verdict, String) {
-    let names: Vec<String> = extra.iter().map(|&i| describe(&m.attractors[i])).collect();
-    match conf.get(pt) {
-        Some(rk) if confirmed(m, extra, rk) => (
+    let (yes, no): (Vec<usize>, Vec<usize>) = extra
+        .iter()
+        .partition(|&&i| conf.get(pt).is_some_and(|rk| confirmed(m, i, rk)));
+    let names = |v: &[usize]| {
+        v.iter()
+            .map(|&i| describe(&m.attractors[i]))
+            .collect::<Vec<_>>()
+            .join("; ")
+    };
+    let unconfirmed = if no.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; {} further one(s) found by the exact flow only (not confirmed by DOP853, not counted): {}",
+            no.len(),
+            names(&no)
+        )
+    };
+    if yes.is_empty() {
+        (
+            Verdict::Agree,
+            format!("the paper's attractor(s) found{unconfirmed}"),
+        )
+    } else {
+        (
             Verdict::MoreThanPaper,
             format!(
-                "the paper's attractor(s) plus {} more, found by both integrators (exact and DOP853 rtol 1e-11, q_a within 1e-6): {}",
-                extra.len(),
-                names.join("; ")
+                "the paper's attractor(s) plus {} more, found by both integrators (exact and DOP853 rtol 1e-11, q_a within 1e-6): {}{unconfirmed}",
+                yes.len(),
+                names(&yes)
             ),
-        ),
-        _ => (
-            Verdict::Agree,
-            format!(
-                "the paper's attractor(s) found; {} further one(s) found by the exact flow only (not confirmed by DOP853, not counted): {}",
-                extra.len(),
-                names.join("; ")
-            ),
-        ),
+        )
     }
 }
 
