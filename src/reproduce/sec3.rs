@@ -475,7 +475,7 @@ fn extra_verdict(
         (
             Verdict::MoreThanPaper,
             format!(
-                "the paper's attractor(s) plus {} more, found by both integrators (exact and DOP853 rtol 1e-11, q_a within 1e-6): {}{unconfirmed}",
+                "the paper's attractor(s) plus {} more, found by both integrators (exact and DOP853 rtol 1e-11; periodic orbits with q_a within 1e-6): {}{unconfirmed}",
                 yes.len(),
                 names(&yes)
             ),
