@@ -4,6 +4,8 @@
 //! | file | what |
 //! |---|---|
 //! | `claims.rs` | the claim table types and verdicts |
+//! | `artifacts.rs` | the computed figures / studies / validation reports, written after the run |
+//! | `summary_values.rs` | numbers read from the studies' JSON summaries |
 //! | `attractor_set.rs` | attractor searches, matching against the paper, DOP853 confirmation |
 //! | `steady_figures.rs` | time history / phase plane / Poincare figures of a steady state |
 //! | `sec3.rs` | Figs 2-9 and the Sec. 3 claims (simulation) |
