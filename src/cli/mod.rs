@@ -9,6 +9,7 @@ mod digitize;
 mod digitize_parse;
 mod hbm;
 mod progress_bar;
+mod reproduce;
 mod response_plot;
 mod simulate;
 mod simulate_figures;
@@ -53,6 +54,9 @@ enum Command {
     /// The paper's studies: parametric (Figs 15-18), excitation (Figs 24, 25), superposition
     /// (Figs 26-28), combined excitation (Fig. 29).
     Study(study::Args),
+    /// Every figure of the paper (PNG + SVG) and a claim-by-claim reproduction report
+    /// (REPRODUCTION.md, index.html, claims.json, claims.csv).
+    Reproduce(reproduce::Args),
 }
 
 /// Run the parsed command.
@@ -69,5 +73,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Synth(a) => synth::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Study(a) => study::run(a),
+        Command::Reproduce(a) => reproduce::run(a),
     }
 }
