@@ -180,6 +180,20 @@ fn quick_reproduction_is_complete_deterministic_and_honest() {
     let md = String::from_utf8(fa[Path::new("REPRODUCTION.md")].clone()).expect("utf-8");
     assert!(md.contains("SYNTHETIC"), "report names the data kind");
     assert!(md.contains("| S3-05 |"), "claim table in the report");
+    // Every image of the HTML page exists.
+    let html = String::from_utf8(fa[Path::new("index.html")].clone()).expect("utf-8");
+    let images: Vec<&str> = html
+        .split("<img src=\"")
+        .skip(1)
+        .filter_map(|t| t.split('"').next())
+        .collect();
+    assert!(images.len() >= 30, "{} images", images.len());
+    for src in images {
+        assert!(
+            fa.contains_key(Path::new(src)),
+            "index.html shows missing {src}"
+        );
+    }
     let munro =
         String::from_utf8(fa[Path::new("sec7-validation/munro/report.md")].clone()).expect("utf-8");
     assert!(

@@ -111,13 +111,13 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
         let (text, ok) = match l {
             Some(l) => (
                 format!(
-                    "{}: load {:.0} N, F_hat {:.2}, RMS {:.3} um, jump measured {} rpm, predicted up {} rpm, error {}",
+                    "{}: load {:.0} N, F_hat {:.2}, RMS {:.3} um, jump measured {}, predicted up {}, error {}",
                     kind_text(mk),
                     l.load_n,
                     l.force_ratio,
                     l.rms_um,
-                    l.jump_measured_rpm.map_or("none".into(), |v| format!("{v:.0}")),
-                    l.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0}")),
+                    l.jump_measured_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
+                    l.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
                     l.jump_error_rpm.map_or("-".into(), |v| format!("{v:.0} rpm"))
                 ),
                 l.jump_up_rpm.is_some(),
@@ -140,12 +140,12 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
         "Fig. 23",
         "Kubo: predictions mostly outside the measured envelope, but the transition frequency and jump amplitude are predicted accurately",
         format!(
-            "{}: zeta {:.3}, model inside the envelope at {:.0}% of speeds, jump measured {} rpm, predicted {} rpm",
+            "{}: zeta {:.3}, model inside the envelope at {:.0}% of speeds, jump measured {}, predicted {}",
             kind_text(kk),
             k.zeta,
             100.0 * k.inside_fraction,
-            k.jump_measured_rpm.map_or("none".into(), |v| format!("{v:.0}")),
-            k.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0}"))
+            k.jump_measured_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
+            k.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0} rpm"))
         ),
         measured(kk, k.jump_error_rpm.is_some_and(|e| e.abs() < 200.0)),
         why(kk, format!("jump error {}", k.jump_error_rpm.map_or("-".into(), |e| format!("{e:.0} rpm")))),
