@@ -15,6 +15,7 @@ pub mod model;
 pub mod plot;
 pub mod progress;
 pub mod report;
+pub mod reproduce;
 pub mod sim;
 pub mod study;
 pub mod validate;

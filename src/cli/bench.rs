@@ -55,28 +55,37 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ..SteadyOptions::default()
     };
     let exact = ExactFlow::new(&model)?;
-    let rk = RkFlow::new(&model, 1e-10)?;
     let (t_exact, p_exact) = median_ms(&exact, &opts, a.repeat)?;
-    rk.reset_rhs_evaluations();
-    let (t_rk, p_rk) = median_ms(&rk, &opts, a.repeat)?;
-    let evals = rk.rhs_evaluations() / a.repeat.max(1) as u64;
-    let diff = ((p_exact[0] - p_rk[0]).powi(2) + (p_exact[1] - p_rk[1]).powi(2)).sqrt();
     let mut text = String::new();
     text.push_str("steady state, Omega 0.5, zeta 0.02, F_hat 0.5, from rest, 400 transient + 64 kept periods\n");
     text.push_str(&format!(
         "  exact piecewise solver : {t_exact:8.2} ms (median of {})\n",
         a.repeat
     ));
-    text.push_str(&format!(
-        "  DOP853 rtol 1e-10      : {t_rk:8.2} ms, {evals} right-hand-side evaluations\n"
-    ));
-    text.push_str(&format!(
-        "  speed-up               : {:8.1} x\n",
-        t_rk / t_exact
-    ));
-    text.push_str(&format!(
-        "  Poincare point difference between the two: {diff:.2e}\n"
-    ));
+    // The issue compares at equal Poincare accuracy (1e-9): the loosest of these tolerances that
+    // reaches it is the fair comparison; 1e-10 is reported as well.
+    let mut equal_accuracy: Option<(f64, f64)> = None;
+    for rtol in [1e-9, 3e-10, 1e-10] {
+        let rk = RkFlow::new(&model, rtol)?;
+        rk.reset_rhs_evaluations();
+        let (t_rk, p_rk) = median_ms(&rk, &opts, a.repeat)?;
+        let evals = rk.rhs_evaluations() / a.repeat.max(1) as u64;
+        let diff = ((p_exact[0] - p_rk[0]).powi(2) + (p_exact[1] - p_rk[1]).powi(2)).sqrt();
+        if diff <= 1e-9 && equal_accuracy.is_none() {
+            equal_accuracy = Some((rtol, t_rk));
+        }
+        text.push_str(&format!(
+            "  DOP853 rtol {rtol:<7.0e}     : {t_rk:8.2} ms, {evals} right-hand-side evaluations, Poincare point {diff:.1e} from the exact one, {:.1} x the exact time\n",
+            t_rk / t_exact
+        ));
+    }
+    match equal_accuracy {
+        Some((rtol, t_rk)) => text.push_str(&format!(
+            "  speed-up at equal Poincare accuracy (1e-9, DOP853 rtol {rtol:.0e}): {:.1} x\n",
+            t_rk / t_exact
+        )),
+        None => text.push_str("  no DOP853 tolerance tried reached 1e-9 Poincare accuracy\n"),
+    }
     // Harmonic balance (issue 3): describing functions over 121 frequencies with every branch, and
     // AFT continuation with H = 15 over 0.3-1.5, at F_m 0.1, F_ah 0.05, zeta 0.05.
     let omegas: Vec<f64> = (0..121).map(|i| 0.3 + 0.01 * i as f64).collect();

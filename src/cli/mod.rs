@@ -11,6 +11,7 @@ mod discover;
 mod discover_study;
 mod hbm;
 mod progress_bar;
+mod reproduce;
 mod response_plot;
 mod simulate;
 mod simulate_figures;
@@ -61,6 +62,9 @@ enum Command {
     /// Null-rate and recovery studies of `discover` on seeded synthetic sets with one effect
     /// hidden (or none), with Wilson 95% intervals.
     DiscoverStudy(discover_study::Args),
+    /// Every figure of the paper (PNG + SVG) and a claim-by-claim reproduction report
+    /// (REPRODUCTION.md, index.html, claims.json, claims.csv).
+    Reproduce(reproduce::Args),
 }
 
 /// Run the parsed command.
@@ -79,5 +83,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Study(a) => study::run(a),
         Command::Discover(a) => discover::run(a),
         Command::DiscoverStudy(a) => discover_study::run(a),
+        Command::Reproduce(a) => reproduce::run(a),
     }
 }

@@ -86,7 +86,12 @@ pub fn write_response_plot(
                     .filter(|p| p.impact == imp && p.stable != Some(false))
                     .map(|p| (p.omega, pick(p)))
                     .collect();
-                Series::markers(format!("case {} ({} impact)", imp.case(), imp.name()), pts)
+                let label = [
+                    "case I (no impact)",
+                    "case II (single-sided impact)",
+                    "case III (double-sided impact)",
+                ][i];
+                Series::markers(label, pts)
                     .with_color(i)
                     .with_marker([Marker::Square, Marker::Triangle, Marker::Circle][i])
             })

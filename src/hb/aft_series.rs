@@ -5,6 +5,7 @@
 //! stored as `[a_0, a_1, b_1, a_2, b_2, ..., a_H, b_H]`: its evaluation in the orbit phase theta
 //! and its extreme values over one orbit period (for q_a, q_m and the impact regime of Fig. 9).
 
+use crate::sim::golden_max;
 use std::f64::consts::TAU;
 
 /// Number of harmonics H of a coefficient vector of length 2H + 1.
@@ -67,33 +68,6 @@ pub(crate) fn extremes(coeffs: &[f64]) -> (f64, f64) {
         }
     }
     (lo, hi)
-}
-
-/// Golden-section search for the maximum of a unimodal function on [lo, hi].
-fn golden_max(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
-    const R: f64 = 0.618_033_988_749_894_9;
-    let mut c = hi - R * (hi - lo);
-    let mut d = lo + R * (hi - lo);
-    let (mut fc, mut fd) = (f(c), f(d));
-    for _ in 0..80 {
-        if hi - lo <= 1e-11 {
-            break;
-        }
-        if fc > fd {
-            hi = d;
-            d = c;
-            fd = fc;
-            c = hi - R * (hi - lo);
-            fc = f(c);
-        } else {
-            lo = c;
-            c = d;
-            fc = fd;
-            d = lo + R * (hi - lo);
-            fd = f(d);
-        }
-    }
-    fc.max(fd)
 }
 
 /// Orbit phases in [0, 2 pi) where the series crosses a contact boundary q = +-1, sorted: the

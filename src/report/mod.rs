@@ -2,7 +2,7 @@
 //! figures, Markdown and an HTML page in `reports/<name>/`. Output folders are staged and moved
 //! into place only when complete, so a failure leaves no partial output.
 
-mod html;
+pub mod html;
 mod kubo;
 mod munro;
 mod staging;

@@ -15,6 +15,7 @@
 //! The tangent dynamics are products of the region matrices e^{A tau}: f is continuous, so the
 //! vector field is continuous at q = +-1 and there is no saltation term.
 
+use super::fast_math::sin_cos;
 use super::flow::{Observer, PeriodFlow, Piece, State};
 use crate::error::{GearError, Result};
 use crate::model::{GearPair, Region};
@@ -81,18 +82,22 @@ impl RegionLaw {
     /// Harmonic part of the particular solution and its first two derivatives at local time s.
     #[inline]
     fn harmonic(&self, omega: f64, s: f64) -> [f64; 3] {
-        let (s1, c1) = (omega * s).sin_cos();
-        let (mut sn, mut cn) = (s1, c1);
-        let (mut q, mut v, mut acc) = (0.0, 0.0, 0.0);
-        for (i, &(a, b)) in self.harmonics.iter().enumerate() {
-            let w = (i + 1) as f64 * omega;
+        let (s1, c1) = sin_cos(omega * s);
+        let Some((&(a, b), higher)) = self.harmonics.split_first() else {
+            return [0.0; 3];
+        };
+        // Order 1, then higher orders by the angle-addition recurrence (no further sin/cos).
+        let y = a * c1 + b * s1;
+        let (mut q, mut v, mut acc) = (y, omega * (b * c1 - a * s1), -omega * omega * y);
+        let (mut sn, mut cn, mut order) = (s1, c1, 1.0);
+        for &(a, b) in higher {
+            (sn, cn) = (sn * c1 + cn * s1, cn * c1 - sn * s1);
+            order += 1.0;
+            let w = order * omega;
             let y = a * cn + b * sn;
             q += y;
             v += w * (b * cn - a * sn);
             acc -= w * w * y;
-            let next_s = sn * c1 + cn * s1;
-            cn = cn * c1 - sn * s1;
-            sn = next_s;
         }
         [q, v, acc]
     }
@@ -115,23 +120,36 @@ struct Segment<'a> {
     s0: f64,
     s1: f64,
     hom: Homogeneous,
+    /// q, q', q'' at s0 from the closed form (what `full(s0)` returns), kept because every
+    /// crossing search starts there.
+    at_start: [f64; 3],
 }
 
 impl<'a> Segment<'a> {
     fn start(flow: &'a ExactFlow, region: Region, s0: f64, x: State) -> Self {
         let law = flow.law(region);
-        let [hq, hv, _] = law.harmonic(flow.omega, s0);
+        let [hq, hv, ha] = law.harmonic(flow.omega, s0);
         let y0 = x[0] - hq - law.constant;
         let yv0 = x[1] - hv - law.slope;
-        let hom = match region {
+        let zeta = flow.zeta;
+        // The homogeneous part at tau = 0, the same arithmetic as `full` with e^0 = 1, sin 0 = 0.
+        let (hom, yq, yv, ya) = match region {
             Region::Gap => {
-                let e = -yv0 / (2.0 * flow.zeta);
-                Homogeneous::Decaying { d: y0 - e, e }
+                let e = -yv0 / (2.0 * zeta);
+                let d = y0 - e;
+                let yv = -2.0 * zeta * e;
+                (Homogeneous::Decaying { d, e }, d + e, yv, -2.0 * zeta * yv)
             }
-            _ => Homogeneous::Oscillating {
-                a: y0,
-                b: (yv0 + flow.zeta * y0) / flow.wd,
-            },
+            _ => {
+                let (a, b) = (y0, (yv0 + zeta * y0) / flow.wd);
+                let yv = flow.wd * b - zeta * a;
+                (
+                    Homogeneous::Oscillating { a, b },
+                    a,
+                    yv,
+                    -2.0 * zeta * yv - a,
+                )
+            }
         };
         Segment {
             flow,
@@ -139,6 +157,7 @@ impl<'a> Segment<'a> {
             s0,
             s1: s0,
             hom,
+            at_start: [hq + yq + law.constant, hv + yv + law.slope, ha + ya],
         }
     }
 
@@ -151,45 +170,62 @@ impl<'a> Segment<'a> {
     /// q, q' and q'' at local time s, all from the closed form.
     #[inline]
     fn full(&self, s: f64) -> [f64; 3] {
+        self.full_with_decay(s).0
+    }
+
+    /// [`Self::full`] and the bounds of [`Self::bounds_from_decay`] from s on (for s >= s0),
+    /// sharing the decay factor of the homogeneous part.
+    #[inline]
+    fn full_and_bounds(&self, s: f64) -> ([f64; 3], (f64, f64)) {
+        let (x, decay) = self.full_with_decay(s);
+        (x, self.bounds_from_decay(decay))
+    }
+
+    /// q, q', q'' at s and the homogeneous decay factor there (e^{-zeta tau} in contact,
+    /// e^{-2 zeta tau} in the gap).
+    #[inline]
+    fn full_with_decay(&self, s: f64) -> ([f64; 3], f64) {
         let tau = s - self.s0;
         let [hq, hv, ha] = self.law.harmonic(self.flow.omega, s);
         let zeta = self.flow.zeta;
-        let (yq, yv, ya) = match self.hom {
+        let (yq, yv, ya, decay) = match self.hom {
             Homogeneous::Oscillating { a, b } => {
                 let e = (-zeta * tau).exp();
-                let (sn, cs) = (self.flow.wd * tau).sin_cos();
+                let (sn, cs) = sin_cos(self.flow.wd * tau);
                 let wd = self.flow.wd;
                 let yq = e * (a * cs + b * sn);
                 let yv = e * ((wd * b - zeta * a) * cs - (zeta * b + wd * a) * sn);
-                (yq, yv, -2.0 * zeta * yv - yq)
+                (yq, yv, -2.0 * zeta * yv - yq, e)
             }
             Homogeneous::Decaying { d, e } => {
                 let g = (-2.0 * zeta * tau).exp();
                 let yv = -2.0 * zeta * e * g;
-                (d + e * g, yv, -2.0 * zeta * yv)
+                (d + e * g, yv, -2.0 * zeta * yv, g)
             }
         };
-        [
-            hq + yq + self.law.constant + self.law.slope * tau,
-            hv + yv + self.law.slope,
-            ha + ya,
-        ]
+        (
+            [
+                hq + yq + self.law.constant + self.law.slope * tau,
+                hv + yv + self.law.slope,
+                ha + ya,
+            ],
+            decay,
+        )
     }
 
-    /// Upper bounds of the second and third derivatives of q on [s_from, s1] (the homogeneous
-    /// part decays).
+    /// Upper bounds of the second and third derivatives of q on [s_from, s1], given the
+    /// homogeneous decay factor at s_from (the homogeneous part only decays after it).
     #[inline]
-    fn derivative_bounds(&self, s_from: f64) -> (f64, f64) {
-        let tau = (s_from - self.s0).max(0.0);
+    fn bounds_from_decay(&self, decay: f64) -> (f64, f64) {
         let zeta = self.flow.zeta;
         // |lambda| = 1 for the contact modes; the gap mode has lambda = -2 zeta.
         let (h2, h3) = match self.hom {
             Homogeneous::Oscillating { a, b } => {
-                let c = (a * a + b * b).sqrt() * (-zeta * tau).exp();
+                let c = (a * a + b * b).sqrt() * decay;
                 (c, c)
             }
             Homogeneous::Decaying { e, .. } => {
-                let c = 2.0 * zeta * e.abs() * (-2.0 * zeta * tau).exp();
+                let c = 2.0 * zeta * e.abs() * decay;
                 (2.0 * zeta * c, 4.0 * zeta * zeta * c)
             }
         };
@@ -208,7 +244,7 @@ impl<'a> Segment<'a> {
             Homogeneous::Oscillating { .. } => {
                 let wd = self.flow.wd;
                 let e = (-zeta * tau).exp();
-                let (sn, cs) = (wd * tau).sin_cos();
+                let (sn, cs) = sin_cos(wd * tau);
                 Matrix2::new(
                     e * (cs + zeta / wd * sn),
                     e * sn / wd,
@@ -297,6 +333,13 @@ struct Sample {
     d: f64,
     dv: f64,
     dd: f64,
+}
+
+/// A located boundary crossing: its time (just on the far side) and q' there.
+#[derive(Clone, Copy, Debug)]
+struct Crossing {
+    time: f64,
+    velocity: f64,
 }
 
 /// Smallest positive root of the quadratic Taylor model d + d' t + d'' t^2 / 2 at a sample.
@@ -416,12 +459,12 @@ impl ExactFlow {
     /// Far from the boundaries the scan advances by the horizon over which the quadratic lower
     /// bound d + d' tau - M2 tau^2 / 2 provably stays positive; closer than one nominal scan step it
     /// searches fixed intervals with [`Self::search`].
-    fn first_crossing(&self, seg: &Segment, s_end: f64) -> Option<(f64, Boundary)> {
+    fn first_crossing(&self, seg: &Segment, s_end: f64) -> Option<(Crossing, Boundary)> {
         let bounds = Boundary::of(seg.law.region);
         let mut a = seg.s0;
-        let mut xa = seg.full(a);
+        let mut xa = seg.at_start;
+        let mut m = seg.bounds_from_decay(1.0);
         while a < s_end {
-            let m = seg.derivative_bounds(a);
             let horizon = bounds
                 .iter()
                 .map(|bd| {
@@ -435,7 +478,7 @@ impl ExactFlow {
                 .fold(f64::INFINITY, f64::min);
             if 0.9 * horizon > self.scan_step {
                 a = (a + 0.9 * horizon).min(s_end);
-                xa = seg.full(a);
+                (xa, m) = seg.full_and_bounds(a);
                 continue;
             }
             // Near a boundary: a bracket just beyond the linear estimate of the crossing keeps the
@@ -452,8 +495,8 @@ impl ExactFlow {
                 })
                 .fold(f64::INFINITY, f64::min);
             let b = (a + self.scan_step.min(approach.max(1e-3 * self.scan_step))).min(s_end);
-            let xb = seg.full(b);
-            let mut best: Option<(f64, Boundary)> = None;
+            let (xb, mb) = seg.full_and_bounds(b);
+            let mut best: Option<(Crossing, Boundary)> = None;
             for bd in bounds {
                 let mut sa = bd.sample(a, xa);
                 if a == seg.s0 {
@@ -462,7 +505,7 @@ impl ExactFlow {
                 }
                 let sb = bd.sample(b, xb);
                 if let Some(s) = self.search(seg, bd, sa, sb, m, 0) {
-                    if best.is_none_or(|(t, _)| s < t) {
+                    if best.is_none_or(|(t, _)| s.time < t.time) {
                         best = Some((s, *bd));
                     }
                 }
@@ -472,6 +515,7 @@ impl ExactFlow {
             }
             a = b;
             xa = xb;
+            m = mb;
         }
         None
     }
@@ -488,7 +532,7 @@ impl ExactFlow {
         b: Sample,
         m: (f64, f64),
         depth: u32,
-    ) -> Option<f64> {
+    ) -> Option<Crossing> {
         let w = b.s - a.s;
         if w <= 0.0 {
             return None;
@@ -506,8 +550,8 @@ impl ExactFlow {
             return (b.d < 0.0).then(|| self.refine_root(seg, bd, a, b));
         }
         let mid = 0.5 * (a.s + b.s);
-        let sm = bd.sample(mid, seg.full(mid));
-        let m_right = seg.derivative_bounds(mid);
+        let (xm, m_right) = seg.full_and_bounds(mid);
+        let sm = bd.sample(mid, xm);
         self.search(seg, bd, a, sm, m, depth + 1).or_else(|| {
             if sm.d < 0.0 {
                 // The left half holds no root but ends below the boundary: the root is at mid.
@@ -518,11 +562,13 @@ impl ExactFlow {
         })
     }
 
-    /// Root of the boundary distance in [a, b] where d(a) >= 0 > d(b): Newton kept in the bracket,
+    /// Root of the boundary distance in [a, b] where d(a) >= 0 > d(b): Halley kept in the bracket,
     /// started from the quadratic Taylor model at a, and returned on the far side of the boundary
     /// (d <= 0) so the next region starts beyond it.
-    fn refine_root(&self, seg: &Segment, bd: &Boundary, a: Sample, b: Sample) -> f64 {
+    fn refine_root(&self, seg: &Segment, bd: &Boundary, a: Sample, b: Sample) -> Crossing {
         let (mut lo, mut hi) = (a.s, b.s);
+        // q' at hi, so that the caller need not evaluate the closed form there again.
+        let mut v_hi = bd.sign * b.dv;
         let mut s = taylor_root(a)
             .filter(|&t| t > lo && t < hi)
             .unwrap_or_else(|| {
@@ -535,9 +581,11 @@ impl ExactFlow {
                 }
             });
         for _ in 0..200 {
-            let (d, dv) = bd.distance(seg.state(s));
+            let x = bd.sample(s, seg.full(s));
+            let (d, dv) = (x.d, x.dv);
             if d <= 0.0 {
                 hi = s;
+                v_hi = bd.sign * dv;
             } else {
                 lo = s;
             }
@@ -545,10 +593,20 @@ impl ExactFlow {
             if hi - lo <= tol {
                 break;
             }
-            let newton = s - d / dv;
+            // Halley's step (cubic convergence; q'' comes with the closed form for free), which
+            // from the Taylor start usually lands within rounding in one step.
+            let den = 2.0 * dv * dv - d * x.dd;
+            let newton = if den != 0.0 {
+                s - 2.0 * d * dv / den
+            } else {
+                s - d / dv
+            };
             if (newton - s).abs() <= tol {
                 if d <= 0.0 {
-                    return s;
+                    return Crossing {
+                        time: s,
+                        velocity: bd.sign * dv,
+                    };
                 }
                 // The root lies within rounding to the right: probe just past it.
                 s = (s + 2.0 * tol).min(hi);
@@ -560,7 +618,10 @@ impl ExactFlow {
                 0.5 * (lo + hi)
             };
         }
-        hi
+        Crossing {
+            time: hi,
+            velocity: v_hi,
+        }
     }
 
     /// Integrate one period, calling `on_segment` for each closed-form piece.
@@ -577,11 +638,10 @@ impl ExactFlow {
                     on_segment(&seg, self.period - s);
                     return Ok(xe);
                 }
-                Some((sc, bd)) => {
+                Some((Crossing { time: sc, velocity }, bd)) => {
                     seg.s1 = sc;
-                    let xc = seg.state(sc);
                     on_segment(&seg, sc - s);
-                    x = [bd.level, xc[1]];
+                    x = [bd.level, velocity];
                     s = sc;
                     region = bd.beyond;
                 }
@@ -658,7 +718,14 @@ mod tests {
         let seg = Segment::start(&flow, Region::Gap, 0.0, [q0, v0]);
         let (sc, bd) = flow.first_crossing(&seg, flow.period).unwrap();
         let expected = -((1.0 - (-1.0 - q0) * 2.0 * zeta / v0).ln()) / (2.0 * zeta);
-        assert!((sc - expected).abs() < 1e-12, "{sc} vs {expected}");
+        assert!(
+            (sc.time - expected).abs() < 1e-12,
+            "{} vs {expected}",
+            sc.time
+        );
+        // the velocity handed to the next region is the closed form's at the crossing
+        let v = seg.state(sc.time)[1];
+        assert_eq!(sc.velocity, v);
         assert_eq!(bd.beyond, Region::BackContact);
     }
 
@@ -685,9 +752,11 @@ mod tests {
             let seg = Segment::start(&flow, Region::Contact, 0.0, [2.0 + amp, 0.0]);
             let hit = flow.first_crossing(&seg, flow.period);
             match (hit, expect_hit) {
-                (Some((sc, _)), true) => assert!((sc - t_min).abs() < 1e-3, "{sc} vs {t_min}"),
+                (Some((sc, _)), true) => {
+                    assert!((sc.time - t_min).abs() < 1e-3, "{} vs {t_min}", sc.time)
+                }
                 (None, false) => {}
-                (h, _) => panic!("depth {depth}: unexpected {:?}", h.map(|x| x.0)),
+                (h, _) => panic!("depth {depth}: unexpected {:?}", h.map(|x| x.0.time)),
             }
         }
     }

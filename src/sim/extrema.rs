@@ -78,8 +78,8 @@ fn refine_max(f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize, h: f64) -> f64 {
     best.max(golden_max(f, lo, hi))
 }
 
-/// Golden-section search for the maximum of a unimodal f on [lo, hi].
-fn golden_max(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
+/// Golden-section search for the maximum of a unimodal f on [lo, hi] (to 1e-12 relative in t).
+pub(crate) fn golden_max(f: &dyn Fn(f64) -> f64, mut lo: f64, mut hi: f64) -> f64 {
     const R: f64 = 0.618_033_988_749_894_9;
     let mut c = hi - R * (hi - lo);
     let mut d = lo + R * (hi - lo);

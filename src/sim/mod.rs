@@ -4,6 +4,7 @@
 mod attractors;
 mod exact;
 mod extrema;
+mod fast_math;
 mod flow;
 mod ic_grid;
 mod lyapunov;
@@ -16,6 +17,7 @@ mod trajectory;
 
 pub use attractors::{find_attractors, same_attractor, Attractor, AttractorMap};
 pub use exact::ExactFlow;
+pub(crate) use extrema::golden_max;
 pub use extrema::Extremes;
 pub use flow::{Observer, PeriodFlow, Piece, State};
 pub use ic_grid::IcGrid;

@@ -173,15 +173,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
     ];
     let mut rows = Vec::new();
     for ((branch, _), name) in res.iter().zip(names) {
-        rows.extend(branch.iter().map(|p| StudyRow {
-            series: name.to_string(),
-            omega: p.omega,
-            qa: p.qa,
-            qm: Some(p.qm),
-            case: Some(p.case),
-            stable: p.stable,
-            period: Some(1),
-        }));
+        rows.extend(branch.iter().map(|p| StudyRow::from_hb(name, p)));
     }
     // Resonance windows from the single-excitation responses themselves: +-0.05 around the
     // Omega of the largest stable q_a of each.

@@ -153,15 +153,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
                 let name = if bi == 0 { label } else { "" };
                 qa_series.extend(branch_series(&tri(|p| p.qa), name, 4 + j));
                 qm_series.extend(branch_series(&tri(|p| p.qm), name, 4 + j));
-                rows.extend(branch.iter().map(|p| StudyRow {
-                    series: series.clone(),
-                    omega: p.omega,
-                    qa: p.qa,
-                    qm: Some(p.qm),
-                    case: Some(p.case),
-                    stable: p.stable,
-                    period: Some(1),
-                }));
+                rows.extend(branch.iter().map(|p| StudyRow::from_hb(series.clone(), p)));
             }
             summary[if internal {
                 "internal_eq5"

@@ -2,6 +2,7 @@
 
 use super::figures::Figure;
 use crate::error::{GearError, Result};
+use crate::hb::HbPoint;
 use crate::model::Impact;
 use crate::plot::write_panels;
 use serde::Serialize;
@@ -24,6 +25,21 @@ pub struct StudyRow {
     pub stable: Option<bool>,
     /// Period in forcing periods when known.
     pub period: Option<u32>,
+}
+
+impl StudyRow {
+    /// A row from a period-1 harmonic-balance (AFT) point.
+    pub fn from_hb(series: impl Into<String>, p: &HbPoint) -> Self {
+        StudyRow {
+            series: series.into(),
+            omega: p.omega,
+            qa: p.qa,
+            qm: Some(p.qm),
+            case: Some(p.case),
+            stable: p.stable,
+            period: Some(1),
+        }
+    }
 }
 
 /// Everything a study computed.

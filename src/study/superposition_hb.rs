@@ -25,6 +25,9 @@ const OMEGA: (f64, f64) = (0.2, 1.6);
 /// Phase samples for the half range of the superposed series.
 const SAMPLES: usize = 720;
 
+/// Per frequency: the stable solutions of each harmonic alone, and the superposed q_a values.
+type PerOmega = (Vec<Vec<DfSolution>>, Vec<f64>);
+
 /// Half range of sum_j q_aj sin(j theta + phi_j).
 fn superposed_qa(parts: &[(usize, f64, f64)]) -> f64 {
     let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -53,7 +56,7 @@ fn alone(j: usize, omega: f64) -> Result<Vec<DfSolution>> {
 /// Run the study on `n` frequencies.
 pub fn run(n: usize) -> Result<StudyOutput> {
     let omegas = super::grid(OMEGA.0, OMEGA.1, n)?;
-    let per_omega: Vec<Result<(Vec<Vec<DfSolution>>, Vec<f64>)>> = omegas
+    let per_omega: Vec<Result<PerOmega>> = omegas
         .par_iter()
         .map(|&w| {
             let singles: Vec<Vec<DfSolution>> =
@@ -123,15 +126,10 @@ pub fn run(n: usize) -> Result<StudyOutput> {
             });
         }
     }
-    rows.extend(aft.iter().map(|p| StudyRow {
-        series: "AFT H = 15, three harmonics simultaneously".into(),
-        omega: p.omega,
-        qa: p.qa,
-        qm: Some(p.qm),
-        case: Some(p.case),
-        stable: p.stable,
-        period: Some(1),
-    }));
+    rows.extend(
+        aft.iter()
+            .map(|p| StudyRow::from_hb("AFT H = 15, three harmonics simultaneously", p)),
+    );
     // Where both are single-valued, compare the superposition with the simultaneous AFT branch
     // (interpolated along the continuation between neighbouring points on the same side).
     let mut diffs = Vec::new();

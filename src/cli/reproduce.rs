@@ -1,0 +1,50 @@
+//! `geardyn reproduce`: every figure of the paper and the claim-by-claim reproduction report.
+
+use super::common::print_text;
+use super::progress_bar::Bar;
+use clap::Args as ClapArgs;
+use geardyn::reproduce::{
+    reproduce, verdict_counts, write_reproduction, ReproduceOptions, Resolution,
+};
+use std::path::PathBuf;
+
+#[derive(ClapArgs, Debug)]
+pub struct Args {
+    /// Output folder (figures, studies, validation reports, REPRODUCTION.md, index.html).
+    #[arg(long, default_value = "reports/paper")]
+    out: PathBuf,
+    /// Reduced resolution (coarse IC grids, few frequencies): the same figures and claims in
+    /// seconds, as the test suite runs it.
+    #[arg(long)]
+    quick: bool,
+    /// Folder holding the munro/ and kubo/ data sets.
+    #[arg(long, default_value = "data")]
+    data: PathBuf,
+}
+
+pub fn run(a: Args) -> anyhow::Result<()> {
+    let opts = ReproduceOptions {
+        resolution: if a.quick {
+            Resolution::quick()
+        } else {
+            Resolution::full()
+        },
+        data_dir: a.data,
+    };
+    let r = reproduce(&opts, &Bar::new())?;
+    let written = write_reproduction(&r, &a.out)?;
+    let mut text = format!("{} claims: ", r.claims.len());
+    text.push_str(
+        &verdict_counts(&r.claims)
+            .iter()
+            .map(|(v, n)| format!("{} {n}", v.name()))
+            .collect::<Vec<_>>()
+            .join(", "),
+    );
+    text.push_str(&format!(
+        "\nwrote {} files; report {}\n",
+        written.len(),
+        a.out.join("REPRODUCTION.md").display()
+    ));
+    print_text(&text)
+}
