@@ -191,11 +191,6 @@ impl MunroTruth {
 /// Relative tolerance of the Runge-Kutta flow used when k(t) varies.
 const RK_RTOL: f64 = 1e-9;
 
-/// Flow factory: exact for the paper's model, DOP853 when k(t) varies.
-fn flow_for(m: &GearPair) -> Result<Box<dyn PeriodFlow>> {
-    flow_with_rtol(m, RK_RTOL)
-}
-
 /// Exact flow for k = 1, DOP853 at relative tolerance `rtol` when k(t) varies.
 fn flow_with_rtol(m: &GearPair, rtol: f64) -> Result<Box<dyn PeriodFlow>> {
     if m.has_stiffness_variation() {
@@ -436,18 +431,7 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         1.0,
     )?;
     let model = truth.hidden.apply(model)?;
-    let omegas: Vec<f64> = speeds
-        .iter()
-        .map(|&s| dim.omega(s, truth.omega_n_hz))
-        .collect();
-    let plan = SweepPlan {
-        omegas,
-        branch: Branch::Up,
-        x0: [1.0 + model.mean_force, 0.0],
-        grid: IcGrid::new(-2.0, 2.0, 1)?,
-        opts: SteadyOptions::default(),
-    };
-    let pts = sweep(&flow_for, &model, &plan, progress)?;
+    let pts = simulate_up_sweep(&dim, &model, truth.omega_n_hz, &speeds, RK_RTOL, progress)?;
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("speed_rpm,dynamic_factor_min,dynamic_factor_max\n");
     for (s, p) in speeds.iter().zip(&pts) {
