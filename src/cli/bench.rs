@@ -127,12 +127,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.elapsed().as_secs_f64(),
             rayon::current_num_threads()
         ));
-    }
-    if munro.join("rig.toml").exists() {
-        // Discrepancy discovery (issue 5) on the four-load set: M0 fit, tests, 499 bootstrap
-        // replicates, candidate dictionary and refits of the significant candidates.
+        // Discrepancy discovery (issue 5) on the same four-load set: M0 fit, tests, 499
+        // bootstrap replicates, candidate dictionary and refits of the significant candidates.
         let t = Instant::now();
-        let data = geardyn::data::load_munro(munro)?;
         let d = geardyn::discover::discover(
             &data,
             &geardyn::discover::DiscoverOptions::default(),
