@@ -27,6 +27,11 @@ pub const CONTACT_LIMIT: f64 = 1.8;
 /// Refits with a model-based point selection before giving up on a fixed point.
 const SELECTION_ROUNDS: usize = 6;
 
+/// STE amplitude (um): the one given in rig.toml, else the third fitted parameter.
+fn ste_of(given: Option<f64>, params: &[f64]) -> f64 {
+    given.unwrap_or_else(|| params.get(2).copied().unwrap_or(f64::NAN))
+}
+
 /// The points where the model with (zeta, omega_n) keeps the teeth in contact: linear D_L below
 /// [`CONTACT_LIMIT`], and above the resonance (Omega > 1, where the separated branch can persist
 /// on an up-sweep) the describing-function solution's only steady state is contact (case I).
@@ -114,9 +119,7 @@ impl Residuals for ContactFit<'_> {
         n
     }
     fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
-        let e = self
-            .ste_um
-            .unwrap_or_else(|| p.get(2).copied().unwrap_or(f64::NAN));
+        let e = ste_of(self.ste_um, p);
         let fah = self.dim.ste_amplitude(e);
         Ok(self
             .points
@@ -223,7 +226,7 @@ pub fn validate_kubo(
             let mut selected: Vec<f64> = Vec::new();
             let mut problem = None;
             for _ in 0..SELECTION_ROUNDS {
-                let e = ste_given.unwrap_or(r.params.get(2).copied().unwrap_or(f64::NAN));
+                let e = ste_of(ste_given, &r.params);
                 let used = contact_points(
                     &all,
                     &dim,
@@ -256,7 +259,7 @@ pub fn validate_kubo(
             let prof = (0..r.params.len())
                 .map(|i| profile_interval(&problem, &r, i))
                 .collect::<Result<Vec<_>>>()?;
-            let e = ste_given.unwrap_or(r.params.get(2).copied().unwrap_or(f64::NAN));
+            let e = ste_of(ste_given, &r.params);
             let (z, w) = (r.params[0], r.params[1]);
             used_count = problem.points.len();
             (
