@@ -1,6 +1,6 @@
 //! Typed errors of the library. Every error a user can cause names what was wrong with the input.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 /// Errors raised by geardyn's library code.
 #[derive(Debug, thiserror::Error)]
@@ -46,6 +46,14 @@ pub enum GearError {
 pub type Result<T> = std::result::Result<T, GearError>;
 
 impl GearError {
+    /// An I/O error on `path`, as a closure for `map_err`.
+    pub fn io(path: &Path) -> impl Fn(std::io::Error) -> GearError + '_ {
+        move |source| GearError::Io {
+            path: path.to_path_buf(),
+            source,
+        }
+    }
+
     /// Convenience constructor for an out-of-range parameter.
     pub fn param(name: &'static str, value: f64, reason: &'static str) -> Self {
         GearError::InvalidParameter {

@@ -9,13 +9,6 @@ pub struct Staged {
     dest: PathBuf,
 }
 
-fn io(path: &Path, e: std::io::Error) -> GearError {
-    GearError::Io {
-        path: path.to_path_buf(),
-        source: e,
-    }
-}
-
 impl Staged {
     /// Start a staged folder for `dest` (created next to it, so the final rename is atomic).
     pub fn new(dest: &Path) -> Result<Self> {
@@ -23,13 +16,13 @@ impl Staged {
             .parent()
             .filter(|p| !p.as_os_str().is_empty())
             .unwrap_or(Path::new("."));
-        std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
+        std::fs::create_dir_all(parent).map_err(GearError::io(parent))?;
         let name = dest.file_name().and_then(|n| n.to_str()).unwrap_or("out");
         let tmp = parent.join(format!(".{name}.tmp-{}", std::process::id()));
         if tmp.exists() {
-            std::fs::remove_dir_all(&tmp).map_err(|e| io(&tmp, e))?;
+            std::fs::remove_dir_all(&tmp).map_err(GearError::io(&tmp))?;
         }
-        std::fs::create_dir_all(&tmp).map_err(|e| io(&tmp, e))?;
+        std::fs::create_dir_all(&tmp).map_err(GearError::io(&tmp))?;
         Ok(Staged {
             tmp,
             dest: dest.to_path_buf(),
@@ -44,15 +37,15 @@ impl Staged {
     /// Write a text file into the staged folder.
     pub fn write(&self, name: &str, text: &str) -> Result<()> {
         let p = self.path(name);
-        std::fs::write(&p, text).map_err(|e| io(&p, e))
+        std::fs::write(&p, text).map_err(GearError::io(&p))
     }
 
     /// Replace the destination with the staged folder.
     pub fn commit(self) -> Result<PathBuf> {
         if self.dest.exists() {
-            std::fs::remove_dir_all(&self.dest).map_err(|e| io(&self.dest, e))?;
+            std::fs::remove_dir_all(&self.dest).map_err(GearError::io(&self.dest))?;
         }
-        std::fs::rename(&self.tmp, &self.dest).map_err(|e| io(&self.dest, e))?;
+        std::fs::rename(&self.tmp, &self.dest).map_err(GearError::io(&self.dest))?;
         Ok(self.dest.clone())
     }
 }
@@ -70,14 +63,14 @@ pub fn write_file_atomic(path: &Path, text: &str) -> Result<()> {
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    std::fs::create_dir_all(parent).map_err(|e| io(parent, e))?;
+    std::fs::create_dir_all(parent).map_err(GearError::io(parent))?;
     let tmp = parent.join(format!(
         ".{}.tmp-{}",
         path.file_name().and_then(|n| n.to_str()).unwrap_or("out"),
         std::process::id()
     ));
-    std::fs::write(&tmp, text).map_err(|e| io(&tmp, e))?;
-    std::fs::rename(&tmp, path).map_err(|e| io(path, e))
+    std::fs::write(&tmp, text).map_err(GearError::io(&tmp))?;
+    std::fs::rename(&tmp, path).map_err(GearError::io(path))
 }
 
 /// Finish a report: write the page (HTML and Markdown) into the staged folder, move the folder

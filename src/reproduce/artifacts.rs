@@ -81,13 +81,6 @@ pub struct FigureEntry {
     pub note: String,
 }
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> crate::error::GearError + '_ {
-    move |source| crate::error::GearError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
 /// Write one artifact under `out`; returns the files written.
 pub fn write_artifact(a: &Artifact, out: &Path) -> Result<Vec<PathBuf>> {
     match a {
@@ -99,12 +92,12 @@ pub fn write_artifact(a: &Artifact, out: &Path) -> Result<Vec<PathBuf>> {
             cols,
         } => {
             let d = out.join(dir);
-            std::fs::create_dir_all(&d).map_err(io(&d))?;
+            std::fs::create_dir_all(&d).map_err(crate::error::GearError::io(&d))?;
             write_panels(title, panels, *cols, &d.join(stem))
         }
         Artifact::Map { dir, stem, map } => {
             let d = out.join(dir);
-            std::fs::create_dir_all(&d).map_err(io(&d))?;
+            std::fs::create_dir_all(&d).map_err(crate::error::GearError::io(&d))?;
             write_category_map(map, &d.join(stem))
         }
         Artifact::Study { dir, output } => write_outputs(output, &out.join(dir).join(&output.name)),
@@ -119,9 +112,9 @@ pub fn write_artifact(a: &Artifact, out: &Path) -> Result<Vec<PathBuf>> {
         Artifact::Text { path, text } => {
             let p = out.join(path);
             if let Some(parent) = p.parent() {
-                std::fs::create_dir_all(parent).map_err(io(parent))?;
+                std::fs::create_dir_all(parent).map_err(crate::error::GearError::io(parent))?;
             }
-            std::fs::write(&p, text).map_err(io(&p))?;
+            std::fs::write(&p, text).map_err(crate::error::GearError::io(&p))?;
             Ok(vec![p])
         }
     }

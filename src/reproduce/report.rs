@@ -246,13 +246,6 @@ fn figure_index_of(r: &Reproduction) -> Vec<FigureEntry> {
     index
 }
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> GearError + '_ {
-    move |source| GearError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
 /// One CSV field, quoted.
 fn quote(s: &str) -> String {
     format!("\"{}\"", s.replace('"', "'"))
@@ -283,7 +276,7 @@ fn cell(s: &str) -> String {
 
 /// Write every output, then the report; returns the files written (sorted).
 pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(out).map_err(io(out))?;
+    std::fs::create_dir_all(out).map_err(GearError::io(out))?;
     let mut written = Vec::new();
     for a in &r.artifacts {
         written.extend(write_artifact(a, out)?);
@@ -396,7 +389,7 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
         ),
     ] {
         let p = out.join(name);
-        std::fs::write(&p, text).map_err(io(&p))?;
+        std::fs::write(&p, text).map_err(GearError::io(&p))?;
         written.push(p);
     }
     written.sort();

@@ -55,13 +55,6 @@ pub struct StudyOutput {
     pub summary: serde_json::Value,
 }
 
-fn io(path: &Path) -> impl Fn(std::io::Error) -> GearError + '_ {
-    move |source| GearError::Io {
-        path: path.to_path_buf(),
-        source,
-    }
-}
-
 impl StudyOutput {
     /// The CSV text: `study,series,omega,qa,qm,case,stable,period`.
     pub fn csv(&self) -> String {
@@ -85,7 +78,7 @@ impl StudyOutput {
 
 /// Write the figures, `NAME.csv` and `NAME.json` into `dir`; return the paths written.
 pub fn write_outputs(out: &StudyOutput, dir: &Path) -> Result<Vec<PathBuf>> {
-    std::fs::create_dir_all(dir).map_err(io(dir))?;
+    std::fs::create_dir_all(dir).map_err(GearError::io(dir))?;
     let mut written = Vec::new();
     for f in &out.figures {
         written.extend(write_panels(
@@ -96,12 +89,12 @@ pub fn write_outputs(out: &StudyOutput, dir: &Path) -> Result<Vec<PathBuf>> {
         )?);
     }
     let csv = dir.join(format!("{}.csv", out.name));
-    std::fs::write(&csv, out.csv()).map_err(io(&csv))?;
+    std::fs::write(&csv, out.csv()).map_err(GearError::io(&csv))?;
     written.push(csv);
     let json = dir.join(format!("{}.json", out.name));
     let text = serde_json::to_string_pretty(&out.summary)
         .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?;
-    std::fs::write(&json, format!("{text}\n")).map_err(io(&json))?;
+    std::fs::write(&json, format!("{text}\n")).map_err(GearError::io(&json))?;
     written.push(json);
     Ok(written)
 }
