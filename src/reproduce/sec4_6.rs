@@ -455,15 +455,20 @@ fn sim_multivalued(c: &Comparison) -> Option<(f64, f64)> {
     ws.first().zip(ws.last()).map(|(a, b)| (*a, *b))
 }
 
-fn multivalued_claim(id: &str, fig: &str, paper_range: (f64, f64), c: &Comparison) -> Claim {
-    let r = sim_multivalued(c);
+/// Tolerance on a frequency read off the paper: [`OMEGA_TOL`] plus the comparison's grid step.
+fn omega_tolerance(c: &Comparison) -> f64 {
     let step = c
         .settings
         .omegas
         .get(1)
         .zip(c.settings.omegas.first())
         .map_or(0.0, |(b, a)| b - a);
-    let tol = OMEGA_TOL + step;
+    OMEGA_TOL + step
+}
+
+fn multivalued_claim(id: &str, fig: &str, paper_range: (f64, f64), c: &Comparison) -> Claim {
+    let r = sim_multivalued(c);
+    let tol = omega_tolerance(c);
     let ok = r
         .is_some_and(|(a, b)| (a - paper_range.0).abs() <= tol && (b - paper_range.1).abs() <= tol);
     let heavy = (c.settings.fm / c.settings.fah - 2.0).abs() < 1e-9;
@@ -529,13 +534,7 @@ fn jump_claim(c: &Comparison) -> Claim {
         sweep_jump(c, Source::SweepDown),
         df_multivalued(c),
     );
-    let step = c
-        .settings
-        .omegas
-        .get(1)
-        .zip(c.settings.omegas.first())
-        .map_or(0.0, |(b, a)| b - a);
-    let tol = OMEGA_TOL + step;
+    let tol = omega_tolerance(c);
     let ok = match (up, down, mv) {
         (Some((u, _)), Some((d, _)), Some((lo, hi))) => {
             (u - hi).abs() <= tol && (d - lo).abs() <= tol
