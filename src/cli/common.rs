@@ -131,3 +131,16 @@ pub fn print_text(text: &str) -> anyhow::Result<()> {
         _ => Ok(()),
     }
 }
+
+/// One LOAD_N:STE_UM pair of `--loads`.
+pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
+    let (l, e) = s
+        .split_once(':')
+        .ok_or_else(|| format!("'{s}': expected LOAD_N:STE_UM, e.g. 1890:2.5"))?;
+    let num = |v: &str, what: &str| {
+        v.trim()
+            .parse::<f64>()
+            .map_err(|_| format!("'{s}': {what} '{v}' is not a number"))
+    };
+    Ok((num(l, "load")?, num(e, "STE amplitude")?))
+}

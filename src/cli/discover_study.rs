@@ -1,7 +1,7 @@
 //! `geardyn discover-study --hidden none|<candidate>|sensor_peak --seeds N`: the null-rate and
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
-use super::common::print_text;
+use super::common::{parse_load_ste, print_text};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
@@ -23,6 +23,15 @@ pub struct Args {
     /// Speed step of the generated sets, rpm (Munro grid: 50).
     #[arg(long, default_value_t = 50.0)]
     speed_step: f64,
+    /// Strength of the hidden effect in the units of its estimate (eps, r2, gamma,
+    /// b / b_stated, F_aT / F_m(design); sensor peak: relative height) [default: the study's
+    /// moderate strength: 0.2, 0.4, 1, 1.5, 0.03; 0.5].
+    #[arg(long, allow_hyphen_values = true)]
+    strength: Option<f64>,
+    /// Loads and STE amplitudes of the sets as LOAD_N:STE_UM pairs, comma separated
+    /// [default: Munro's four loads 3780:0.3,2835:1.5,1890:2.5,945:3.5].
+    #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
+    loads: Option<Vec<(f64, f64)>>,
     /// Bootstrap replicates per discovery run.
     #[arg(long, default_value_t = 499)]
     bootstrap: usize,
@@ -42,6 +51,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         first_seed: a.first_seed,
         seeds: a.seeds,
         speeds_rpm: (1000.0, 5000.0, a.speed_step),
+        strength: a.strength,
+        loads: a.loads,
         discover: DiscoverOptions {
             bootstrap: a.bootstrap,
             ..DiscoverOptions::default()

@@ -1,6 +1,6 @@
 //! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
 
-use super::common::print_text;
+use super::common::{parse_load_ste, print_text};
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand};
 use geardyn::validate::{synth_kubo, synth_munro, HiddenEffects, KuboTruth, MunroTruth};
@@ -99,6 +99,10 @@ struct MunroArgs {
     /// Also publish the STE amplitudes in rig.toml.
     #[arg(long)]
     publish_ste: bool,
+    /// Loads and their STE amplitudes as LOAD_N:STE_UM pairs, comma separated
+    /// [default: 3780:0.3,2835:1.5,1890:2.5,945:3.5].
+    #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
+    loads: Option<Vec<(f64, f64)>>,
     #[command(flatten)]
     hidden: Hidden,
 }
@@ -130,6 +134,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.noise_um = m.noise_um;
             t.seed = m.seed;
             t.publish_ste = m.publish_ste;
+            if let Some(loads) = m.loads {
+                t.ste_um = loads;
+            }
             t.hidden = m.hidden.effects();
             synth_munro(&t, &m.out, &Bar::new())?;
             m.out

@@ -24,7 +24,7 @@ mod toml_doc;
 
 pub use errors::WHOLE_FILE;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
-pub use munro::{load_munro, MunroData, MunroPoint};
+pub use munro::{load_munro, same_load, MunroData, MunroPoint};
 pub use rig::{load_rig, write_rig, Rig, RigFile, SteTable};
 pub use source::{DataKind, Source};
 

@@ -41,7 +41,7 @@ pub struct MunroData {
 }
 
 /// Whether two loads are the same (relative tolerance 1e-9).
-fn same_load(a: f64, b: f64) -> bool {
+pub fn same_load(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
 

@@ -8,6 +8,7 @@ use super::forward::{predict, predict_many, CurvePrediction, Globals, Setup};
 use super::lm::{levenberg_marquardt, LmFit};
 use crate::error::{GearError, Result};
 use crate::validate::{dte_gain, dte_pp_um};
+use rayon::prelude::*;
 
 /// Points kept per curve (same shape as the curves).
 pub type Mask = Vec<Vec<bool>>;
@@ -89,7 +90,15 @@ pub fn fit_model(
     })
 }
 
-/// STE amplitude of curve `i` alone, with zeta, omega_n and the effect fixed.
+/// Relative STE amplitudes scanned around the start of [`fit_ste`], then around the best of
+/// those (2% steps, finer than the coarse scan's 10-15%).
+const STE_SCAN_FINE: [f64; 9] = [0.92, 0.94, 0.96, 0.98, 1.0, 1.02, 1.04, 1.06, 1.08];
+const STE_SCAN: [f64; 12] = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4, 1.6, 1.8, 2.0];
+
+/// STE amplitude of curve `i` alone, with zeta, omega_n and the effect fixed. The pp response
+/// is not smooth in the STE (a jump moves by a grid step, a branch appears), so a local fit from
+/// one start can stop on the wrong side of a jump: the start is the best of a scan over
+/// [`STE_SCAN`] x `start` and a finer one around it, then Levenberg-Marquardt refines it.
 pub fn fit_ste(
     setup: &Setup,
     i: usize,
@@ -103,7 +112,24 @@ pub fn fit_ste(
         let pred = predict(setup, i, g, p[0], effect)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, sigma))
     };
-    let lm = levenberg_marquardt(&f, &[start], &[0.05], 8)?;
+    let rss = |e: f64| f(&[e]).map(|r| r.iter().map(|x| x * x).sum::<f64>());
+    let scan = |factors: &[f64], around: f64| -> Result<f64> {
+        let scanned: Vec<(f64, f64)> = factors
+            .par_iter()
+            .map(|k| {
+                let e = k * around;
+                Ok((e, rss(e)?))
+            })
+            .collect::<Result<_>>()?;
+        Ok(scanned
+            .iter()
+            .filter(|(_, r)| r.is_finite())
+            .min_by(|a, b| a.1.total_cmp(&b.1))
+            .map_or(around, |b| b.0))
+    };
+    let coarse = scan(&STE_SCAN, start.abs())?;
+    let best = scan(&STE_SCAN_FINE, coarse)?;
+    let lm = levenberg_marquardt(&f, &[best], &[0.05], 8)?;
     Ok((lm.params[0].abs(), lm))
 }
 

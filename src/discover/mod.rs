@@ -9,6 +9,7 @@
 //! collinear ones are reported as ambiguous, and a discrepancy that the best candidate does not
 //! remove is `unexplained`.
 
+mod ambiguity;
 mod effects;
 mod fit;
 mod forward;

@@ -34,6 +34,8 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "lr": c.lr,
             "refit_lr": c.refit_lr,
             "delta": c.delta,
+            "refit_zeta": c.refit_zeta,
+            "refit_omega_n_hz": c.refit_omega_n_hz,
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
@@ -45,6 +47,9 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "m0": { "zeta": d.zeta_m0, "omega_n_hz": d.omega_n_hz_m0 },
         "training_loads_n": d.training_loads_n,
         "held_out_loads_n": d.held_out_loads_n,
+        "held_out_ste_um": d.held_out_ste_um.iter().map(|(l, b, a)| json!({
+            "load_n": l, "before": b, "after": a,
+        })).collect::<Vec<_>>(),
         "excluded_points": d.excluded_points,
         "bootstrap_replicates": d.bootstrap,
         "windows": d.windows,

@@ -3,6 +3,7 @@
 //! ratio, refit the leading ones, decide (a name, "none", "ambiguous" or "unexplained"), and
 //! measure the gap before and after on training and held-out loads.
 
+use super::ambiguity::{ambiguous_with as ambiguous_partners, Contender};
 use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, ModelFit};
 use super::forward::{predict_many, CurvePrediction, Setup};
@@ -78,6 +79,9 @@ pub struct CandidateResult {
     /// Refitted delta and the refit's drop in residual sum of squares (sigma^2 units).
     pub delta: Option<Vec<f64>>,
     pub refit_lr: Option<f64>,
+    /// Zeta and omega_n (Hz) of the refit, which move with the effect.
+    pub refit_zeta: Option<f64>,
+    pub refit_omega_n_hz: Option<f64>,
 }
 
 /// A detection test.
@@ -138,6 +142,8 @@ pub struct Discovery {
     pub omega_n_hz_m0: f64,
     pub training_loads_n: Vec<f64>,
     pub held_out_loads_n: Vec<f64>,
+    /// STE amplitude (um) fitted alone at each held-out load: (load N, before, after).
+    pub held_out_ste_um: Vec<(f64, f64, f64)>,
     pub excluded_points: usize,
     pub gap_before: GapSet,
     pub gap_after: GapSet,
@@ -594,6 +600,8 @@ pub fn discover_setup(
                 ci95: None,
                 delta: None,
                 refit_lr: None,
+                refit_zeta: None,
+                refit_omega_n_hz: None,
             }
         })
         .collect();
@@ -668,6 +676,8 @@ pub fn discover_setup(
         cands[c].ci95 = ci;
         cands[c].delta = Some(f.effect.delta.clone());
         cands[c].refit_lr = Some(drop);
+        cands[c].refit_zeta = Some(f.globals.zeta);
+        cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
         refits.push((c, f));
     }
     progress.advance(1);
@@ -679,39 +689,35 @@ pub fn discover_setup(
     } else {
         "none".to_string()
     };
-    let mut ambiguous_with = Vec::new();
+    let mut ambiguous_with: Vec<String> = Vec::new();
     let mut closest = None;
     let mut refitted = false;
     let mut post_fit = Vec::new();
     let mut after_preds = f0.clone();
     let mut compare_mask = mask.clone();
     let mut refit_preds: Option<Vec<CurvePrediction>> = None;
+    let mut refit_held: Option<Vec<HeldFit>> = None;
     if let Some(&best) = sig.iter().max_by(|&&a, &&b| {
         let la = cands[a].refit_lr.unwrap_or(cands[a].lr);
         let lb = cands[b].refit_lr.unwrap_or(cands[b].lr);
         la.total_cmp(&lb)
     }) {
-        // Two refitted candidates are ambiguous when the data cannot tell their fits apart:
-        // residual sums of squares within chi2(0.95; 1) = 3.84 sigma^2 of each other, or
-        // nearly collinear probe directions on the measured grid (|cos| above
-        // `collinear_cos`) with refit sums of squares within 3.84 + 0.5% of the larger drop
-        // (collinear directions make equal fits; a clear difference in fit overrules the
-        // first-order collinearity of the probes). The coarse dictionary LR is not used.
-        let dir = |c: usize| &dict[c][observed.lr[c].1];
-        let drop_best = cands[best].refit_lr.unwrap_or(cands[best].lr);
-        for &o in &sig {
-            if o == best {
-                continue;
-            }
-            let (a, b) = (dir(best), dir(o));
-            let cos = a.dot(b) / (a.norm() * b.norm()).max(1e-300);
-            let diff = drop_best - cands[o].refit_lr.unwrap_or(cands[o].lr);
-            if diff < 3.84 || (cos.abs() > opts.collinear_cos && diff < 3.84 + 0.005 * drop_best) {
-                ambiguous_with.push(cands[o].name.to_string());
-            }
-        }
+        // Two refitted candidates are ambiguous when the data cannot tell their fits apart
+        // (see `ambiguity`); the coarse dictionary LR is not used.
+        let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
+        let contender = |c: usize| Contender {
+            index: c,
+            drop: drop(c),
+            direction: &dict[c][observed.lr[c].1],
+        };
+        let others: Vec<Contender> = sig.iter().map(|&c| contender(c)).collect();
+        ambiguous_with = ambiguous_partners(&contender(best), &others, opts.collinear_cos)
+            .into_iter()
+            .map(|c| cands[c].name.to_string())
+            .collect();
         if let Some((_, f)) = refits.iter().find(|(c, _)| *c == best) {
-            let (preds, _) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
+            let (preds, held1) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
+            refit_held = Some(held1);
             let m1 = make_mask(&preds, sigma);
             let zero: Mask = mask
                 .iter()
@@ -753,7 +759,8 @@ pub fn discover_setup(
             effect = cands[best].name.to_string();
         }
     }
-    if !LIBRARY.iter().any(|c| c.name() == effect) {
+    let explained = LIBRARY.iter().any(|c| c.name() == effect);
+    if !explained {
         after_preds = f0.clone();
     }
     progress.advance(1);
@@ -775,6 +782,16 @@ pub fn discover_setup(
         omega_n_hz_m0: m0.globals.omega_n_hz,
         training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
         held_out_loads_n: held.iter().map(|&i| setup.curves[i].load_n).collect(),
+        held_out_ste_um: held0
+            .iter()
+            .map(|(i, e0, _)| {
+                let after = match (&refit_held, explained) {
+                    (Some(h), true) => h.iter().find(|x| x.0 == *i).map_or(*e0, |x| x.1),
+                    _ => *e0,
+                };
+                (setup.curves[*i].load_n, *e0, after)
+            })
+            .collect(),
         excluded_points: mask.iter().flatten().filter(|m| !**m).count(),
         gap_before: gap_set(&f0),
         gap_after: gap_set(&after_preds),

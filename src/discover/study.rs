@@ -47,38 +47,44 @@ impl Hidden {
         }
     }
 
-    /// The hidden effects and the true value of the candidate's reported estimate.
-    pub fn effects(self) -> (HiddenEffects, Option<f64>) {
+    /// The study's moderate strength of the hidden effect, in the units of the candidate's
+    /// reported estimate (eps, r2, gamma, b / b_stated, F_aT / F_m(design)), or the sensor
+    /// peak's relative height; None for the null case.
+    pub fn default_strength(self) -> Option<f64> {
+        match self {
+            Hidden::None => None,
+            Hidden::SensorPeak => Some(0.5),
+            Hidden::Library(c) => Some(match c {
+                Candidate::MeshStiffnessVariation => 0.2,
+                Candidate::SteHarmonics => 0.4,
+                Candidate::DampingLaw => 1.0,
+                Candidate::Backlash => 1.5,
+                Candidate::TorqueRipple => 0.03,
+            }),
+        }
+    }
+
+    /// The hidden effects at `strength` (see [`Hidden::default_strength`]) and the true value
+    /// of the candidate's reported estimate.
+    pub fn effects(self, strength: f64) -> (HiddenEffects, Option<f64>) {
         let mut h = HiddenEffects::default();
         let truth = match self {
             Hidden::None => None,
             Hidden::SensorPeak => {
                 h.sensor_peak_hz = 2300.0;
-                h.sensor_peak_gain = 0.5;
+                h.sensor_peak_gain = strength;
                 None
             }
-            Hidden::Library(c) => Some(match c {
-                Candidate::MeshStiffnessVariation => {
-                    h.stiffness_eps = 0.2;
-                    0.2
+            Hidden::Library(c) => {
+                match c {
+                    Candidate::MeshStiffnessVariation => h.stiffness_eps = strength,
+                    Candidate::SteHarmonics => h.ste2_ratio = strength,
+                    Candidate::DampingLaw => h.damping_exponent = strength,
+                    Candidate::Backlash => h.backlash_factor = strength,
+                    Candidate::TorqueRipple => h.torque_ripple_ratio = strength,
                 }
-                Candidate::SteHarmonics => {
-                    h.ste2_ratio = 0.4;
-                    0.4
-                }
-                Candidate::DampingLaw => {
-                    h.damping_exponent = 1.0;
-                    1.0
-                }
-                Candidate::Backlash => {
-                    h.backlash_factor = 1.5;
-                    1.5
-                }
-                Candidate::TorqueRipple => {
-                    h.torque_ripple_ratio = 0.03;
-                    0.03
-                }
-            }),
+                Some(strength)
+            }
         };
         (h, truth)
     }
@@ -125,6 +131,11 @@ pub struct StudyOptions {
     /// Speed grid of the sets (start, stop, step rpm); coarser grids run faster.
     pub speeds_rpm: (f64, f64, f64),
     pub noise_um: f64,
+    /// Strength of the hidden effect; None takes [`Hidden::default_strength`].
+    pub strength: Option<f64>,
+    /// (load N, STE um) of the sets; None takes Munro's four loads of
+    /// [`MunroTruth::default_munro`].
+    pub loads: Option<Vec<(f64, f64)>>,
     pub discover: DiscoverOptions,
 }
 
@@ -135,6 +146,8 @@ impl Default for StudyOptions {
             seeds: 100,
             speeds_rpm: (1000.0, 5000.0, 50.0),
             noise_um: 0.15,
+            strength: None,
+            loads: None,
             discover: DiscoverOptions::default(),
         }
     }
@@ -154,7 +167,18 @@ pub fn run_study(
             "a study needs at least one seed",
         ));
     }
-    let (effects, truth) = hidden.effects();
+    let strength = match (hidden, opts.strength) {
+        (Hidden::None, Some(s)) => {
+            return Err(GearError::param(
+                "strength",
+                s,
+                "the null study hides nothing: no strength to set",
+            ))
+        }
+        (_, Some(s)) => s,
+        (_, None) => hidden.default_strength().unwrap_or(0.0),
+    };
+    let (effects, truth) = hidden.effects(strength);
     let mut outcomes = Vec::new();
     progress.start(opts.seeds as u64, "seeds");
     for k in 0..opts.seeds {
@@ -164,6 +188,9 @@ pub fn run_study(
         t.noise_um = opts.noise_um;
         t.speeds_rpm = opts.speeds_rpm;
         t.hidden = effects.clone();
+        if let Some(loads) = &opts.loads {
+            t.ste_um = loads.clone();
+        }
         let dir = scratch.join("set");
         synth_munro(&t, &dir, &crate::progress::NoProgress)?;
         let data = load_munro(&dir)?;

@@ -245,10 +245,49 @@ fn speed_grid((start, stop, step): (f64, f64, f64)) -> Result<Vec<f64>> {
     })
 }
 
+/// The (load, STE) table must name distinct positive loads with finite non-negative STE.
+fn check_loads(ste_um: &[(f64, f64)]) -> Result<()> {
+    if ste_um.is_empty() {
+        return Err(GearError::param(
+            "loads",
+            0.0,
+            "at least one load is needed",
+        ));
+    }
+    for (k, &(load, ste)) in ste_um.iter().enumerate() {
+        if !(load > 0.0 && load.is_finite()) {
+            return Err(GearError::param(
+                "load_n",
+                load,
+                "loads must be positive and finite",
+            ));
+        }
+        if !(ste >= 0.0 && ste.is_finite()) {
+            return Err(GearError::param(
+                "ste_um",
+                ste,
+                "STE amplitudes must be finite and non-negative",
+            ));
+        }
+        if ste_um[..k]
+            .iter()
+            .any(|(l, _)| crate::data::same_load(*l, load))
+        {
+            return Err(GearError::param(
+                "load_n",
+                load,
+                "each load may appear once",
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// Write a synthetic Munro-style data set (rig.toml with its truth, dte.csv) into `dir`.
 pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
     let dim = Dimensional::from_rig(&truth.rig)?;
     let speeds = speed_grid(truth.speeds_rpm)?;
+    check_loads(&truth.ste_um)?;
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
     // Hidden backlash: the data come from the true b; rig.toml states the nominal one.
@@ -470,4 +509,30 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
                        from Ozguven & Houser 1988): simulated from the truth below, not measured", "layout of Fig. 23 (envelope of tooth pairs)", t),
     };
     write_set(dir, &rig, "dynamic_factor.csv", &rows)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A load table with a repeated, negative or NaN entry is refused before anything is
+    /// simulated or written.
+    #[test]
+    fn bad_load_tables_are_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        for bad in [
+            vec![],
+            vec![(3780.0, 0.3), (3780.0, 1.0)],
+            vec![(-945.0, 3.5)],
+            vec![(945.0, f64::NAN)],
+            vec![(945.0, -1.0)],
+        ] {
+            let mut t = MunroTruth::default_munro();
+            t.ste_um = bad.clone();
+            let out = dir.path().join("set");
+            let e = synth_munro(&t, &out, &crate::progress::NoProgress);
+            assert!(matches!(e, Err(GearError::InvalidParameter { .. })), "{bad:?}");
+            assert!(!out.exists(), "{bad:?}");
+        }
+    }
 }
