@@ -18,6 +18,9 @@ pub struct Args {
     /// Repetitions of the steady-state timing (the median is reported).
     #[arg(long, default_value_t = 21)]
     repeat: usize,
+    /// Also time `discover` on a synthetic four-load set that needs refits (about a minute).
+    #[arg(long)]
+    discover_refit: bool,
 }
 
 fn median_ms(
@@ -143,6 +146,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             rayon::current_num_threads()
         ));
     }
+    if a.discover_refit {
+        text.push_str(&discover_refit_timing()?);
+    }
     if a.basin_grid > 0 {
         let grid = IcGrid::new(-2.0, 2.0, a.basin_grid)?;
         let t = Instant::now();
@@ -157,4 +163,33 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ));
     }
     print_text(&text)
+}
+
+/// `discover` on the slow case: a SYNTHETIC four-load Munro-style set (seed 1, Munro's 50 rpm
+/// grid, noise 0.15 um) with the second STE harmonic hidden at 40% of the first, so that the
+/// candidates are refitted with the full nonlinear model. The set is written to a temporary
+/// folder and removed.
+fn discover_refit_timing() -> anyhow::Result<String> {
+    let dir = std::env::temp_dir().join(format!("geardyn-bench-{}", std::process::id()));
+    let mut truth = geardyn::validate::MunroTruth::default_munro();
+    truth.hidden.ste2_ratio = 0.4;
+    let timed = (|| -> anyhow::Result<String> {
+        geardyn::validate::synth_munro(&truth, &dir, &NoProgress)?;
+        let data = geardyn::data::load_munro(&dir)?;
+        let t = Instant::now();
+        let d = geardyn::discover::discover(
+            &data,
+            &geardyn::discover::DiscoverOptions::default(),
+            &NoProgress,
+        )?;
+        Ok(format!(
+            "discover on a SYNTHETIC 4-load set with the 2nd STE harmonic hidden ({} speeds, effect {}): {:.1} s on {} threads\n",
+            data.points.len(),
+            d.effect,
+            t.elapsed().as_secs_f64(),
+            rayon::current_num_threads()
+        ))
+    })();
+    let _ = std::fs::remove_dir_all(&dir);
+    timed
 }

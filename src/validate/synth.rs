@@ -531,7 +531,10 @@ mod tests {
             t.ste_um = bad.clone();
             let out = dir.path().join("set");
             let e = synth_munro(&t, &out, &crate::progress::NoProgress);
-            assert!(matches!(e, Err(GearError::InvalidParameter { .. })), "{bad:?}");
+            assert!(
+                matches!(e, Err(GearError::InvalidParameter { .. })),
+                "{bad:?}"
+            );
             assert!(!out.exists(), "{bad:?}");
         }
     }
