@@ -21,7 +21,7 @@
 //! The tangent dynamics are products of the region matrices e^{A tau}: f is continuous, so the
 //! vector field is continuous at q = +-1 and there is no saltation term.
 
-use super::fast_math::sin_cos;
+use super::fast_math::{exp_small, sin_cos, sin_cos_small, EXP_SMALL_LIMIT};
 use super::flow::{Observer, PeriodFlow, Piece, State};
 use crate::error::{GearError, Result};
 use crate::model::{GearPair, Region};
@@ -90,14 +90,8 @@ impl RegionLaw {
         }
     }
 
-    /// Harmonic part of the particular solution and its first two derivatives at local time s.
-    #[inline]
-    fn harmonic(&self, omega: f64, s: f64) -> [f64; 3] {
-        let (s1, c1) = sin_cos(omega * s);
-        self.harmonic_at_phase(omega, s1, c1)
-    }
-
-    /// [`Self::harmonic`] given (sin, cos) of the fundamental phase Omega s.
+    /// Harmonic part of the particular solution and its first two derivatives at local time s,
+    /// given (sin, cos) of the fundamental phase Omega s.
     #[inline]
     fn harmonic_at_phase(&self, omega: f64, s1: f64, c1: f64) -> [f64; 3] {
         let Some((&(a, b), higher)) = self.harmonics.split_first() else {
@@ -150,9 +144,21 @@ struct Segment<'a> {
 }
 
 impl<'a> Segment<'a> {
+    #[cfg(test)]
     fn start(flow: &'a ExactFlow, region: Region, s0: f64, x: State) -> Self {
+        Self::start_at_phase(flow, region, s0, x, sin_cos(flow.omega * s0))
+    }
+
+    /// The segment of `region` through state x at time s0, given (sin, cos) of Omega s0 (known
+    /// from the crossing that starts it, so not evaluated again).
+    fn start_at_phase(
+        flow: &'a ExactFlow,
+        region: Region,
+        s0: f64,
+        x: State,
+        phase: (f64, f64),
+    ) -> Self {
         let law = flow.law(region);
-        let phase = sin_cos(flow.omega * s0);
         let [hq, hv, ha] = law.harmonic_at_phase(flow.omega, phase.0, phase.1);
         let y0 = x[0] - hq - law.constant;
         let yv0 = x[1] - hv - law.slope;
@@ -160,7 +166,7 @@ impl<'a> Segment<'a> {
         // The homogeneous part at tau = 0, the same arithmetic as `full` with e^0 = 1, sin 0 = 0.
         let (hom, yq, yv, ya, hom_bounds, hom_size) = match region {
             Region::Gap => {
-                let e = -yv0 / (2.0 * zeta);
+                let e = -yv0 * flow.half_inv_zeta;
                 let d = y0 - e;
                 let yv = -2.0 * zeta * e;
                 // The gap mode has lambda = -2 zeta: |y''| = (2 zeta)^2 |e| decay, |y'''| one more.
@@ -175,7 +181,7 @@ impl<'a> Segment<'a> {
                 )
             }
             _ => {
-                let (a, b) = (y0, (yv0 + zeta * y0) / flow.wd);
+                let (a, b) = (y0, (yv0 + zeta * y0) * flow.inv_wd);
                 let yv = flow.wd * b - zeta * a;
                 // |lambda| = 1 for the contact modes: every derivative is bounded by the amplitude.
                 let c = (a * a + b * b).sqrt();
@@ -214,6 +220,13 @@ impl<'a> Segment<'a> {
         self.full_with_decay(s).0
     }
 
+    /// [`Self::full`] and (sin, cos) of the forcing phase Omega s.
+    #[inline]
+    fn full_with_phase(&self, s: f64) -> ([f64; 3], (f64, f64)) {
+        let (x, _, phase) = self.evaluate(s);
+        (x, phase)
+    }
+
     /// [`Self::full`] and the bounds of [`Self::bounds_from_decay`] from s on (for s >= s0),
     /// sharing the decay factor of the homogeneous part.
     #[inline]
@@ -224,35 +237,78 @@ impl<'a> Segment<'a> {
 
     /// q, q', q'' at s and the homogeneous decay factor there (e^{-zeta tau} in contact,
     /// e^{-2 zeta tau} in the gap).
-    #[inline]
+    #[inline(always)]
     fn full_with_decay(&self, s: f64) -> ([f64; 3], f64) {
+        let (x, decay, _) = self.evaluate(s);
+        (x, decay)
+    }
+
+    /// q, q', q'' at s, the homogeneous decay factor there and (sin, cos) of Omega s.
+    ///
+    /// Relative to the grid point s0 + k h just below s the closed form needs only the
+    /// tabulated factors times those of the remainder delta = s - s0 - k h < h, whose arguments
+    /// need no range reduction (|w_d delta|, |Omega delta| < pi/4) and whose decay e^{-zeta
+    /// delta} is a short series: about half the cost of exp and two general sin/cos.
+    #[inline(always)]
+    fn evaluate(&self, s: f64) -> ([f64; 3], f64, (f64, f64)) {
+        let flow = self.flow;
         let tau = s - self.s0;
-        let harmonic = self.law.harmonic(self.flow.omega, s);
+        // Truncation is the floor here (tau >= 0; a negative tau from rounding gives k = 0).
+        let k = (tau * flow.inv_scan_step) as u32;
+        let grid = match flow.grid.get(k as usize) {
+            Some(g) if flow.short_decay => g,
+            _ => return self.evaluate_direct(s),
+        };
+        let delta = tau - f64::from(k) * flow.scan_step;
+        let phase = rotate(
+            rotate(self.phase, grid.forcing),
+            sin_cos_small(flow.omega * delta),
+        );
+        let harmonic = self.law.harmonic_at_phase(flow.omega, phase.0, phase.1);
+        let zeta = flow.zeta;
+        let (decay, rotation) = match self.hom {
+            Homogeneous::Oscillating { .. } => (
+                grid.decay * exp_small(-zeta * delta),
+                rotate(grid.rotation, sin_cos_small(flow.wd * delta)),
+            ),
+            Homogeneous::Decaying { .. } => {
+                (grid.gap_decay * exp_small(-2.0 * zeta * delta), (0.0, 1.0))
+            }
+        };
+        (self.combine(tau, harmonic, decay, rotation), decay, phase)
+    }
+
+    /// [`Self::evaluate`] from exp and sin/cos of the full arguments (beyond the table, or
+    /// when zeta h is too large for the short decay series).
+    #[cold]
+    fn evaluate_direct(&self, s: f64) -> ([f64; 3], f64, (f64, f64)) {
+        let tau = s - self.s0;
+        let phase = sin_cos(self.flow.omega * s);
+        let harmonic = self
+            .law
+            .harmonic_at_phase(self.flow.omega, phase.0, phase.1);
         let zeta = self.flow.zeta;
         let (decay, rotation) = match self.hom {
             Homogeneous::Oscillating { .. } => ((-zeta * tau).exp(), sin_cos(self.flow.wd * tau)),
             Homogeneous::Decaying { .. } => ((-2.0 * zeta * tau).exp(), (0.0, 1.0)),
         };
-        (self.combine(tau, harmonic, decay, rotation), decay)
+        (self.combine(tau, harmonic, decay, rotation), decay, phase)
     }
 
     /// q, q', q'' at the k-th scan grid point s0 + k h (the time, the values and the decay
     /// factor): the closed form with the flow's tabulated e^{-zeta k h}, sin/cos(w_d k h) and the
     /// forcing phase rotated by Omega k h, so no exp or sin/cos is evaluated.
-    #[inline]
-    fn at_grid(&self, k: usize) -> (f64, [f64; 3], f64) {
-        let tau = k as f64 * self.flow.scan_step;
+    #[inline(always)]
+    fn at_grid(&self, k: u32) -> (f64, [f64; 3], f64) {
+        let tau = f64::from(k) * self.flow.scan_step;
         let s = self.s0 + tau;
-        let Some(g) = self.flow.grid.get(k) else {
+        let Some(g) = self.flow.grid.get(k as usize) else {
             // Beyond the table (very long periods): the direct closed form.
             let (x, decay) = self.full_with_decay(s);
             return (s, x, decay);
         };
-        let (sp, cp) = self.phase;
-        let (sk, ck) = g.forcing;
-        let harmonic =
-            self.law
-                .harmonic_at_phase(self.flow.omega, sp * ck + cp * sk, cp * ck - sp * sk);
+        let (sp, cp) = rotate(self.phase, g.forcing);
+        let harmonic = self.law.harmonic_at_phase(self.flow.omega, sp, cp);
         let (decay, rotation) = match self.hom {
             Homogeneous::Oscillating { .. } => (g.decay, g.rotation),
             Homogeneous::Decaying { .. } => (g.gap_decay, (0.0, 1.0)),
@@ -405,6 +461,8 @@ struct Sample {
 struct Crossing {
     time: f64,
     velocity: f64,
+    /// (sin, cos) of Omega time, for the segment that starts there.
+    phase: (f64, f64),
 }
 
 /// Root in (a, b) of the quintic Hermite interpolant of d, d', d'' at samples a and b, where
@@ -436,9 +494,9 @@ fn hermite_root(a: Sample, b: Sample) -> f64 {
         } else {
             0.5 * (lo + hi)
         };
-        // Quadratic convergence: after a step this small the next error is far below the
-        // interpolation error.
-        let done = (next - t).abs() <= 1e-8;
+        // Quadratic convergence: after a step this small the error is ~1e-10 of the cell, from
+        // which one Halley step of the refinement reaches rounding.
+        let done = (next - t).abs() <= 1e-5;
         t = next;
         if done {
             break;
@@ -516,6 +574,12 @@ struct GridPoint {
     gap_decay: f64,
 }
 
+/// (sin, cos) of the sum of the angles given by (sin, cos) pairs.
+#[inline(always)]
+fn rotate((s1, c1): (f64, f64), (s2, c2): (f64, f64)) -> (f64, f64) {
+    (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2)
+}
+
 /// Largest number of tabulated grid points (the scan falls back to the direct closed form beyond;
 /// only forcing periods over ~400 time units, Omega < 0.016, need more).
 const MAX_GRID_POINTS: usize = 1024;
@@ -536,8 +600,15 @@ pub struct ExactFlow {
     omega: f64,
     zeta: f64,
     wd: f64,
+    /// 1 / w_d and 1 / (2 zeta), so that segment starts multiply instead of divide.
+    inv_wd: f64,
+    half_inv_zeta: f64,
     period: f64,
     scan_step: f64,
+    inv_scan_step: f64,
+    /// 2 zeta h is within [`EXP_SMALL_LIMIT`], so the decay over a part of a grid cell is a
+    /// short series (see [`Segment::evaluate`]).
+    short_decay: bool,
     /// Closed-form factors at tau = k scan_step, k = 0, 1, ... (one period's worth).
     grid: Vec<GridPoint>,
     laws: [RegionLaw; 3],
@@ -576,8 +647,12 @@ impl ExactFlow {
             omega,
             zeta,
             wd,
+            inv_wd: 1.0 / wd,
+            half_inv_zeta: 0.5 / zeta,
             period,
             scan_step,
+            inv_scan_step: 1.0 / scan_step,
+            short_decay: 2.0 * zeta * scan_step <= EXP_SMALL_LIMIT,
             grid,
             laws: [
                 RegionLaw::new(&model, Region::Contact),
@@ -625,7 +700,7 @@ impl ExactFlow {
     fn scan(&self, seg: &Segment, s_end: f64) -> Scan {
         let bounds = Boundary::of(seg.law.region);
         let h = self.scan_step;
-        let mut k = 0;
+        let mut k = 0u32;
         let (mut a, mut xa, mut m) = (seg.s0, seg.at_start, seg.bounds_from_decay(1.0));
         loop {
             // The bound is positive strictly inside the horizon; the factor keeps rounding clear.
@@ -633,14 +708,15 @@ impl ExactFlow {
             if a + horizon >= s_end {
                 return Scan::Reached(seg.full(s_end));
             }
-            let skip = (horizon / h) as usize;
+            // Whole cells inside the horizon (saturating; any count beyond s_end was caught above).
+            let skip = (horizon * self.inv_scan_step) as u32;
             if skip > 0 {
-                k += skip;
+                k = k.saturating_add(skip);
                 let (s, x, decay) = seg.at_grid(k);
                 (a, xa, m) = (s, x, seg.bounds_from_decay(decay));
                 continue;
             }
-            let last = seg.s0 + (k + 1) as f64 * h >= s_end;
+            let last = seg.s0 + f64::from(k + 1) * h >= s_end;
             let (b, xb, decay) = if last {
                 let (x, decay) = seg.full_with_decay(s_end);
                 (s_end, x, decay)
@@ -730,7 +806,8 @@ impl ExactFlow {
             s = 0.5 * (lo + hi);
         }
         for _ in 0..200 {
-            let x = bd.sample(s, seg.full(s));
+            let (xs, phase) = seg.full_with_phase(s);
+            let x = bd.sample(s, xs);
             let (d, dv) = (x.d, x.dv);
             if d <= 0.0 {
                 hi = s;
@@ -751,6 +828,7 @@ impl ExactFlow {
                 return Crossing {
                     time: s,
                     velocity: bd.sign * dv,
+                    phase,
                 };
             }
             if hi - lo <= tol {
@@ -766,6 +844,7 @@ impl ExactFlow {
         Crossing {
             time: hi,
             velocity: v_hi,
+            phase: sin_cos(self.omega * hi),
         }
     }
 
@@ -774,19 +853,22 @@ impl ExactFlow {
         let mut s = 0.0;
         let mut x = x0;
         let mut region = self.region_of(x, s);
+        let mut phase = (0.0, 1.0);
         for _ in 0..MAX_CROSSINGS_PER_PERIOD {
-            let mut seg = Segment::start(self, region, s, x);
+            let mut seg = Segment::start_at_phase(self, region, s, x, phase);
             match self.scan(&seg, self.period) {
                 Scan::Reached([q, v, _]) => {
                     seg.s1 = self.period;
                     on_segment(&seg, self.period - s);
                     return Ok([q, v]);
                 }
-                Scan::Crossed(Crossing { time: sc, velocity }, bd) => {
+                Scan::Crossed(c, bd) => {
+                    let sc = c.time;
                     seg.s1 = sc;
                     on_segment(&seg, sc - s);
-                    x = [bd.level, velocity];
+                    x = [bd.level, c.velocity];
                     s = sc;
+                    phase = c.phase;
                     region = bd.beyond;
                 }
             }
