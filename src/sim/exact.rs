@@ -12,10 +12,16 @@
 //! homogeneous amplitude). An interval is skipped only when that bound proves d > 0 on it; otherwise
 //! it is bisected, so a grazing crossing cannot be stepped over.
 //!
+//! The scan runs on a grid s0 + k h from each segment start, where the closed form needs no exp or
+//! sin/cos: e^{-zeta k h}, sin/cos(w_d k h) and the forcing rotation by Omega k h are tabulated
+//! once per flow. Transcendental functions are evaluated only to locate a crossing (two
+//! evaluations: Halley from the root of a quintic Hermite interpolant of the cell's end samples)
+//! and at the end of the period.
+//!
 //! The tangent dynamics are products of the region matrices e^{A tau}: f is continuous, so the
 //! vector field is continuous at q = +-1 and there is no saltation term.
 
-use super::fast_math::sin_cos;
+use super::fast_math::{exp_small, sin_cos, sin_cos_small, EXP_SMALL_LIMIT};
 use super::flow::{Observer, PeriodFlow, Piece, State};
 use crate::error::{GearError, Result};
 use crate::model::{GearPair, Region};
@@ -36,6 +42,8 @@ struct RegionLaw {
     slope: f64,
     /// Per harmonic order n (index n-1): coefficients (a_n, b_n) of a cos + b sin.
     harmonics: Vec<(f64, f64)>,
+    /// sum_n sqrt(a_n^2 + b_n^2): bound on |q_p| of the harmonic part.
+    harmonic_amplitude: f64,
     /// sum_n (n Omega)^2 sqrt(a_n^2 + b_n^2): bound on |q_p''| of the harmonic part.
     harmonic_accel_bound: f64,
     /// sum_n (n Omega)^3 sqrt(a_n^2 + b_n^2): bound on the third derivative of the harmonic part.
@@ -49,6 +57,7 @@ impl RegionLaw {
         let c = model.mean_force + region.force_offset();
         let n_max = model.max_order() as usize;
         let mut harmonics = vec![(0.0, 0.0); n_max];
+        let mut amplitude = 0.0;
         let mut bound = 0.0;
         let mut jerk = 0.0;
         for h in model.forcing_harmonics() {
@@ -61,6 +70,7 @@ impl RegionLaw {
             let xi = (fi * dr - fr * di) / den;
             let (a, b) = (xr, -xi);
             harmonics[h.order as usize - 1] = (a, b);
+            amplitude += (a * a + b * b).sqrt();
             bound += w * w * (a * a + b * b).sqrt();
             jerk += w * w * w * (a * a + b * b).sqrt();
         }
@@ -74,15 +84,16 @@ impl RegionLaw {
             constant,
             slope,
             harmonics,
+            harmonic_amplitude: amplitude,
             harmonic_accel_bound: bound,
             harmonic_jerk_bound: jerk,
         }
     }
 
-    /// Harmonic part of the particular solution and its first two derivatives at local time s.
+    /// Harmonic part of the particular solution and its first two derivatives at local time s,
+    /// given (sin, cos) of the fundamental phase Omega s.
     #[inline]
-    fn harmonic(&self, omega: f64, s: f64) -> [f64; 3] {
-        let (s1, c1) = sin_cos(omega * s);
+    fn harmonic_at_phase(&self, omega: f64, s1: f64, c1: f64) -> [f64; 3] {
         let Some((&(a, b), higher)) = self.harmonics.split_first() else {
             return [0.0; 3];
         };
@@ -123,31 +134,64 @@ struct Segment<'a> {
     /// q, q', q'' at s0 from the closed form (what `full(s0)` returns), kept because every
     /// crossing search starts there.
     at_start: [f64; 3],
+    /// (sin, cos) of the forcing phase Omega s0, which the scan grid rotates (see [`GridPoint`]).
+    phase: (f64, f64),
+    /// Bounds of |y''| and |y'''| of the homogeneous part at tau = 0 (they scale with its decay).
+    hom_bounds: (f64, f64),
+    /// Rounding level of the distance to a boundary: a few ulp of the largest term summed in
+    /// the closed form (in the gap the ramp and e^{-2 zeta tau} terms grow like 1/zeta and cancel).
+    noise: f64,
 }
 
 impl<'a> Segment<'a> {
+    #[cfg(test)]
     fn start(flow: &'a ExactFlow, region: Region, s0: f64, x: State) -> Self {
+        Self::start_at_phase(flow, region, s0, x, sin_cos(flow.omega * s0))
+    }
+
+    /// The segment of `region` through state x at time s0, given (sin, cos) of Omega s0 (known
+    /// from the crossing that starts it, so not evaluated again).
+    fn start_at_phase(
+        flow: &'a ExactFlow,
+        region: Region,
+        s0: f64,
+        x: State,
+        phase: (f64, f64),
+    ) -> Self {
         let law = flow.law(region);
-        let [hq, hv, ha] = law.harmonic(flow.omega, s0);
+        let [hq, hv, ha] = law.harmonic_at_phase(flow.omega, phase.0, phase.1);
         let y0 = x[0] - hq - law.constant;
         let yv0 = x[1] - hv - law.slope;
         let zeta = flow.zeta;
         // The homogeneous part at tau = 0, the same arithmetic as `full` with e^0 = 1, sin 0 = 0.
-        let (hom, yq, yv, ya) = match region {
+        let (hom, yq, yv, ya, hom_bounds, hom_size) = match region {
             Region::Gap => {
-                let e = -yv0 / (2.0 * zeta);
+                let e = -yv0 * flow.half_inv_zeta;
                 let d = y0 - e;
                 let yv = -2.0 * zeta * e;
-                (Homogeneous::Decaying { d, e }, d + e, yv, -2.0 * zeta * yv)
+                // The gap mode has lambda = -2 zeta: |y''| = (2 zeta)^2 |e| decay, |y'''| one more.
+                let c = 2.0 * zeta * e.abs();
+                (
+                    Homogeneous::Decaying { d, e },
+                    d + e,
+                    yv,
+                    -2.0 * zeta * yv,
+                    (2.0 * zeta * c, 4.0 * zeta * zeta * c),
+                    d.abs() + e.abs() + law.slope.abs() * flow.period,
+                )
             }
             _ => {
-                let (a, b) = (y0, (yv0 + zeta * y0) / flow.wd);
+                let (a, b) = (y0, (yv0 + zeta * y0) * flow.inv_wd);
                 let yv = flow.wd * b - zeta * a;
+                // |lambda| = 1 for the contact modes: every derivative is bounded by the amplitude.
+                let c = (a * a + b * b).sqrt();
                 (
                     Homogeneous::Oscillating { a, b },
                     a,
                     yv,
                     -2.0 * zeta * yv - a,
+                    (c, c),
+                    c,
                 )
             }
         };
@@ -158,6 +202,9 @@ impl<'a> Segment<'a> {
             s1: s0,
             hom,
             at_start: [hq + yq + law.constant, hv + yv + law.slope, ha + ya],
+            phase,
+            hom_bounds,
+            noise: 8.0 * f64::EPSILON * (hom_size + law.constant.abs() + law.harmonic_amplitude),
         }
     }
 
@@ -173,6 +220,13 @@ impl<'a> Segment<'a> {
         self.full_with_decay(s).0
     }
 
+    /// [`Self::full`] and (sin, cos) of the forcing phase Omega s.
+    #[inline]
+    fn full_with_phase(&self, s: f64) -> ([f64; 3], (f64, f64)) {
+        let (x, _, phase) = self.evaluate(s);
+        (x, phase)
+    }
+
     /// [`Self::full`] and the bounds of [`Self::bounds_from_decay`] from s on (for s >= s0),
     /// sharing the decay factor of the homogeneous part.
     #[inline]
@@ -183,57 +237,124 @@ impl<'a> Segment<'a> {
 
     /// q, q', q'' at s and the homogeneous decay factor there (e^{-zeta tau} in contact,
     /// e^{-2 zeta tau} in the gap).
-    #[inline]
+    #[inline(always)]
     fn full_with_decay(&self, s: f64) -> ([f64; 3], f64) {
+        let (x, decay, _) = self.evaluate(s);
+        (x, decay)
+    }
+
+    /// q, q', q'' at s, the homogeneous decay factor there and (sin, cos) of Omega s.
+    ///
+    /// Relative to the grid point s0 + k h just below s the closed form needs only the
+    /// tabulated factors times those of the remainder delta = s - s0 - k h < h, whose arguments
+    /// need no range reduction (|w_d delta|, |Omega delta| < pi/4) and whose decay e^{-zeta
+    /// delta} is a short series: about half the cost of exp and two general sin/cos.
+    #[inline(always)]
+    fn evaluate(&self, s: f64) -> ([f64; 3], f64, (f64, f64)) {
+        let flow = self.flow;
         let tau = s - self.s0;
-        let [hq, hv, ha] = self.law.harmonic(self.flow.omega, s);
-        let zeta = self.flow.zeta;
-        let (yq, yv, ya, decay) = match self.hom {
-            Homogeneous::Oscillating { a, b } => {
-                let e = (-zeta * tau).exp();
-                let (sn, cs) = sin_cos(self.flow.wd * tau);
-                let wd = self.flow.wd;
-                let yq = e * (a * cs + b * sn);
-                let yv = e * ((wd * b - zeta * a) * cs - (zeta * b + wd * a) * sn);
-                (yq, yv, -2.0 * zeta * yv - yq, e)
-            }
-            Homogeneous::Decaying { d, e } => {
-                let g = (-2.0 * zeta * tau).exp();
-                let yv = -2.0 * zeta * e * g;
-                (d + e * g, yv, -2.0 * zeta * yv, g)
+        // Truncation is the floor here (tau >= 0; a negative tau from rounding gives k = 0).
+        let k = (tau * flow.inv_scan_step) as u32;
+        let grid = match flow.grid.get(k as usize) {
+            Some(g) if flow.short_decay => g,
+            _ => return self.evaluate_direct(s),
+        };
+        let delta = tau - f64::from(k) * flow.scan_step;
+        let phase = rotate(
+            rotate(self.phase, grid.forcing),
+            sin_cos_small(flow.omega * delta),
+        );
+        let harmonic = self.law.harmonic_at_phase(flow.omega, phase.0, phase.1);
+        let zeta = flow.zeta;
+        let (decay, rotation) = match self.hom {
+            Homogeneous::Oscillating { .. } => (
+                grid.decay * exp_small(-zeta * delta),
+                rotate(grid.rotation, sin_cos_small(flow.wd * delta)),
+            ),
+            Homogeneous::Decaying { .. } => {
+                (grid.gap_decay * exp_small(-2.0 * zeta * delta), (0.0, 1.0))
             }
         };
-        (
-            [
-                hq + yq + self.law.constant + self.law.slope * tau,
-                hv + yv + self.law.slope,
-                ha + ya,
-            ],
-            decay,
-        )
+        (self.combine(tau, harmonic, decay, rotation), decay, phase)
+    }
+
+    /// [`Self::evaluate`] from exp and sin/cos of the full arguments (beyond the table, or
+    /// when zeta h is too large for the short decay series).
+    #[cold]
+    fn evaluate_direct(&self, s: f64) -> ([f64; 3], f64, (f64, f64)) {
+        let tau = s - self.s0;
+        let phase = sin_cos(self.flow.omega * s);
+        let harmonic = self
+            .law
+            .harmonic_at_phase(self.flow.omega, phase.0, phase.1);
+        let zeta = self.flow.zeta;
+        let (decay, rotation) = match self.hom {
+            Homogeneous::Oscillating { .. } => ((-zeta * tau).exp(), sin_cos(self.flow.wd * tau)),
+            Homogeneous::Decaying { .. } => ((-2.0 * zeta * tau).exp(), (0.0, 1.0)),
+        };
+        (self.combine(tau, harmonic, decay, rotation), decay, phase)
+    }
+
+    /// q, q', q'' at the k-th scan grid point s0 + k h (the time, the values and the decay
+    /// factor): the closed form with the flow's tabulated e^{-zeta k h}, sin/cos(w_d k h) and the
+    /// forcing phase rotated by Omega k h, so no exp or sin/cos is evaluated.
+    #[inline(always)]
+    fn at_grid(&self, k: u32) -> (f64, [f64; 3], f64) {
+        let tau = f64::from(k) * self.flow.scan_step;
+        let s = self.s0 + tau;
+        let Some(g) = self.flow.grid.get(k as usize) else {
+            // Beyond the table (very long periods): the direct closed form.
+            let (x, decay) = self.full_with_decay(s);
+            return (s, x, decay);
+        };
+        let (sp, cp) = rotate(self.phase, g.forcing);
+        let harmonic = self.law.harmonic_at_phase(self.flow.omega, sp, cp);
+        let (decay, rotation) = match self.hom {
+            Homogeneous::Oscillating { .. } => (g.decay, g.rotation),
+            Homogeneous::Decaying { .. } => (g.gap_decay, (0.0, 1.0)),
+        };
+        (s, self.combine(tau, harmonic, decay, rotation), decay)
+    }
+
+    /// The closed form from its parts: the harmonic part [q, q', q''] at s0 + tau, the
+    /// homogeneous decay factor and, in contact, (sin, cos) of w_d tau.
+    #[inline]
+    fn combine(
+        &self,
+        tau: f64,
+        [hq, hv, ha]: [f64; 3],
+        decay: f64,
+        (sn, cs): (f64, f64),
+    ) -> [f64; 3] {
+        let zeta = self.flow.zeta;
+        let (yq, yv, ya) = match self.hom {
+            Homogeneous::Oscillating { a, b } => {
+                let wd = self.flow.wd;
+                let yq = decay * (a * cs + b * sn);
+                let yv = decay * ((wd * b - zeta * a) * cs - (zeta * b + wd * a) * sn);
+                (yq, yv, -2.0 * zeta * yv - yq)
+            }
+            Homogeneous::Decaying { d, e } => {
+                let yv = -2.0 * zeta * e * decay;
+                (d + e * decay, yv, -2.0 * zeta * yv)
+            }
+        };
+        [
+            hq + yq + self.law.constant + self.law.slope * tau,
+            hv + yv + self.law.slope,
+            ha + ya,
+        ]
     }
 
     /// Upper bounds of the second and third derivatives of q on [s_from, s1], given the
     /// homogeneous decay factor at s_from (the homogeneous part only decays after it).
     #[inline]
     fn bounds_from_decay(&self, decay: f64) -> (f64, f64) {
-        let zeta = self.flow.zeta;
-        // |lambda| = 1 for the contact modes; the gap mode has lambda = -2 zeta.
-        let (h2, h3) = match self.hom {
-            Homogeneous::Oscillating { a, b } => {
-                let c = (a * a + b * b).sqrt() * decay;
-                (c, c)
-            }
-            Homogeneous::Decaying { e, .. } => {
-                let c = 2.0 * zeta * e.abs() * decay;
-                (2.0 * zeta * c, 4.0 * zeta * zeta * c)
-            }
-        };
         // A relative margin absorbs rounding in the bounds themselves.
         let margin = 1.0 + 1e-12;
         (
-            (self.law.harmonic_accel_bound + h2) * margin + 1e-300,
-            (self.law.harmonic_jerk_bound + h3) * margin + 1e-300,
+            (self.law.harmonic_accel_bound + self.hom_bounds.0 * decay) * margin + 1e-300,
+            (self.law.harmonic_jerk_bound + self.hom_bounds.1 * decay) * margin + 1e-300,
         )
     }
 
@@ -335,32 +456,75 @@ struct Sample {
     dd: f64,
 }
 
-/// A located boundary crossing: its time (just on the far side) and q' there.
+/// A located boundary crossing: its time (the root to rounding) and q' there from the closed form.
 #[derive(Clone, Copy, Debug)]
 struct Crossing {
     time: f64,
     velocity: f64,
+    /// (sin, cos) of Omega time, for the segment that starts there.
+    phase: (f64, f64),
 }
 
-/// Smallest positive root of the quadratic Taylor model d + d' t + d'' t^2 / 2 at a sample.
-fn taylor_root(x: Sample) -> Option<f64> {
-    let (c, b, a) = (x.d, x.dv, 0.5 * x.dd);
-    if a.abs() < 1e-300 {
-        return (b < 0.0).then(|| x.s - c / b);
+/// Root in (a, b) of the quintic Hermite interpolant of d, d', d'' at samples a and b, where
+/// d(a) >= 0 > d(b): a starting point for the refinement (its error on a scan cell of width w is
+/// about max|d^(6)| (w/2)^6 / 720 / |d'|, ~1e-7 here). Safeguarded Newton on the polynomial,
+/// from the secant point.
+fn hermite_root(a: Sample, b: Sample) -> f64 {
+    let w = b.s - a.s;
+    // p(t) on t in [0, 1] with p, p', p'' matching the samples scaled to unit width.
+    let (y0, dy) = (a.d, b.d - a.d);
+    let (v0, v1) = (a.dv * w, b.dv * w);
+    let (a0, a1) = (a.dd * w * w, b.dd * w * w);
+    let c3 = 10.0 * dy - 6.0 * v0 - 4.0 * v1 - 1.5 * a0 + 0.5 * a1;
+    let c4 = -15.0 * dy + 8.0 * v0 + 7.0 * v1 + 1.5 * a0 - a1;
+    let c5 = 6.0 * dy - 3.0 * (v0 + v1) - 0.5 * (a0 - a1);
+    let (mut lo, mut hi) = (0.0, 1.0);
+    let mut t = y0 / -dy;
+    for _ in 0..16 {
+        let p = y0 + t * (v0 + t * (0.5 * a0 + t * (c3 + t * (c4 + t * c5))));
+        let dp = v0 + t * (a0 + t * (3.0 * c3 + t * (4.0 * c4 + t * 5.0 * c5)));
+        if p > 0.0 {
+            lo = t;
+        } else {
+            hi = t;
+        }
+        let next = t - p / dp;
+        let next = if next > lo && next < hi {
+            next
+        } else {
+            0.5 * (lo + hi)
+        };
+        // Quadratic convergence: after a step this small the error is ~1e-10 of the cell, from
+        // which one Halley step of the refinement reaches rounding.
+        let done = (next - t).abs() <= 1e-5;
+        t = next;
+        if done {
+            break;
+        }
     }
-    let disc = b * b - 4.0 * a * c;
-    if disc < 0.0 {
-        return None;
-    }
-    let r = disc.sqrt();
-    // Numerically stable pair of roots.
-    let qq = -0.5 * (b + b.signum() * r);
-    let roots = [qq / a, if qq != 0.0 { c / qq } else { f64::NAN }];
-    roots
-        .into_iter()
-        .filter(|t| t.is_finite() && *t > 0.0)
-        .fold(None, |m: Option<f64>, t| Some(m.map_or(t, |u| u.min(t))))
-        .map(|t| x.s + t)
+    a.s + t * w
+}
+
+/// Time over which the quadratic lower bound d + d' t - M2 t^2 / 2 of the distance to each of
+/// `bounds` stays positive from the state x (0 on or beyond a boundary).
+#[inline]
+fn safe_horizon(bounds: &[Boundary], x: [f64; 3], m2: f64) -> f64 {
+    bounds
+        .iter()
+        .map(|bd| {
+            let (d, dv) = bd.distance([x[0], x[1]]);
+            if d <= 0.0 {
+                return 0.0;
+            }
+            // The positive root of the bound, in the form without cancellation.
+            let r = (dv * dv + 2.0 * m2 * d).sqrt();
+            if dv < 0.0 {
+                2.0 * d / (r - dv)
+            } else {
+                (dv + r) / m2
+            }
+        })
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// True when a Taylor lower bound from sample `x` proves d > 0 on (0, w] away from x, looking
@@ -397,6 +561,37 @@ fn excluded(x: Sample, w: f64, (m2, m3): (f64, f64), dir: f64) -> bool {
     true
 }
 
+/// Tabulated factors of the closed form at the scan grid point tau = k h of every segment.
+#[derive(Clone, Copy, Debug)]
+struct GridPoint {
+    /// (sin, cos) of Omega k h, which rotates a segment's start phase to the grid point.
+    forcing: (f64, f64),
+    /// (sin, cos) of w_d k h.
+    rotation: (f64, f64),
+    /// e^{-zeta k h}, the contact-mode decay.
+    decay: f64,
+    /// e^{-2 zeta k h}, the gap-mode decay.
+    gap_decay: f64,
+}
+
+/// (sin, cos) of the sum of the angles given by (sin, cos) pairs.
+#[inline(always)]
+fn rotate((s1, c1): (f64, f64), (s2, c2): (f64, f64)) -> (f64, f64) {
+    (s1 * c2 + c1 * s2, c1 * c2 - s1 * s2)
+}
+
+/// Largest number of tabulated grid points (the scan falls back to the direct closed form beyond;
+/// only forcing periods over ~400 time units, Omega < 0.016, need more).
+const MAX_GRID_POINTS: usize = 1024;
+
+/// Outcome of scanning a segment up to the end of the period.
+enum Scan {
+    /// The earliest boundary crossing and the boundary crossed.
+    Crossed(Crossing, Boundary),
+    /// No crossing: q, q', q'' at the end time.
+    Reached([f64; 3]),
+}
+
 /// The exact piecewise-linear period map of eq. 3a for k(t) = 1 (the paper's model, with any
 /// number of STE and external torque harmonics).
 #[derive(Clone, Debug)]
@@ -405,8 +600,17 @@ pub struct ExactFlow {
     omega: f64,
     zeta: f64,
     wd: f64,
+    /// 1 / w_d and 1 / (2 zeta), so that segment starts multiply instead of divide.
+    inv_wd: f64,
+    half_inv_zeta: f64,
     period: f64,
     scan_step: f64,
+    inv_scan_step: f64,
+    /// 2 zeta h is within [`EXP_SMALL_LIMIT`], so the decay over a part of a grid cell is a
+    /// short series (see [`Segment::evaluate`]).
+    short_decay: bool,
+    /// Closed-form factors at tau = k scan_step, k = 0, 1, ... (one period's worth).
+    grid: Vec<GridPoint>,
     laws: [RegionLaw; 3],
 }
 
@@ -425,12 +629,31 @@ impl ExactFlow {
         // Scan intervals short against the fastest excitation and the free oscillation (w_d ~ 1).
         let pieces = (16.0 * n).max((period / 0.4).ceil());
         let scan_step = period / pieces;
+        let (omega, zeta) = (model.omega, model.zeta);
+        let wd = (1.0 - zeta * zeta).sqrt();
+        let points = (pieces as usize + 1).min(MAX_GRID_POINTS);
+        let grid = (0..points)
+            .map(|k| {
+                let tau = k as f64 * scan_step;
+                GridPoint {
+                    forcing: sin_cos(omega * tau),
+                    rotation: sin_cos(wd * tau),
+                    decay: (-zeta * tau).exp(),
+                    gap_decay: (-2.0 * zeta * tau).exp(),
+                }
+            })
+            .collect();
         Ok(ExactFlow {
-            omega: model.omega,
-            zeta: model.zeta,
-            wd: (1.0 - model.zeta * model.zeta).sqrt(),
+            omega,
+            zeta,
+            wd,
+            inv_wd: 1.0 / wd,
+            half_inv_zeta: 0.5 / zeta,
             period,
             scan_step,
+            inv_scan_step: 1.0 / scan_step,
+            short_decay: 2.0 * zeta * scan_step <= EXP_SMALL_LIMIT,
+            grid,
             laws: [
                 RegionLaw::new(&model, Region::Contact),
                 RegionLaw::new(&model, Region::Gap),
@@ -450,56 +673,61 @@ impl ExactFlow {
 
     /// Region of a state, with the boundary case decided by the direction of motion.
     fn region_of(&self, x: State, s: f64) -> Region {
-        let a = self.model.acceleration(s, x[0], x[1]);
+        // The acceleration decides only on a boundary at rest.
+        let a = if x[1] == 0.0 && x[0].abs() == 1.0 {
+            self.model.acceleration(s, x[0], x[1])
+        } else {
+            0.0
+        };
         Region::of_state(x[0], x[1], a)
     }
 
-    /// Earliest crossing of a boundary of `seg` in (s_start, s_end], if any.
-    ///
-    /// Far from the boundaries the scan advances by the horizon over which the quadratic lower
-    /// bound d + d' tau - M2 tau^2 / 2 provably stays positive; closer than one nominal scan step it
-    /// searches fixed intervals with [`Self::search`].
+    /// Earliest crossing of a boundary of `seg` in (s0, s_end], if any.
+    #[cfg(test)]
     fn first_crossing(&self, seg: &Segment, s_end: f64) -> Option<(Crossing, Boundary)> {
+        match self.scan(seg, s_end) {
+            Scan::Crossed(c, bd) => Some((c, bd)),
+            Scan::Reached(_) => None,
+        }
+    }
+
+    /// Scan `seg` for its earliest boundary crossing in (s0, s_end].
+    ///
+    /// The scan visits the grid points s0 + k h, where the closed form is tabulated (no exp or
+    /// sin/cos). From each it skips the whole cells inside the horizon over which the quadratic
+    /// lower bound d + d' tau - M2 tau^2 / 2 provably stays positive; a cell it cannot skip is
+    /// searched rigorously by [`Self::search`] from the samples at its two ends.
+    fn scan(&self, seg: &Segment, s_end: f64) -> Scan {
         let bounds = Boundary::of(seg.law.region);
-        let mut a = seg.s0;
-        let mut xa = seg.at_start;
-        let mut m = seg.bounds_from_decay(1.0);
-        while a < s_end {
-            let horizon = bounds
-                .iter()
-                .map(|bd| {
-                    let (d, dv) = bd.distance([xa[0], xa[1]]);
-                    if d > 0.0 {
-                        (dv + (dv * dv + 2.0 * m.0 * d).sqrt()) / m.0
-                    } else {
-                        0.0
-                    }
-                })
-                .fold(f64::INFINITY, f64::min);
-            if 0.9 * horizon > self.scan_step {
-                a = (a + 0.9 * horizon).min(s_end);
-                (xa, m) = seg.full_and_bounds(a);
+        let h = self.scan_step;
+        let mut k = 0u32;
+        let (mut a, mut xa, mut m) = (seg.s0, seg.at_start, seg.bounds_from_decay(1.0));
+        loop {
+            // The bound is positive strictly inside the horizon; the factor keeps rounding clear.
+            let horizon = 0.999 * safe_horizon(bounds, xa, m.0);
+            if a + horizon >= s_end {
+                return Scan::Reached(seg.full(s_end));
+            }
+            // Whole cells inside the horizon (saturating; any count beyond s_end was caught above).
+            let skip = (horizon * self.inv_scan_step) as u32;
+            if skip > 0 {
+                k = k.saturating_add(skip);
+                let (s, x, decay) = seg.at_grid(k);
+                (a, xa, m) = (s, x, seg.bounds_from_decay(decay));
                 continue;
             }
-            // Near a boundary: a bracket just beyond the linear estimate of the crossing keeps the
-            // interval short (monotone, so Newton applies at once); any length is rigorous.
-            let approach = bounds
-                .iter()
-                .map(|bd| {
-                    let (d, dv) = bd.distance([xa[0], xa[1]]);
-                    if dv < 0.0 && d > 0.0 {
-                        2.0 * d / -dv
-                    } else {
-                        f64::INFINITY
-                    }
-                })
-                .fold(f64::INFINITY, f64::min);
-            let b = (a + self.scan_step.min(approach.max(1e-3 * self.scan_step))).min(s_end);
-            let (xb, mb) = seg.full_and_bounds(b);
+            let last = seg.s0 + f64::from(k + 1) * h >= s_end;
+            let (b, xb, decay) = if last {
+                let (x, decay) = seg.full_with_decay(s_end);
+                (s_end, x, decay)
+            } else {
+                seg.at_grid(k + 1)
+            };
+            let mb = seg.bounds_from_decay(decay);
             let mut best: Option<(Crossing, Boundary)> = None;
             for bd in bounds {
                 let mut sa = bd.sample(a, xa);
-                if a == seg.s0 {
+                if k == 0 {
                     // At a segment start on a boundary the distance is exactly zero by construction.
                     sa.d = sa.d.max(0.0);
                 }
@@ -510,14 +738,15 @@ impl ExactFlow {
                     }
                 }
             }
-            if best.is_some() {
-                return best;
+            if let Some((c, bd)) = best {
+                return Scan::Crossed(c, bd);
             }
-            a = b;
-            xa = xb;
-            m = mb;
+            if last {
+                return Scan::Reached(xb);
+            }
+            k += 1;
+            (a, xa, m) = (b, xb, mb);
         }
-        None
     }
 
     /// Earliest root of the distance to `bd` on (a, b]. The interval is discarded only when a
@@ -540,8 +769,9 @@ impl ExactFlow {
         if a.d >= 0.0 && (excluded(a, w, m, 1.0) || (b.d > 0.0 && excluded(b, w, m, -1.0))) {
             return None;
         }
-        if b.d < 0.0 && a.dv + m.0 * w < 0.0 {
-            // d decreases throughout: exactly one root, found by safeguarded Newton.
+        // d' <= min(d'(a) + M2 t, d'(b) + M2 (w - t)) <= (d'(a) + d'(b) + M2 w) / 2 on [a, b].
+        if b.d < 0.0 && a.dv + b.dv + m.0 * w < 0.0 {
+            // d decreases throughout: exactly one root, found by safeguarded Halley.
             return Some(self.refine_root(seg, bd, a, b));
         }
         if depth >= MAX_DEPTH {
@@ -563,25 +793,21 @@ impl ExactFlow {
     }
 
     /// Root of the boundary distance in [a, b] where d(a) >= 0 > d(b): Halley kept in the bracket,
-    /// started from the quadratic Taylor model at a, and returned on the far side of the boundary
-    /// (d <= 0) so the next region starts beyond it.
+    /// started from the root of the quintic Hermite interpolant of the two samples (on a scan
+    /// cell within ~1e-7 of the root, so one Halley step reaches rounding and the evaluation
+    /// there confirms it). The returned time is where the last Halley step fell below rounding,
+    /// with q' from the closed form there.
     fn refine_root(&self, seg: &Segment, bd: &Boundary, a: Sample, b: Sample) -> Crossing {
         let (mut lo, mut hi) = (a.s, b.s);
-        // q' at hi, so that the caller need not evaluate the closed form there again.
+        // q' at hi, for the (rare) exit by bracket width.
         let mut v_hi = bd.sign * b.dv;
-        let mut s = taylor_root(a)
-            .filter(|&t| t > lo && t < hi)
-            .unwrap_or_else(|| {
-                // Secant between the bracket ends.
-                let t = a.s + a.d / (a.d - b.d) * (b.s - a.s);
-                if t > lo && t < hi {
-                    t
-                } else {
-                    0.5 * (lo + hi)
-                }
-            });
+        let mut s = hermite_root(a, b);
+        if !(s > lo && s < hi) {
+            s = 0.5 * (lo + hi);
+        }
         for _ in 0..200 {
-            let x = bd.sample(s, seg.full(s));
+            let (xs, phase) = seg.full_with_phase(s);
+            let x = bd.sample(s, xs);
             let (d, dv) = (x.d, x.dv);
             if d <= 0.0 {
                 hi = s;
@@ -589,31 +815,28 @@ impl ExactFlow {
             } else {
                 lo = s;
             }
+            // Halley's step (cubic convergence; q'' comes with the closed form for free).
+            let den = 2.0 * dv * dv - d * x.dd;
+            let step = if den != 0.0 {
+                -2.0 * d * dv / den
+            } else {
+                -d / dv
+            };
+            // Below rounding of s or of the distance itself, further steps only wander in noise.
             let tol = 2.0 * f64::EPSILON * s.abs().max(1.0);
+            if step.abs() <= tol + seg.noise / dv.abs() {
+                return Crossing {
+                    time: s,
+                    velocity: bd.sign * dv,
+                    phase,
+                };
+            }
             if hi - lo <= tol {
                 break;
             }
-            // Halley's step (cubic convergence; q'' comes with the closed form for free), which
-            // from the Taylor start usually lands within rounding in one step.
-            let den = 2.0 * dv * dv - d * x.dd;
-            let newton = if den != 0.0 {
-                s - 2.0 * d * dv / den
-            } else {
-                s - d / dv
-            };
-            if (newton - s).abs() <= tol {
-                if d <= 0.0 {
-                    return Crossing {
-                        time: s,
-                        velocity: bd.sign * dv,
-                    };
-                }
-                // The root lies within rounding to the right: probe just past it.
-                s = (s + 2.0 * tol).min(hi);
-                continue;
-            }
-            s = if dv != 0.0 && newton > lo && newton < hi {
-                newton
+            let next = s + step;
+            s = if next > lo && next < hi {
+                next
             } else {
                 0.5 * (lo + hi)
             };
@@ -621,6 +844,7 @@ impl ExactFlow {
         Crossing {
             time: hi,
             velocity: v_hi,
+            phase: sin_cos(self.omega * hi),
         }
     }
 
@@ -629,20 +853,22 @@ impl ExactFlow {
         let mut s = 0.0;
         let mut x = x0;
         let mut region = self.region_of(x, s);
+        let mut phase = (0.0, 1.0);
         for _ in 0..MAX_CROSSINGS_PER_PERIOD {
-            let mut seg = Segment::start(self, region, s, x);
-            match self.first_crossing(&seg, self.period) {
-                None => {
+            let mut seg = Segment::start_at_phase(self, region, s, x, phase);
+            match self.scan(&seg, self.period) {
+                Scan::Reached([q, v, _]) => {
                     seg.s1 = self.period;
-                    let xe = seg.state(self.period);
                     on_segment(&seg, self.period - s);
-                    return Ok(xe);
+                    return Ok([q, v]);
                 }
-                Some((Crossing { time: sc, velocity }, bd)) => {
+                Scan::Crossed(c, bd) => {
+                    let sc = c.time;
                     seg.s1 = sc;
                     on_segment(&seg, sc - s);
-                    x = [bd.level, velocity];
+                    x = [bd.level, c.velocity];
                     s = sc;
+                    phase = c.phase;
                     region = bd.beyond;
                 }
             }

@@ -45,27 +45,49 @@ impl Extremes {
             let st = piece.eval(s);
             model.mesh_force(s, st[0], st[1])
         };
-        let (qmin, qmax) = extreme_pair(&q, a, b, n, h);
-        let (xmin, xmax) = extreme_pair(&x, a, b, n, h);
-        let fmax = refine_max(&force, a, b, n, h);
+        // One evaluation of the piece per sample serves all five extrema (the closed form's
+        // evaluations dominate the cost of the analysis).
+        let states: Vec<(f64, [f64; 2])> = (0..=n)
+            .map(|i| {
+                let s = if i == n { b } else { a + i as f64 * h };
+                (s, piece.eval(s))
+            })
+            .collect();
+        let q_samples: Vec<f64> = states.iter().map(|(_, st)| st[0]).collect();
+        let x_samples: Vec<f64> = states.iter().map(|&(s, st)| model.dte(s, st[0])).collect();
+        let force_samples = states
+            .iter()
+            .map(|&(s, st)| model.mesh_force(s, st[0], st[1]));
+        let (qmin, qmax) = extreme_pair(&q, &q_samples, a, b, h);
+        let (xmin, xmax) = extreme_pair(&x, &x_samples, a, b, h);
+        let fmax = refine_max(&force, force_samples, a, b, h);
         self.q = (self.q.0.min(qmin), self.q.1.max(qmax));
         self.dte = (self.dte.0.min(xmin), self.dte.1.max(xmax));
         self.mesh_force_max = self.mesh_force_max.max(fmax);
     }
 }
 
-fn extreme_pair(f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize, h: f64) -> (f64, f64) {
+/// Minimum and maximum of f on [a, b] from its samples f(a + i h) (see [`refine_max`]).
+fn extreme_pair(f: &dyn Fn(f64) -> f64, samples: &[f64], a: f64, b: f64, h: f64) -> (f64, f64) {
     let neg = |s: f64| -f(s);
-    (-refine_max(&neg, a, b, n, h), refine_max(f, a, b, n, h))
+    (
+        -refine_max(&neg, samples.iter().map(|v| -v), a, b, h),
+        refine_max(f, samples.iter().copied(), a, b, h),
+    )
 }
 
-/// Maximum of f on [a, b]: best of n+1 samples, refined by golden section on the bracketing cells.
-fn refine_max(f: &dyn Fn(f64) -> f64, a: f64, b: f64, n: usize, h: f64) -> f64 {
+/// Maximum of f on [a, b]: best of the samples f(a + i h), i = 0..=n (the last at b), refined by
+/// golden section on the cells either side of the best one.
+fn refine_max(
+    f: &dyn Fn(f64) -> f64,
+    samples: impl Iterator<Item = f64>,
+    a: f64,
+    b: f64,
+    h: f64,
+) -> f64 {
     let mut best_i = 0;
     let mut best = f64::NEG_INFINITY;
-    for i in 0..=n {
-        let s = if i == n { b } else { a + i as f64 * h };
-        let v = f(s);
+    for (i, v) in samples.enumerate() {
         if v > best {
             best = v;
             best_i = i;

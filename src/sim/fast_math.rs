@@ -79,6 +79,40 @@ pub(crate) fn sin_cos(x: f64) -> (f64, f64) {
     }
 }
 
+/// (sin x, cos x) for |x| <= pi/4, where no reduction is needed: the fdlibm kernels alone.
+#[inline(always)]
+pub(crate) fn sin_cos_small(x: f64) -> (f64, f64) {
+    debug_assert!(x.abs() <= std::f64::consts::FRAC_PI_4 * (1.0 + 1e-12));
+    (kernel_sin(x), kernel_cos(x))
+}
+
+/// Largest |x| for [`exp_small`]: its degree-9 Taylor polynomial is then exact to
+/// |x|^10 / 10! < 2.7e-19, below half an ulp of the result.
+pub(crate) const EXP_SMALL_LIMIT: f64 = 1.0 / 16.0;
+
+/// e^x for |x| <= [`EXP_SMALL_LIMIT`] by its Taylor polynomial (Horner; no call, no table).
+#[inline(always)]
+pub(crate) fn exp_small(x: f64) -> f64 {
+    debug_assert!(x.abs() <= EXP_SMALL_LIMIT * (1.0 + 1e-12));
+    const C: [f64; 10] = [
+        1.0,
+        1.0,
+        1.0 / 2.0,
+        1.0 / 6.0,
+        1.0 / 24.0,
+        1.0 / 120.0,
+        1.0 / 720.0,
+        1.0 / 5040.0,
+        1.0 / 40320.0,
+        1.0 / 362_880.0,
+    ];
+    let mut p = C[9];
+    for &c in C[..9].iter().rev() {
+        p = p * x + c;
+    }
+    p
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -101,6 +135,23 @@ mod tests {
             let (s, c) = sin_cos(x);
             let (s0, c0) = x.sin_cos();
             assert!((s - s0).abs() < 1e-14 && (c - c0).abs() < 1e-14, "{x}");
+        }
+    }
+
+    /// The reduction-free kernels and the short exp series against the standard library over
+    /// their whole ranges: within an ulp or two.
+    #[test]
+    fn small_argument_kernels_match_std() {
+        for i in -2000..=2000 {
+            let x = EXP_SMALL_LIMIT * i as f64 / 2000.0;
+            let (e, e0) = (exp_small(x), x.exp());
+            assert!((e - e0).abs() <= 2.0 * f64::EPSILON * e0, "exp {x}");
+            let y = std::f64::consts::FRAC_PI_4 * i as f64 / 2000.0;
+            let ((s, c), (s0, c0)) = (sin_cos_small(y), y.sin_cos());
+            assert!(
+                (s - s0).abs() <= 2.3e-16 && (c - c0).abs() <= 2.3e-16,
+                "sin_cos {y}"
+            );
         }
     }
 
