@@ -132,19 +132,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ));
         // Discrepancy discovery (issue 5) on the same four-load set: M0 fit, tests, 499
         // bootstrap replicates, candidate dictionary and refits of the significant candidates.
-        let t = Instant::now();
-        let d = geardyn::discover::discover(
-            &data,
-            &geardyn::discover::DiscoverOptions::default(),
-            &NoProgress,
-        )?;
-        text.push_str(&format!(
-            "discover on data/munro (4 loads, {} speeds, effect {}): {:.1} s on {} threads\n",
-            data.points.len(),
-            d.effect,
-            t.elapsed().as_secs_f64(),
-            rayon::current_num_threads()
-        ));
+        text.push_str(&timed_discover(&data, "data/munro")?);
     }
     if a.discover_refit {
         text.push_str(&discover_refit_timing()?);
@@ -176,20 +164,29 @@ fn discover_refit_timing() -> anyhow::Result<String> {
     let timed = (|| -> anyhow::Result<String> {
         geardyn::validate::synth_munro(&truth, &dir, &NoProgress)?;
         let data = geardyn::data::load_munro(&dir)?;
-        let t = Instant::now();
-        let d = geardyn::discover::discover(
+        timed_discover(
             &data,
-            &geardyn::discover::DiscoverOptions::default(),
-            &NoProgress,
-        )?;
-        Ok(format!(
-            "discover on a SYNTHETIC 4-load set with the 2nd STE harmonic hidden ({} speeds, effect {}): {:.1} s on {} threads\n",
-            data.points.len(),
-            d.effect,
-            t.elapsed().as_secs_f64(),
-            rayon::current_num_threads()
-        ))
+            "a SYNTHETIC 4-load set with the 2nd STE harmonic hidden",
+        )
     })();
     let _ = std::fs::remove_dir_all(&dir);
     timed
+}
+
+/// One whole `discover` run with default options, timed: the report line.
+fn timed_discover(data: &geardyn::data::MunroData, what: &str) -> anyhow::Result<String> {
+    let t = Instant::now();
+    let d = geardyn::discover::discover(
+        data,
+        &geardyn::discover::DiscoverOptions::default(),
+        &NoProgress,
+    )?;
+    Ok(format!(
+        "discover on {what} ({} loads, {} speeds, effect {}): {:.1} s on {} threads\n",
+        data.loads().len(),
+        data.points.len(),
+        d.effect,
+        t.elapsed().as_secs_f64(),
+        rayon::current_num_threads()
+    ))
 }

@@ -48,28 +48,25 @@ mod tests {
         DVector::from_row_slice(x)
     }
 
+    fn c(index: usize, drop: f64, direction: &DVector<f64>) -> Contender<'_> {
+        Contender {
+            index,
+            drop,
+            direction,
+        }
+    }
+
     /// Two candidates whose refits fit equally well (drops 3 sigma^2 apart) are ambiguous
     /// whatever their directions; 10 sigma^2 apart and orthogonal, the better one is named.
     #[test]
     fn equal_fits_are_ambiguous_distinct_fits_are_not() {
         let (a, b) = (v(&[1.0, 0.0, 0.0]), v(&[0.0, 1.0, 0.0]));
-        let best = Contender {
-            index: 0,
-            drop: 100.0,
-            direction: &a,
-        };
-        let close = Contender {
-            index: 1,
-            drop: 97.0,
-            direction: &b,
-        };
-        assert_eq!(ambiguous_with(&best, &[best, close], 0.95), vec![1]);
-        let far = Contender {
-            index: 1,
-            drop: 90.0,
-            direction: &b,
-        };
-        assert!(ambiguous_with(&best, &[best, far], 0.95).is_empty());
+        let best = c(0, 100.0, &a);
+        assert_eq!(
+            ambiguous_with(&best, &[best, c(1, 97.0, &b)], 0.95),
+            vec![1]
+        );
+        assert!(ambiguous_with(&best, &[best, c(1, 90.0, &b)], 0.95).is_empty());
     }
 
     /// Nearly collinear directions (cos 0.995) with drops 4.2 sigma^2 apart out of 100 (inside
@@ -83,28 +80,12 @@ mod tests {
         let oblique = v(&[0.6, 0.8, 0.0]);
         let cos = a.dot(&collinear).abs() / (a.norm() * collinear.norm());
         assert!(cos > 0.99 && cos < 0.999, "{cos}");
-        let best = Contender {
-            index: 2,
-            drop: 100.0,
-            direction: &a,
-        };
-        let c = Contender {
-            index: 4,
-            drop: 95.8,
-            direction: &collinear,
-        };
-        assert_eq!(ambiguous_with(&best, &[c], 0.99), vec![4]);
-        let o = Contender {
-            index: 4,
-            drop: 95.8,
-            direction: &oblique,
-        };
-        assert!(ambiguous_with(&best, &[o], 0.99).is_empty());
-        let c_far = Contender {
-            index: 4,
-            drop: 80.0,
-            direction: &collinear,
-        };
-        assert!(ambiguous_with(&best, &[c_far], 0.99).is_empty());
+        let best = c(2, 100.0, &a);
+        assert_eq!(
+            ambiguous_with(&best, &[c(4, 95.8, &collinear)], 0.99),
+            vec![4]
+        );
+        assert!(ambiguous_with(&best, &[c(4, 95.8, &oblique)], 0.99).is_empty());
+        assert!(ambiguous_with(&best, &[c(4, 80.0, &collinear)], 0.99).is_empty());
     }
 }
