@@ -3,6 +3,7 @@
 
 mod attractors;
 mod exact;
+mod exact_bounds;
 mod extrema;
 mod fast_math;
 mod flow;
