@@ -130,7 +130,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.elapsed().as_secs_f64(),
             rayon::current_num_threads()
         ));
-        // Discrepancy discovery (issue 5) on the same four-load set: M0 fit, tests, 499
+        // Discrepancy discovery (issue 5) on the same four-load set: M0 fit, tests, 1999
         // bootstrap replicates, candidate dictionary and refits of the significant candidates.
         text.push_str(&timed_discover(&data, "data/munro")?);
     }

@@ -18,7 +18,7 @@ pub struct Args {
     #[arg(long, default_value = "reports/discover")]
     out: PathBuf,
     /// Parametric bootstrap replicates under M0 (at least 320 at alpha 0.05).
-    #[arg(long, default_value_t = 499)]
+    #[arg(long, default_value_t = 1999)]
     bootstrap: usize,
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 12345)]

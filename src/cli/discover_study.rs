@@ -33,7 +33,7 @@ pub struct Args {
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
     /// Bootstrap replicates per discovery run.
-    #[arg(long, default_value_t = 499)]
+    #[arg(long, default_value_t = 1999)]
     bootstrap: usize,
     /// Summary JSON (the scratch data sets go next to it, in a folder removed at the end).
     #[arg(long, default_value = "reports/discover-study/summary.json")]

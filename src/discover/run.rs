@@ -42,7 +42,7 @@ pub struct DiscoverOptions {
 impl Default for DiscoverOptions {
     fn default() -> Self {
         DiscoverOptions {
-            bootstrap: 499,
+            bootstrap: 1999,
             seed: 12345,
             noise_um: None,
             alpha: 0.05,
