@@ -256,14 +256,11 @@ pub fn write_rig(path: &Path, rig: &RigFile) -> Result<()> {
     rig.check(&TomlDoc::new(path, ""))?;
     let text = toml::to_string(rig)
         .map_err(|e| data_error(path, 0, WHOLE_FILE, format!("cannot encode TOML: {e}")))?;
-    let io = |source| GearError::Io {
-        path: path.to_path_buf(),
-        source,
-    };
+    let io = GearError::io(path);
     let mut tmp = path.as_os_str().to_owned();
     tmp.push(".partial");
     let tmp = std::path::PathBuf::from(tmp);
-    std::fs::write(&tmp, text).map_err(io)?;
+    std::fs::write(&tmp, text).map_err(&io)?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         io(e)

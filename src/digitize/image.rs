@@ -46,13 +46,12 @@ impl RgbImage {
 
 /// Reads the PNG file at `path`.
 pub fn read_png(path: &Path) -> Result<RgbImage> {
-    let file = std::fs::File::open(path).map_err(|source| GearError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    decode_png(std::io::BufReader::new(file)).map_err(|message| GearError::Io {
-        path: path.to_path_buf(),
-        source: std::io::Error::new(std::io::ErrorKind::InvalidData, message),
+    let file = std::fs::File::open(path).map_err(GearError::io(path))?;
+    decode_png(std::io::BufReader::new(file)).map_err(|message| {
+        GearError::io(path)(std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            message,
+        ))
     })
 }
 

@@ -55,10 +55,7 @@ pub(crate) fn write_figure(fig: &impl Figure, stem: &Path) -> Result<Vec<PathBuf
         ));
     }
     if let Some(dir) = stem.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).map_err(|source| GearError::Io {
-            path: dir.to_path_buf(),
-            source,
-        })?;
+        std::fs::create_dir_all(dir).map_err(GearError::io(dir))?;
     }
     let size = fig.size();
     if u64::from(size.0) * u64::from(size.1) > MAX_PIXELS {
@@ -73,10 +70,7 @@ pub(crate) fn write_figure(fig: &impl Figure, stem: &Path) -> Result<Vec<PathBuf
             .and_then(|()| root.present().map_err(msg))
             .map_err(|m| plot_err(&svg, m))?;
     }
-    std::fs::write(&svg, text).map_err(|source| GearError::Io {
-        path: svg.clone(),
-        source,
-    })?;
+    std::fs::write(&svg, text).map_err(GearError::io(&svg))?;
 
     {
         let root = BitMapBackend::new(&png, size).into_drawing_area();

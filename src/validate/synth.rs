@@ -388,15 +388,10 @@ fn synthetic_source(citation: &str, figure: &str, truth: toml::Table) -> Source 
 
 /// Write rig.toml and one CSV, replacing any previous set in `dir` only once both are ready.
 fn write_set(dir: &Path, rig: &RigFile, csv_name: &str, rows: &str) -> Result<()> {
-    std::fs::create_dir_all(dir).map_err(|e| GearError::Io {
-        path: dir.to_path_buf(),
-        source: e,
-    })?;
+    std::fs::create_dir_all(dir).map_err(GearError::io(dir))?;
     write_rig(&dir.join("rig.toml"), rig)?;
-    std::fs::write(dir.join(csv_name), rows).map_err(|e| GearError::Io {
-        path: dir.join(csv_name),
-        source: e,
-    })
+    let csv = dir.join(csv_name);
+    std::fs::write(&csv, rows).map_err(GearError::io(&csv))
 }
 
 /// Truth of a synthetic Kubo-style set: the dynamic-factor envelope of several tooth pairs.
