@@ -33,6 +33,26 @@ fn run(dir: &Path) -> Discovery {
     discover(&data, &DiscoverOptions::default(), &NoProgress).unwrap()
 }
 
+/// The effect is named `name` and its true value lies inside the reported 95% interval.
+fn assert_named_with_truth_inside(d: &Discovery, name: &str, truth: f64) {
+    assert_eq!(d.effect, name, "{:#?}", d.candidates);
+    let c = d.candidates.iter().find(|c| c.name == d.effect).unwrap();
+    let (lo, hi) = c.ci95.unwrap();
+    assert!(
+        lo <= truth && truth <= hi,
+        "{name} {:?} [{lo}, {hi}]",
+        c.estimate
+    );
+}
+
+/// Held-out RMS gap (um) before and after adding the effect.
+fn held_out_rms(d: &Discovery) -> (f64, f64) {
+    (
+        d.gap_before.held_out.as_ref().unwrap().rms_um,
+        d.gap_after.held_out.as_ref().unwrap().rms_um,
+    )
+}
+
 fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
@@ -121,14 +141,8 @@ fn hidden_mesh_stiffness_variation_is_named_and_sized() {
     };
     make_set(tmp.path(), h, 7);
     let d = run(tmp.path());
-    assert_eq!(d.effect, "mesh_stiffness_variation", "{:#?}", d.candidates);
-    let c = d.candidates.iter().find(|c| c.name == d.effect).unwrap();
-    let (lo, hi) = c.ci95.unwrap();
-    assert!(lo <= 0.2 && 0.2 <= hi, "eps {:?} [{lo}, {hi}]", c.estimate);
-    let (b, a) = (
-        d.gap_before.held_out.as_ref().unwrap().rms_um,
-        d.gap_after.held_out.as_ref().unwrap().rms_um,
-    );
+    assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
+    let (b, a) = held_out_rms(&d);
     assert!(a < 0.5 * b, "held-out RMS {b} -> {a}");
     assert!(d.gap_after.training.rms_um < 0.5 * d.gap_before.training.rms_um);
 }
@@ -146,10 +160,7 @@ fn hidden_second_ste_harmonic_is_named_and_sized() {
     };
     make_set(tmp.path(), h, 3);
     let d = run(tmp.path());
-    assert_eq!(d.effect, "ste_harmonics", "{:#?}", d.candidates);
-    let c = d.candidates.iter().find(|c| c.name == d.effect).unwrap();
-    let (lo, hi) = c.ci95.unwrap();
-    assert!(lo <= 0.4 && 0.4 <= hi, "r2 {:?} [{lo}, {hi}]", c.estimate);
+    assert_named_with_truth_inside(&d, "ste_harmonics", 0.4);
     assert!(
         d.gap_after.training.rms_um < 0.3,
         "{:?}",
@@ -165,10 +176,7 @@ fn hidden_second_ste_harmonic_is_named_and_sized() {
             .unwrap();
         assert!((after / truth - 1.0).abs() < 0.05, "{load} N: STE {after}");
     }
-    let (b, a) = (
-        d.gap_before.held_out.as_ref().unwrap().rms_um,
-        d.gap_after.held_out.as_ref().unwrap().rms_um,
-    );
+    let (b, a) = held_out_rms(&d);
     assert!(a < 0.3 && a < b, "held-out RMS {b} -> {a}");
 }
 
@@ -193,18 +201,8 @@ fn hidden_load_dependent_damping_is_named_and_sized() {
     make_set_at(tmp.path(), h, 2, loads);
     let d = run(tmp.path());
     assert_eq!(d.training_loads_n, vec![3780.0, 1890.0, 945.0]);
-    assert_eq!(d.effect, "damping_law", "{:#?}", d.candidates);
-    let c = d.candidates.iter().find(|c| c.name == d.effect).unwrap();
-    let (lo, hi) = c.ci95.unwrap();
-    assert!(
-        lo <= -1.0 && -1.0 <= hi,
-        "gamma {:?} [{lo}, {hi}]",
-        c.estimate
-    );
-    let (b, a) = (
-        d.gap_before.held_out.as_ref().unwrap().rms_um,
-        d.gap_after.held_out.as_ref().unwrap().rms_um,
-    );
+    assert_named_with_truth_inside(&d, "damping_law", -1.0);
+    let (b, a) = held_out_rms(&d);
     assert!(a < b, "held-out RMS {b} -> {a}");
 }
 

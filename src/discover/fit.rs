@@ -90,10 +90,11 @@ pub fn fit_model(
     })
 }
 
-/// Relative STE amplitudes scanned around the start of [`fit_ste`], then around the best of
-/// those (2% steps, finer than the coarse scan's 10-15%).
-const STE_SCAN_FINE: [f64; 9] = [0.92, 0.94, 0.96, 0.98, 1.0, 1.02, 1.04, 1.06, 1.08];
+/// Relative STE amplitudes scanned around the start of [`fit_ste`].
 const STE_SCAN: [f64; 12] = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4, 1.6, 1.8, 2.0];
+/// Then around the best of those, in 2% steps (the coarse scan's are 10-15%); the factor 1,
+/// the coarse best itself, is already evaluated.
+const STE_SCAN_FINE: [f64; 8] = [0.92, 0.94, 0.96, 0.98, 1.02, 1.04, 1.06, 1.08];
 
 /// STE amplitude of curve `i` alone, with zeta, omega_n and the effect fixed. The pp response
 /// is not smooth in the STE (a jump moves by a grid step, a branch appears), so a local fit from
@@ -113,7 +114,8 @@ pub fn fit_ste(
         Ok(residuals_of(setup, &[i], &[pred], mask, sigma))
     };
     let rss = |e: f64| f(&[e]).map(|r| r.iter().map(|x| x * x).sum::<f64>());
-    let scan = |factors: &[f64], around: f64| -> Result<f64> {
+    // (amplitude, RSS) of the best finite point of the scan, if any.
+    let scan = |factors: &[f64], around: f64| -> Result<Option<(f64, f64)>> {
         let scanned: Vec<(f64, f64)> = factors
             .par_iter()
             .map(|k| {
@@ -122,13 +124,20 @@ pub fn fit_ste(
             })
             .collect::<Result<_>>()?;
         Ok(scanned
-            .iter()
+            .into_iter()
             .filter(|(_, r)| r.is_finite())
-            .min_by(|a, b| a.1.total_cmp(&b.1))
-            .map_or(around, |b| b.0))
+            .min_by(|a, b| a.1.total_cmp(&b.1)))
     };
-    let coarse = scan(&STE_SCAN, start.abs())?;
-    let best = scan(&STE_SCAN_FINE, coarse)?;
+    let best = match scan(&STE_SCAN, start.abs())? {
+        Some(coarse) => {
+            scan(&STE_SCAN_FINE, coarse.0)?
+                // Ties go to the smaller amplitude, the first in scan order.
+                .filter(|fine| fine.1 < coarse.1 || (fine.1 == coarse.1 && fine.0 < coarse.0))
+                .unwrap_or(coarse)
+                .0
+        }
+        None => scan(&STE_SCAN_FINE, start.abs())?.map_or(start.abs(), |fine| fine.0),
+    };
     let lm = levenberg_marquardt(&f, &[best], &[0.05], 8)?;
     Ok((lm.params[0].abs(), lm))
 }
