@@ -28,6 +28,13 @@ fn make_set_at(dir: &Path, hidden: HiddenEffects, seed: u64, loads: Vec<(f64, f6
     synth_munro(&t, dir, &NoProgress).unwrap();
 }
 
+/// `discover` on a fresh set at the given loads with `hidden` inside.
+fn discover_hidden(hidden: HiddenEffects, seed: u64, loads: Vec<(f64, f64)>) -> Discovery {
+    let tmp = tempfile::tempdir().unwrap();
+    make_set_at(tmp.path(), hidden, seed, loads);
+    run(tmp.path())
+}
+
 fn run(dir: &Path) -> Discovery {
     let data = load_munro(dir).unwrap();
     discover(&data, &DiscoverOptions::default(), &NoProgress).unwrap()
@@ -134,13 +141,11 @@ fn null_set_gives_none_without_reading_the_truth() {
 /// k(t) = 1 + 0.2 cos(Omega t): named, eps inside its 95% interval, held-out gap shrinks.
 #[test]
 fn hidden_mesh_stiffness_variation_is_named_and_sized() {
-    let tmp = tempfile::tempdir().unwrap();
     let h = HiddenEffects {
         stiffness_eps: 0.2,
         ..HiddenEffects::default()
     };
-    make_set(tmp.path(), h, 7);
-    let d = run(tmp.path());
+    let d = discover_hidden(h, 7, MunroTruth::default_munro().ste_um);
     assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
     let (b, a) = held_out_rms(&d);
     assert!(a < 0.5 * b, "held-out RMS {b} -> {a}");
@@ -153,13 +158,11 @@ fn hidden_mesh_stiffness_variation_is_named_and_sized() {
 /// the quasi-static pp at 945 N), and the held-out gap falls below twice the noise (0.15 um).
 #[test]
 fn hidden_second_ste_harmonic_is_named_and_sized() {
-    let tmp = tempfile::tempdir().unwrap();
     let h = HiddenEffects {
         ste2_ratio: 0.4,
         ..HiddenEffects::default()
     };
-    make_set(tmp.path(), h, 3);
-    let d = run(tmp.path());
+    let d = discover_hidden(h, 3, MunroTruth::default_munro().ste_um);
     assert_named_with_truth_inside(&d, "ste_harmonics", 0.4);
     assert!(
         d.gap_after.training.rms_um < 0.3,
@@ -186,7 +189,6 @@ fn hidden_second_ste_harmonic_is_named_and_sized() {
 /// inside its 95% interval, held-out gap smaller.
 #[test]
 fn hidden_load_dependent_damping_is_named_and_sized() {
-    let tmp = tempfile::tempdir().unwrap();
     let h = HiddenEffects {
         damping_exponent: -1.0,
         ..HiddenEffects::default()
@@ -198,8 +200,7 @@ fn hidden_load_dependent_damping_is_named_and_sized() {
         (1418.0, 3.0),
         (945.0, 3.5),
     ];
-    make_set_at(tmp.path(), h, 2, loads);
-    let d = run(tmp.path());
+    let d = discover_hidden(h, 2, loads);
     assert_eq!(d.training_loads_n, vec![3780.0, 1890.0, 945.0]);
     assert_named_with_truth_inside(&d, "damping_law", -1.0);
     let (b, a) = held_out_rms(&d);
@@ -209,14 +210,12 @@ fn hidden_load_dependent_damping_is_named_and_sized() {
 /// A measuring-chain resonance at 2300 Hz (+50%) is nothing in the library: "unexplained".
 #[test]
 fn effect_outside_the_library_is_unexplained() {
-    let tmp = tempfile::tempdir().unwrap();
     let h = HiddenEffects {
         sensor_peak_hz: 2300.0,
         sensor_peak_gain: 0.5,
         ..HiddenEffects::default()
     };
-    make_set(tmp.path(), h, 3);
-    let d = run(tmp.path());
+    let d = discover_hidden(h, 3, MunroTruth::default_munro().ste_um);
     assert!(d.detected);
     assert_eq!(d.effect, "unexplained", "{:#?}", d.candidates);
 }

@@ -44,6 +44,9 @@ impl Searches {
     }
 }
 
+/// One of the paper's parameter sets at a frequency (or other swept value).
+type PointAt = fn(f64) -> Point;
+
 fn light(omega: f64) -> Point {
     Point {
         fm: FM,
@@ -331,22 +334,28 @@ pub(crate) fn build(
     claims.sort_by(|a, b| a.id.cmp(&b.id));
 
     let mut figs = Vec::new();
-    figs.push(phase_planes(
-        "fig02-phase-planes",
-        "Fig. 2: phase planes, F_hat = 0.5",
-        &FIG2_OMEGAS
-            .iter()
-            .map(|&w| get(light(w), &g).map(|m| (light(w), m)))
-            .collect::<Result<Vec<_>>>()?,
-    )?);
-    figs.push(phase_planes(
-        "fig05-phase-planes",
-        "Fig. 5: phase planes, F_hat = 2",
-        &FIG2_OMEGAS
-            .iter()
-            .map(|&w| get(heavy(w), &g).map(|m| (heavy(w), m)))
-            .collect::<Result<Vec<_>>>()?,
-    )?);
+    let planes: [(&str, &str, PointAt); 2] = [
+        (
+            "fig02-phase-planes",
+            "Fig. 2: phase planes, F_hat = 0.5",
+            light,
+        ),
+        (
+            "fig05-phase-planes",
+            "Fig. 5: phase planes, F_hat = 2",
+            heavy,
+        ),
+    ];
+    for (name, title, point) in planes {
+        figs.push(phase_planes(
+            name,
+            title,
+            &FIG2_OMEGAS
+                .iter()
+                .map(|&w| get(point(w), &g).map(|m| (point(w), m)))
+                .collect::<Result<Vec<_>>>()?,
+        )?);
+    }
     figs.push(basin_map(
         DIR,
         "fig03-basins",
