@@ -96,6 +96,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "held-out RMS gap shrank in {c}/{n} correctly named seeds\n"
         ));
     }
+    if !s.calibration.is_empty() {
+        msg.push_str(
+            "raw p-values per test (calibrated under the null: 5% below 0.05, 1% below 0.01):\n",
+        );
+        for c in &s.calibration {
+            msg.push_str(&format!(
+                "  {:<34} {:>4}/{:<4} below 0.05 (Wilson {:.1}-{:.1}%), {:>3} below 0.01, KS {:.3}\n",
+                c.name,
+                c.below_5pct.0,
+                c.seeds,
+                100.0 * c.below_5pct.1 .0,
+                100.0 * c.below_5pct.1 .1,
+                c.below_1pct.0,
+                c.ks_distance
+            ));
+        }
+    }
     msg.push_str(&format!("wrote {}\n", a.out.display()));
     print_text(&msg)
 }

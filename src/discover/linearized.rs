@@ -6,8 +6,9 @@
 //! each replicate, so the Monte Carlo p-values are calibrated for the fit's degrees of freedom,
 //! the noise estimate, the boundary of amplitude parameters and the non-smooth pp response.
 
+use super::forward::CurvePrediction;
 use super::stats::{noise_from_differences, runs_z};
-use super::windows::Window;
+use super::windows::{windows, Window};
 use nalgebra::{DMatrix, DVector};
 
 /// Everything fixed under the null: fitted M0 curves, mask, projections, probe curves.
@@ -58,6 +59,35 @@ pub fn detection_names(windows: &[Window]) -> Vec<String> {
 }
 
 impl Linearized {
+    /// At a fit: its predictions `f0` of every curve, the mask, the training Jacobian (rows: the
+    /// training curves' kept points in order) and each held-out curve's STE sensitivity column.
+    pub fn at_fit(
+        f0: &[CurvePrediction],
+        mask: &[Vec<bool>],
+        train: &[usize],
+        jacobian: &DMatrix<f64>,
+        held: &[(usize, f64, DVector<f64>)],
+        omega: &[Vec<f64>],
+        fixed_sigma: Option<f64>,
+    ) -> Self {
+        let q = jacobian.clone().qr().q();
+        let q_train = q
+            .columns(0, jacobian.ncols().min(jacobian.nrows()))
+            .into_owned();
+        Linearized {
+            f0: f0.iter().map(|p| p.dte_pp_um.clone()).collect(),
+            mask: mask.to_vec(),
+            train: train.to_vec(),
+            q_train,
+            q_held: held.iter().map(|(i, _, c)| (*i, c.normalize())).collect(),
+            omega: omega.to_vec(),
+            windows: windows(),
+            probes: Vec::new(),
+            zero: None,
+            fixed_sigma,
+        }
+    }
+
     fn project_out(q: &DMatrix<f64>, v: &DVector<f64>) -> DVector<f64> {
         v - q * (q.transpose() * v)
     }

@@ -10,6 +10,8 @@
 //! remove is `unexplained`.
 
 mod ambiguity;
+#[cfg(test)]
+mod bootstrap_check;
 mod effects;
 mod fit;
 mod forward;

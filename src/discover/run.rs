@@ -9,7 +9,7 @@ use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, Mod
 use super::forward::{predict_many, CurvePrediction, Setup};
 use super::linearized::{detection_names, Linearized, Statistics};
 use super::stats::{bootstrap_p, chi2_sf, holm};
-use super::windows::{windows, Window};
+use super::windows::Window;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
@@ -398,6 +398,82 @@ fn refit_candidate(
     Ok((f3, m2))
 }
 
+/// M0 fitted to the training curves with everything the tests need fixed under the null.
+pub(super) struct M0Fit {
+    pub m0: ModelFit,
+    pub mask: Mask,
+    /// Predictions of every curve (held-out ones with their STE fitted alone).
+    pub f0: Vec<CurvePrediction>,
+    pub held0: Vec<HeldFit>,
+    /// Omega of every point at the fitted omega_n.
+    pub omega: Vec<Vec<f64>>,
+    /// The linearised statistics at this fit, without candidate probes.
+    pub lin: Linearized,
+}
+
+/// Fit M0: closed-form start at the highest load, then the simulated up-sweeps, first on every
+/// point, then again on the points the mask keeps; held-out STE amplitudes fitted alone.
+pub(super) fn fit_m0(
+    setup: &Setup,
+    train: &[usize],
+    held: &[usize],
+    sigma: f64,
+    fixed_sigma: Option<f64>,
+    progress: &dyn Progress,
+) -> Result<M0Fit> {
+    let n_curves = setup.curves.len();
+    let (g0, e0) = linear_start(setup, train[0])?;
+    let mut start = vec![g0.zeta, g0.omega_n_hz, e0];
+    start.extend(train[1..].iter().map(|&i| ste_from_low_speed(setup, i, g0)));
+    let all: Mask = setup
+        .curves
+        .iter()
+        .map(|c| vec![true; c.speeds_rpm.len()])
+        .collect();
+    let m0 = fit_model(setup, train, &all, sigma, None, &start, 25)?;
+    progress.advance(1);
+    // Held-out STE from the quasi-static end for the mask; fitted afterwards.
+    let pre_ste: Vec<f64> = (0..n_curves)
+        .map(|i| match train.iter().position(|&t| t == i) {
+            Some(k) => m0.ste_um[k],
+            None => ste_from_low_speed(setup, i, m0.globals),
+        })
+        .collect();
+    let every: Vec<usize> = (0..n_curves).collect();
+    let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
+    let mask = make_mask(&pre, sigma);
+    let m0 = fit_model(setup, train, &mask, sigma, None, &m0.lm.params.clone(), 30)?;
+    let (f0, held0) = predict_all(setup, &m0, train, held, &mask, sigma, None)?;
+    progress.advance(1);
+    let omega: Vec<Vec<f64>> = setup
+        .curves
+        .iter()
+        .map(|c| {
+            c.speeds_rpm
+                .iter()
+                .map(|s| setup.dim.omega(*s, m0.globals.omega_n_hz))
+                .collect()
+        })
+        .collect();
+    let lin = Linearized::at_fit(
+        &f0,
+        &mask,
+        train,
+        &m0.lm.jacobian,
+        &held0,
+        &omega,
+        fixed_sigma,
+    );
+    Ok(M0Fit {
+        m0,
+        mask,
+        f0,
+        held0,
+        omega,
+        lin,
+    })
+}
+
 /// Run the discovery workflow on a Munro-style data set. Reads the curves and the rig's stated
 /// geometry only: never `[source.truth]`.
 pub fn discover(
@@ -459,42 +535,15 @@ pub fn discover_setup(
         .collect();
     progress.start(4 + probes.len() as u64, "discovery steps");
 
-    // 1. M0 on the training loads: closed-form start at the highest load, then the simulated
-    //    up-sweeps, first on every point, then again on the kept points.
-    let (g0, e0) = linear_start(setup, train[0])?;
-    let mut start = vec![g0.zeta, g0.omega_n_hz, e0];
-    start.extend(train[1..].iter().map(|&i| ste_from_low_speed(setup, i, g0)));
-    let all: Mask = setup
-        .curves
-        .iter()
-        .map(|c| vec![true; c.speeds_rpm.len()])
-        .collect();
-    let m0 = fit_model(setup, &train, &all, sigma, None, &start, 25)?;
-    progress.advance(1);
-    // Held-out STE from the quasi-static end for the mask; fitted afterwards.
-    let pre_ste: Vec<f64> = (0..n_curves)
-        .map(|i| match train.iter().position(|&t| t == i) {
-            Some(k) => m0.ste_um[k],
-            None => ste_from_low_speed(setup, i, m0.globals),
-        })
-        .collect();
-    let every: Vec<usize> = (0..n_curves).collect();
-    let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
-    let mask = make_mask(&pre, sigma);
-    let m0 = fit_model(setup, &train, &mask, sigma, None, &m0.lm.params.clone(), 30)?;
-    let (f0, held0) = predict_all(setup, &m0, &train, &held, &mask, sigma, None)?;
-    progress.advance(1);
-    let omega: Vec<Vec<f64>> = setup
-        .curves
-        .iter()
-        .map(|c| {
-            c.speeds_rpm
-                .iter()
-                .map(|s| setup.dim.omega(*s, m0.globals.omega_n_hz))
-                .collect()
-        })
-        .collect();
-    let ws = windows();
+    let M0Fit {
+        m0,
+        mask,
+        f0,
+        held0,
+        omega,
+        mut lin,
+    } = fit_m0(setup, &train, &held, sigma, opts.noise_um, progress)?;
+    let ws = lin.windows.clone();
 
     // 2. Probe dictionary at the M0 fit (training curves).
     let probe_curves: Vec<Result<(usize, Vec<f64>)>> = probes
@@ -514,33 +563,16 @@ pub fn discover_setup(
             Ok((*c, v))
         })
         .collect();
-    let j = &m0.lm.jacobian;
-    let q_train = j.clone().qr().q();
-    let q_train = q_train.columns(0, j.ncols().min(j.nrows())).into_owned();
+    let q_train = &lin.q_train;
     let mut dict: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
     let mut dict_delta: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
     for (pc, (c, d)) in probe_curves.into_iter().zip(&probes) {
         let (_, v) = pc?;
         let v = DVector::from_vec(v);
-        dict[*c].push(&v - &q_train * (q_train.transpose() * &v));
+        dict[*c].push(&v - q_train * (q_train.transpose() * &v));
         dict_delta[*c].push(d.clone());
     }
-    let q_held = held0
-        .iter()
-        .map(|(i, _, col)| (*i, col.normalize()))
-        .collect();
-    let lin = Linearized {
-        f0: f0.iter().map(|p| p.dte_pp_um.clone()).collect(),
-        mask: mask.clone(),
-        train: train.clone(),
-        q_train: q_train.clone(),
-        q_held,
-        omega: omega.clone(),
-        windows: ws.clone(),
-        probes: dict.clone(),
-        fixed_sigma: opts.noise_um,
-        zero: None,
-    };
+    lin.probes = dict.clone();
 
     // 3. Observed statistics and the bootstrap under M0.
     let observed = lin.statistics(&measured);

@@ -124,9 +124,30 @@ pub fn bootstrap_p(observed: f64, replicates: &[f64]) -> f64 {
     (1 + ge) as f64 / (replicates.len() + 1) as f64
 }
 
+/// Kolmogorov-Smirnov distance sup |F_n(p) - p| of sorted values in [0, 1] from the uniform
+/// distribution (0 for no values).
+pub fn ks_from_uniform(sorted: &[f64]) -> f64 {
+    let n = sorted.len() as f64;
+    sorted
+        .iter()
+        .enumerate()
+        .map(|(i, &p)| (p - i as f64 / n).max((i + 1) as f64 / n - p))
+        .fold(0.0, f64::max)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn ks_distance_of_an_even_grid_and_a_pile_up() {
+        // Midpoints (i + 1/2) / n are the closest n points to uniform: distance 1 / (2n).
+        let grid: Vec<f64> = (0..10).map(|i| (i as f64 + 0.5) / 10.0).collect();
+        assert!((ks_from_uniform(&grid) - 0.05).abs() < 1e-15);
+        // Everything at 0.01: the empirical CDF is 1 from 0.01 on, distance 0.99.
+        assert!((ks_from_uniform(&[0.01; 5]) - 0.99).abs() < 1e-15);
+        assert_eq!(ks_from_uniform(&[]), 0.0);
+    }
 
     #[test]
     fn normal_and_chi2_tails_match_tables() {

@@ -5,7 +5,7 @@
 
 use super::effects::Candidate;
 use super::run::{discover, DiscoverOptions, Discovery};
-use super::stats::wilson95;
+use super::stats::{ks_from_uniform, wilson95};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
@@ -101,7 +101,23 @@ pub struct SeedOutcome {
     pub covered: Option<bool>,
     pub held_out_rms_before_um: Option<f64>,
     pub held_out_rms_after_um: Option<f64>,
+    /// Raw (unadjusted) bootstrap p-value of every detection test and every identifiable
+    /// candidate's likelihood ratio, by name: under the null each should be uniform.
+    pub p_values: Vec<(String, f64)>,
     pub seconds: f64,
+}
+
+/// How often one test's raw p-value fell below 0.05 and 0.01 over the seeds, with Wilson 95%
+/// intervals, and the Kolmogorov-Smirnov distance of its p-values from uniform: under the null
+/// a calibrated test gives 5% and 1% (the Monte Carlo p-value (1 + #{T* >= T}) / (B + 1) is
+/// slightly conservative), so this shows which test, if any, a false-positive excess comes from.
+#[derive(Clone, Debug, Serialize)]
+pub struct TestCalibration {
+    pub name: String,
+    pub seeds: usize,
+    pub below_5pct: (usize, (f64, f64)),
+    pub below_1pct: (usize, (f64, f64)),
+    pub ks_distance: f64,
 }
 
 /// Summary of a study.
@@ -120,6 +136,8 @@ pub struct StudySummary {
     pub coverage: Option<(usize, usize)>,
     /// Held-out RMS smaller after than before, over the correctly named seeds.
     pub held_out_shrunk: Option<(usize, usize)>,
+    /// Per test (detection and candidates), its raw p-values over the seeds.
+    pub calibration: Vec<TestCalibration>,
     pub outcomes: Vec<SeedOutcome>,
 }
 
@@ -199,6 +217,16 @@ pub fn run_study(
         dopts.seed = opts.discover.seed.wrapping_add(seed);
         let d: Discovery = discover(&data, &dopts, &crate::progress::NoProgress)?;
         let cand = d.candidates.iter().find(|c| c.name == d.effect);
+        let p_values = d
+            .detection
+            .iter()
+            .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
+            .chain(
+                d.candidates
+                    .iter()
+                    .filter_map(|c| c.p_value.map(|p| (format!("candidate_{}", c.name), p))),
+            )
+            .collect();
         let estimate = cand.and_then(|c| c.estimate);
         let ci95 = cand.and_then(|c| c.ci95);
         outcomes.push(SeedOutcome {
@@ -210,6 +238,7 @@ pub fn run_study(
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
             held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
             effect: d.effect,
+            p_values,
             seconds: start.elapsed().as_secs_f64(),
         });
         progress.advance(1);
@@ -235,6 +264,7 @@ pub fn run_study(
             .count();
         (s, good.len())
     });
+    let calibration = calibration(&outcomes);
     Ok(StudySummary {
         hidden,
         expected: hidden.expected(),
@@ -247,6 +277,41 @@ pub fn run_study(
             .then(|| ((n - correct) as f64 / n as f64, wilson95(n - correct, n))),
         coverage,
         held_out_shrunk,
+        calibration,
         outcomes,
     })
+}
+
+/// [`TestCalibration`] of every test that has a p-value in some seed, in first-seen order.
+fn calibration(outcomes: &[SeedOutcome]) -> Vec<TestCalibration> {
+    let mut names: Vec<&str> = Vec::new();
+    for (n, _) in outcomes.iter().flat_map(|o| &o.p_values) {
+        if !names.contains(&n.as_str()) {
+            names.push(n);
+        }
+    }
+    names
+        .into_iter()
+        .map(|name| {
+            let mut p: Vec<f64> = outcomes
+                .iter()
+                .flat_map(|o| &o.p_values)
+                .filter(|(n, _)| n == name)
+                .map(|(_, p)| *p)
+                .collect();
+            p.sort_by(f64::total_cmp);
+            let n = p.len();
+            let below = |a: f64| {
+                let k = p.iter().filter(|x| **x < a).count();
+                (k, wilson95(k, n))
+            };
+            TestCalibration {
+                name: name.to_string(),
+                seeds: n,
+                below_5pct: below(0.05),
+                below_1pct: below(0.01),
+                ks_distance: ks_from_uniform(&p),
+            }
+        })
+        .collect()
 }
