@@ -260,3 +260,88 @@ fn bad_input_fails_without_output() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("bootstrap"));
     assert!(!out.exists());
 }
+
+/// `discover-study` as a user runs it, on two null seeds: the summary's counts, intervals and
+/// per-test calibration agree with its own per-seed outcomes, the scratch sets are removed, and
+/// a study that cannot run fails with one message and no summary.
+#[test]
+fn null_study_summarises_rates_and_per_test_calibration() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("study").join("summary.json");
+    let args = [
+        "discover-study",
+        "--hidden",
+        "none",
+        "--seeds",
+        "2",
+        "--speed-step",
+        "100",
+        "--bootstrap",
+        "399",
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    let o = geardyn(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(stdout.starts_with("SYNTHETIC DATA"), "{stdout}");
+    assert!(stdout.contains("one-sided 95% upper bound"), "{stdout}");
+    let s = read_json(&out);
+    let outcomes = s["outcomes"].as_array().unwrap();
+    assert_eq!(outcomes.len(), 2);
+    let nones = outcomes.iter().filter(|o| o["effect"] == "none").count();
+    assert_eq!(s["correct"].as_u64().unwrap() as usize, nones);
+    let fp = 2 - nones;
+    // Clopper-Pearson one-sided upper bounds for n = 2 in closed form.
+    let upper = [1.0 - 0.05f64.sqrt(), 0.95f64.sqrt(), 1.0][fp];
+    assert!((s["false_positive_upper95"].as_f64().unwrap() - upper).abs() < 1e-9);
+    // Every detection test with enough points (the Omega = 2 window has none below 5000 rpm)
+    // and every identifiable candidate has a p-value per seed, and the calibration counts them.
+    let cal = s["calibration"].as_array().unwrap();
+    let names: Vec<&str> = cal.iter().map(|c| c["name"].as_str().unwrap()).collect();
+    for n in [
+        "chi_square_training",
+        "chi_square_held_out",
+        "runs_along_frequency",
+        "window_omega_1/2",
+        "window_omega_1",
+        "candidate_torque_ripple",
+    ] {
+        assert!(names.contains(&n), "{names:?}");
+    }
+    assert!(!names.contains(&"window_omega_2") && !names.contains(&"candidate_backlash"));
+    for c in cal {
+        let name = c["name"].as_str().unwrap();
+        let p: Vec<f64> = outcomes
+            .iter()
+            .flat_map(|o| o["p_values"].as_array().unwrap())
+            .filter(|x| x[0] == name)
+            .map(|x| x[1].as_f64().unwrap())
+            .collect();
+        assert_eq!(c["seeds"].as_u64().unwrap() as usize, p.len(), "{name}");
+        assert!(p.iter().all(|p| *p > 0.0 && *p <= 1.0), "{name}: {p:?}");
+        let below = p.iter().filter(|p| **p < 0.05).count();
+        assert_eq!(c["below_5pct"][0].as_u64().unwrap() as usize, below);
+    }
+    let left: Vec<_> = std::fs::read_dir(out.parent().unwrap())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(left, vec![std::ffi::OsString::from("summary.json")]);
+    // The null study hides nothing, so a strength is an error.
+    let bad = tmp.path().join("bad").join("summary.json");
+    let o = geardyn(&[
+        "discover-study",
+        "--hidden",
+        "none",
+        "--strength",
+        "0.2",
+        "--seeds",
+        "1",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("strength"));
+    assert!(!bad.exists());
+}

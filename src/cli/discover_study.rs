@@ -79,10 +79,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     );
     if let Some((r, (lo, hi))) = s.false_positive_rate {
         msg.push_str(&format!(
-            "false-positive rate {:.1}% (Wilson 95% {:.1}% .. {:.1}%)\n",
+            "false-positive rate {:.1}% (Wilson 95% {:.1}% .. {:.1}%; one-sided 95% upper bound {:.1}%, Clopper-Pearson)\n",
             100.0 * r,
             100.0 * lo,
-            100.0 * hi
+            100.0 * hi,
+            100.0 * s.false_positive_upper95.unwrap_or(1.0)
         ));
     }
     if let Some((c, n)) = s.coverage {

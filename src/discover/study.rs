@@ -5,7 +5,7 @@
 
 use super::effects::Candidate;
 use super::run::{discover, DiscoverOptions, Discovery};
-use super::stats::{ks_from_uniform, wilson95};
+use super::stats::{clopper_pearson_upper95, ks_from_uniform, wilson95};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
@@ -132,6 +132,9 @@ pub struct StudySummary {
     pub correct_ci95: (f64, f64),
     /// For the null study: any answer other than "none" (false positives) and its interval.
     pub false_positive_rate: Option<(f64, (f64, f64))>,
+    /// For the null study: one-sided 95% upper bound of the false-positive rate
+    /// (Clopper-Pearson), the number to hold against a "at most 5%" requirement.
+    pub false_positive_upper95: Option<f64>,
     /// True value inside the 95% interval, over the correctly named seeds.
     pub coverage: Option<(usize, usize)>,
     /// Held-out RMS smaller after than before, over the correctly named seeds.
@@ -275,6 +278,11 @@ pub fn run_study(
         correct_ci95: wilson95(correct, n),
         false_positive_rate: (hidden == Hidden::None)
             .then(|| ((n - correct) as f64 / n as f64, wilson95(n - correct, n))),
+        false_positive_upper95: if hidden == Hidden::None {
+            clopper_pearson_upper95(n - correct, n)
+        } else {
+            None
+        },
         coverage,
         held_out_shrunk,
         calibration,
