@@ -8,6 +8,7 @@ use super::ic_grid::IcGrid;
 use super::period::{distance, scale};
 use super::steady::{steady_state, steady_state_watched, SteadyOptions, SteadyState, Watched};
 use crate::error::Result;
+use crate::model::Impact;
 use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -130,17 +131,41 @@ fn classify<F: PeriodFlow + ?Sized>(
     })
 }
 
-/// Add a steady state to the list unless it is already there; return its index.
+/// Add a steady state to the list unless it is already there; return its index. A second
+/// sample of a known non-periodic attractor widens its extremes (see [`widen`]).
 fn merge(found: &mut Vec<(SteadyState, State)>, s: SteadyState, ic: State) -> usize {
     if let Some(k) = found.iter().position(|(f, _)| same_attractor(f, &s)) {
+        if found[k].0.period.is_none() {
+            widen(&mut found[k].0, &s);
+        }
         return k;
     }
     found.push((s, ic));
     found.len() - 1
 }
 
+/// Each trajectory on a strange attractor analyses a finite stretch of it, so its extremes
+/// (q range, pp DTE, peak mesh force) are lower bounds of the attractor's; the union over every
+/// sample is the better estimate, and the impact regime follows from it (a rare back-flank
+/// contact is seen by one stretch and missed by another). The pp DTE of the union is at least
+/// the larger of the two samples'; that bound is what is kept.
+fn widen(known: &mut SteadyState, other: &SteadyState) {
+    known.q_min = known.q_min.min(other.q_min);
+    known.q_max = known.q_max.max(other.q_max);
+    known.qa = 0.5 * (known.q_max - known.q_min);
+    known.qm = 0.5 * (known.q_max + known.q_min);
+    known.impact = Impact::from_range(known.q_min);
+    known.dte_pp = known.dte_pp.max(other.dte_pp);
+    known.dl_max = match (known.dl_max, other.dl_max) {
+        (Some(a), Some(b)) => Some(a.max(b)),
+        (a, b) => a.or(b),
+    };
+}
+
 /// Two steady states are the same attractor when they are the same periodic orbit (up to phase)
-/// or both non-periodic with the same impact regime and section points on each other's cloud.
+/// or both non-periodic with section points on each other's cloud. The impact regime of a
+/// non-periodic sample is not compared: it comes from a finite stretch of the motion (see
+/// [`widen`]), and two stretches of one strange attractor can disagree on it.
 pub fn same_attractor(a: &SteadyState, b: &SteadyState) -> bool {
     match (a.period, b.period) {
         (Some(p), Some(r)) if p == r => {
@@ -149,7 +174,7 @@ pub fn same_attractor(a: &SteadyState, b: &SteadyState) -> bool {
                 .first()
                 .is_some_and(|x| b.poincare.iter().any(|y| distance(*x, *y) <= tol))
         }
-        (None, None) => a.impact == b.impact && clouds_overlap(a, b) && clouds_overlap(b, a),
+        (None, None) => clouds_overlap(a, b) && clouds_overlap(b, a),
         _ => false,
     }
 }
@@ -224,5 +249,60 @@ fn order(grid: &IcGrid, found: Vec<(SteadyState, State)>, labels: Vec<usize>) ->
         grid: *grid,
         attractors,
         labels: labels.into_iter().map(|l| new_of_old[l]).collect(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Motion;
+
+    /// A non-periodic sample whose section cloud is a ring (the same for every sample) and whose
+    /// analysed stretch reached down to `q_min`.
+    fn sample(q_min: f64, dte_pp: f64) -> SteadyState {
+        let ring: Vec<State> = (0..400)
+            .map(|k| {
+                let t = k as f64 * 0.0157;
+                [0.3 * t.cos(), 0.5 * t.sin()]
+            })
+            .collect();
+        SteadyState {
+            period: None,
+            motion: Motion::Chaotic,
+            impact: Impact::from_range(q_min),
+            qa: 0.5 * (1.6 - q_min),
+            qm: 0.5 * (1.6 + q_min),
+            q_min,
+            q_max: 1.6,
+            dte_pp,
+            dl_max: Some(3.0 + dte_pp),
+            lyapunov: Some(0.05),
+            floquet: None,
+            poincare: ring[..64].to_vec(),
+            transient_periods: 100,
+            cloud: ring,
+        }
+    }
+
+    #[test]
+    fn two_stretches_of_one_strange_attractor_merge_into_their_union() {
+        let single = sample(-0.8, 2.4);
+        let double = sample(-1.1, 2.7);
+        assert_ne!(single.impact, double.impact);
+        assert!(same_attractor(&single, &double));
+        let mut found = Vec::new();
+        assert_eq!(merge(&mut found, single, [0.0, 0.0]), 0);
+        assert_eq!(merge(&mut found, double, [1.0, 0.0]), 0);
+        assert_eq!(found.len(), 1);
+        let s = &found[0].0;
+        assert_eq!((s.q_min, s.q_max, s.impact), (-1.1, 1.6, Impact::Double));
+        assert!((s.qa - 1.35).abs() < 1e-15 && (s.qm - 0.25).abs() < 1e-15);
+        assert_eq!((s.dte_pp, s.dl_max), (2.7, Some(5.7)));
+        // A cloud elsewhere in the section is another attractor.
+        let mut apart = sample(-0.8, 2.4);
+        for p in apart.cloud.iter_mut().chain(apart.poincare.iter_mut()) {
+            p[0] += 5.0;
+        }
+        assert_eq!(merge(&mut found, apart, [2.0, 0.0]), 1);
     }
 }
