@@ -27,8 +27,8 @@ pub use effects::{Candidate, Effect, LIBRARY};
 pub use forward::{Curve, Setup};
 pub use report::{discovery_json, summary_text, write_discovery};
 pub use run::{
-    discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, Gap, GapSet,
-    ResidualCurve, TestResult,
+    discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
+    Gap, GapSet, ResidualCurve, TestResult,
 };
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 pub use windows::{windows, Window};

@@ -51,6 +51,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "load_n": l, "before": b, "after": a,
         })).collect::<Vec<_>>(),
         "excluded_points": d.excluded_points,
+        "excluded_by_load": d.excluded_by_load,
         "bootstrap_replicates": d.bootstrap,
         "windows": d.windows,
         "provenance": {
@@ -181,6 +182,7 @@ pub fn summary_text(d: &Discovery) -> String {
         s.push_str(&format!("gap before: held out {}\n", gap_text(b)));
         s.push_str(&format!("gap after:  held out {}\n", gap_text(a)));
     }
+    s.push_str(&excluded_text(d));
     if d.effect == "unexplained" || d.effect == "ambiguous" {
         if let Some(g) = &d.gap_leading {
             s.push_str(&format!(
@@ -196,6 +198,42 @@ pub fn summary_text(d: &Discovery) -> String {
         }
     }
     s
+}
+
+/// One line per load with excluded points, and a warning when measured points lie outside
+/// everything M0 predicts there.
+fn excluded_text(d: &Discovery) -> String {
+    let mut s = String::new();
+    for e in &d.excluded_by_load {
+        s.push_str(&format!(
+            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {:.1}-{:.1} um, M0 {:.1}-{:.1} um, {} measured far outside M0's range\n",
+            e.load_n,
+            e.points,
+            e.non_period1,
+            e.measured_range_um.0,
+            e.measured_range_um.1,
+            e.model_range_um.0,
+            e.model_range_um.1,
+            e.outside_model_range
+        ));
+    }
+    if let Some(w) = excluded_warning(d) {
+        s.push_str(&w);
+        s.push('\n');
+    }
+    s
+}
+
+/// The warning when excluded points lie far outside M0's range, if any do.
+fn excluded_warning(d: &Discovery) -> Option<String> {
+    let outside: usize = d
+        .excluded_by_load
+        .iter()
+        .map(|e| e.outside_model_range)
+        .sum();
+    (outside > 0).then(|| format!(
+        "WARNING: {outside} excluded point(s) lie far outside every pp M0 predicts there (by more than 3 sigma + 10% of M0's largest); the tests do not use them, so look at the curves"
+    ))
 }
 
 /// Write the output folder `out`; returns the files written.
@@ -298,6 +336,41 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
             &["test", "statistic", "p", "p (Holm)"],
             &test_rows(&d.post_fit),
         );
+    }
+    if !d.excluded_by_load.is_empty() {
+        page.heading("Points excluded from the tests");
+        page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway; measured points far outside every pp M0 produces there (by more than 3 sigma plus 10% of M0's largest pp: beyond the noise and beyond a chaotic pp or the onset of non-period-1 motion moving a little) are a discrepancy the tests cannot see.");
+        let rows: Vec<Vec<String>> = d
+            .excluded_by_load
+            .iter()
+            .map(|e| {
+                vec![
+                    format!("{}", e.load_n),
+                    e.points.to_string(),
+                    e.non_period1.to_string(),
+                    format!(
+                        "{:.1} .. {:.1}",
+                        e.measured_range_um.0, e.measured_range_um.1
+                    ),
+                    format!("{:.1} .. {:.1}", e.model_range_um.0, e.model_range_um.1),
+                    e.outside_model_range.to_string(),
+                ]
+            })
+            .collect();
+        page.table(
+            &[
+                "load (N)",
+                "excluded points",
+                "non-period-1 in M0",
+                "measured pp (um)",
+                "M0 pp (um)",
+                "measured outside M0's range by > 3 sigma + 10% of its top",
+            ],
+            &rows,
+        );
+        if let Some(w) = excluded_warning(d) {
+            page.paragraph(&w);
+        }
     }
     page.heading("Gap before and after");
     let mut g = vec![vec![

@@ -122,6 +122,69 @@ pub struct ResidualCurve {
     pub points: Vec<(f64, f64, f64, bool)>,
 }
 
+/// The points of one load excluded from the tests, described: where M0 predicts non-period-1
+/// motion (or a jump) a point-wise residual says nothing (a chaotic pp depends on the last bits
+/// of the arithmetic and on the history), but a measured pp far outside every pp M0 produces
+/// there is a discrepancy the tests cannot see: the report shows both ranges.
+#[derive(Clone, Debug, Serialize)]
+pub struct ExcludedPoints {
+    pub load_n: f64,
+    pub points: usize,
+    /// Of those, points where M0 predicts non-period-1 motion (the rest straddle a jump).
+    pub non_period1: usize,
+    /// Smallest and largest measured pp DTE over the excluded points, um.
+    pub measured_range_um: (f64, f64),
+    /// Smallest and largest M0 pp DTE over the same points, um.
+    pub model_range_um: (f64, f64),
+    /// Excluded points whose measured pp lies outside the M0 range by more than 3 sigma plus
+    /// 10% of M0's largest pp there: a gross disagreement, beyond the noise and beyond a chaotic
+    /// pp or the onset of non-period-1 motion moving a little with the parameters.
+    pub outside_model_range: usize,
+}
+
+/// [`ExcludedPoints`] of every load that has excluded points.
+fn excluded_by_load(
+    setup: &Setup,
+    preds: &[CurvePrediction],
+    mask: &Mask,
+    sigma: f64,
+) -> Vec<ExcludedPoints> {
+    let range = |v: &[f64]| {
+        v.iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(*x), hi.max(*x))
+            })
+    };
+    setup
+        .curves
+        .iter()
+        .zip(preds)
+        .zip(mask)
+        .filter_map(|((c, p), m)| {
+            let out: Vec<usize> = (0..m.len()).filter(|&j| !m[j]).collect();
+            if out.is_empty() {
+                return None;
+            }
+            let y: Vec<f64> = out.iter().map(|&j| c.dte_pp_um[j]).collect();
+            let f: Vec<f64> = out.iter().map(|&j| p.dte_pp_um[j]).collect();
+            let model = range(&f);
+            Some(ExcludedPoints {
+                load_n: c.load_n,
+                points: out.len(),
+                non_period1: out.iter().filter(|&&j| !p.period1[j]).count(),
+                measured_range_um: range(&y),
+                model_range_um: model,
+                outside_model_range: {
+                    let margin = 3.0 * sigma + 0.1 * model.1.abs();
+                    y.iter()
+                        .filter(|v| **v > model.1 + margin || **v < model.0 - margin)
+                        .count()
+                },
+            })
+        })
+        .collect()
+}
+
 /// Everything a discovery run found.
 #[derive(Clone, Debug, Serialize)]
 pub struct Discovery {
@@ -145,6 +208,8 @@ pub struct Discovery {
     /// STE amplitude (um) fitted alone at each held-out load: (load N, before, after).
     pub held_out_ste_um: Vec<(f64, f64, f64)>,
     pub excluded_points: usize,
+    /// Per load with excluded points: how the data there compare with M0 (not tested).
+    pub excluded_by_load: Vec<ExcludedPoints>,
     pub gap_before: GapSet,
     pub gap_after: GapSet,
     /// Gap with the leading significant candidate refitted (equal to gap_after when it is the
@@ -825,6 +890,7 @@ pub fn discover_setup(
             })
             .collect(),
         excluded_points: mask.iter().flatten().filter(|m| !**m).count(),
+        excluded_by_load: excluded_by_load(setup, &f0, &mask, sigma),
         gap_before: gap_set(&f0),
         gap_after: gap_set(&after_preds),
         gap_leading,
