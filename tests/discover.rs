@@ -323,6 +323,11 @@ fn null_study_summarises_rates_and_per_test_calibration() {
     let nones = outcomes.iter().filter(|o| o["effect"] == "none").count();
     assert_eq!(s["correct"].as_u64().unwrap() as usize, nones);
     let fp = 2 - nones;
+    let warned = outcomes
+        .iter()
+        .filter(|o| o["excluded_far_outside"].as_u64().unwrap() > 0)
+        .count();
+    assert_eq!(s["warned"].as_u64().unwrap() as usize, warned);
     // Clopper-Pearson one-sided upper bounds for n = 2 in closed form.
     let upper = [1.0 - 0.05f64.sqrt(), 0.95f64.sqrt(), 1.0][fp];
     assert!((s["false_positive_upper95"].as_f64().unwrap() - upper).abs() < 1e-9);

@@ -97,6 +97,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "held-out RMS gap shrank in {c}/{n} correctly named seeds\n"
         ));
     }
+    msg.push_str(&format!(
+        "warning about excluded points far outside M0's range in {}/{} seeds\n",
+        s.warned, s.seeds
+    ));
     if !s.calibration.is_empty() {
         msg.push_str(
             "raw p-values per test (calibrated under the null: 5% below 0.05, 1% below 0.01):\n",

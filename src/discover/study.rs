@@ -104,6 +104,9 @@ pub struct SeedOutcome {
     /// Raw (unadjusted) bootstrap p-value of every detection test and every identifiable
     /// candidate's likelihood ratio, by name: under the null each should be uniform.
     pub p_values: Vec<(String, f64)>,
+    /// Points excluded from the tests whose measured pp lies far outside M0's range there
+    /// (the run's warning; see `ExcludedPoints`).
+    pub excluded_far_outside: usize,
     pub seconds: f64,
 }
 
@@ -139,6 +142,8 @@ pub struct StudySummary {
     pub coverage: Option<(usize, usize)>,
     /// Held-out RMS smaller after than before, over the correctly named seeds.
     pub held_out_shrunk: Option<(usize, usize)>,
+    /// Seeds whose run warned about excluded points far outside M0's range.
+    pub warned: usize,
     /// Per test (detection and candidates), its raw p-values over the seeds.
     pub calibration: Vec<TestCalibration>,
     pub outcomes: Vec<SeedOutcome>,
@@ -240,6 +245,11 @@ pub fn run_study(
             ci95,
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
             held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
+            excluded_far_outside: d
+                .excluded_by_load
+                .iter()
+                .map(|e| e.outside_model_range)
+                .sum(),
             effect: d.effect,
             p_values,
             seconds: start.elapsed().as_secs_f64(),
@@ -285,6 +295,10 @@ pub fn run_study(
         },
         coverage,
         held_out_shrunk,
+        warned: outcomes
+            .iter()
+            .filter(|o| o.excluded_far_outside > 0)
+            .count(),
         calibration,
         outcomes,
     })
