@@ -187,6 +187,16 @@ fn cli_validate_writes_fits_and_reports() {
             assert!(!json[key].is_null(), "{which}.json lacks {key}");
         }
         assert_eq!(json["data_kind"], "synthetic");
+        if which == "munro" {
+            // The shipped set (noise 0.15 um): where the model is period-1 every load is at the
+            // noise, 1/4 load included; its chaotic and subharmonic speeds are counted apart.
+            for l in json["per_load"].as_array().unwrap() {
+                let rms = l["rms_period1_um"].as_f64().unwrap();
+                assert!(rms < 0.2, "{l}");
+                let apart = l["not_period1_points"].as_u64().unwrap();
+                assert_eq!(apart > 0, l["load_n"] == 945.0, "{l}");
+            }
+        }
         let html = std::fs::read_to_string(reports.join(which).join("index.html")).unwrap();
         assert!(html.contains("SYNTHETIC DATA"));
         let mut images = 0;

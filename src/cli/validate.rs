@@ -50,11 +50,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             );
             for l in &r.loads {
                 s.push_str(&format!(
-                    "  {:>7.1} N {:>10}: F_hat {:6.2}, RMS {:.3} um, jump error {}\n",
+                    "  {:>7.1} N {:>10}: F_hat {:6.2}, RMS {:.3} um{}, jump error {}\n",
                     l.load_n,
                     if l.fitted { "(fit)" } else { "(predicted)" },
                     l.force_ratio,
                     l.rms_um,
+                    match (l.not_period1_points, l.rms_period1_um) {
+                        (0, _) => String::new(),
+                        (n, Some(r)) => format!(
+                            " ({r:.3} um where the model is period-1; {n} speeds chaotic or subharmonic)"
+                        ),
+                        (n, None) => format!(" ({n} speeds chaotic or subharmonic)"),
+                    },
                     l.jump_error_rpm
                         .map_or("-".to_string(), |e| format!("{e:.0} rpm"))
                 ));

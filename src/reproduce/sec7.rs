@@ -111,11 +111,13 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
         let (text, ok) = match l {
             Some(l) => (
                 format!(
-                    "{}: load {:.0} N, F_hat {:.2}, RMS {:.3} um, jump measured {}, predicted up {}, error {}",
+                    "{}: load {:.0} N, F_hat {:.2}, RMS {:.3} um ({} where the model is period-1, {} speeds chaotic or subharmonic), jump measured {}, predicted up {}, error {}",
                     kind_text(mk),
                     l.load_n,
                     l.force_ratio,
                     l.rms_um,
+                    l.rms_period1_um.map_or("-".into(), |v| format!("{v:.3} um")),
+                    l.not_period1_points,
                     l.jump_measured_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
                     l.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
                     l.jump_error_rpm.map_or("-".into(), |v| format!("{v:.0} rpm"))

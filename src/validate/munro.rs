@@ -54,6 +54,8 @@ pub struct ModelPoint {
     pub speed_rpm: f64,
     pub dte_pp_um: f64,
     pub case: u8,
+    /// Period of the steady state in forcing periods (None: chaotic or aperiodic).
+    pub period: Option<u32>,
     /// Basin fraction for all-attractor points.
     pub basin_fraction: Option<f64>,
 }
@@ -77,6 +79,16 @@ pub struct LoadResult {
     pub rms_um: f64,
     pub rms_up_um: f64,
     pub rms_down_um: f64,
+    /// RMS error over the measured speeds where the nearer branch is period-1, um: the
+    /// comparison that is stable. A chaotic pp follows the last bits of the arithmetic and a
+    /// subharmonic one the branch history, so the points where the model is not period-1 are
+    /// counted and described by their ranges instead (None when there are no period-1 points).
+    pub rms_period1_um: Option<f64>,
+    /// Measured speeds where the nearer branch is not period-1.
+    pub not_period1_points: usize,
+    /// Measured and model pp ranges (um) over those points.
+    pub not_period1_measured_um: Option<(f64, f64)>,
+    pub not_period1_model_um: Option<(f64, f64)>,
     pub jump_measured_rpm: Option<f64>,
     pub jump_up_rpm: Option<f64>,
     pub jump_down_rpm: Option<f64>,
@@ -286,6 +298,7 @@ fn predict_load(
                     speed_rpm: dim.speed_rpm(p.omega, wn),
                     dte_pp_um: dim.dte_um(p.steady.dte_pp),
                     case: p.steady.impact.case(),
+                    period: p.steady.period,
                     basin_fraction: None,
                 })
                 .collect(),
@@ -305,6 +318,7 @@ fn predict_load(
             speed_rpm: s,
             dte_pp_um: dim.dte_um(a.steady.dte_pp),
             case: a.steady.impact.case(),
+            period: a.steady.period,
             basin_fraction: Some(a.basin_fraction),
         }));
     }
@@ -312,21 +326,37 @@ fn predict_load(
         branch
             .iter()
             .find(|p| (p.speed_rpm - s).abs() <= 1e-6 * s.abs().max(1.0))
-            .map(|p| p.dte_pp_um)
-            .unwrap_or(f64::NAN)
+            .map_or((f64::NAN, false), |p| (p.dte_pp_um, p.period == Some(1)))
     };
     let mut d_up = Vec::new();
     let mut d_down = Vec::new();
     let mut d_best = Vec::new();
+    let mut d_period1 = Vec::new();
     let mut residuals = Vec::new();
+    let mut not_period1: Vec<(f64, f64)> = Vec::new();
     for &(s, y) in &measured {
-        let (u, d) = (y - at(&up, s), y - at(&down, s));
-        let best = if u.abs() <= d.abs() { u } else { d };
+        let ((fu, pu), (fd, pd)) = (at(&up, s), at(&down, s));
+        let (u, d) = (y - fu, y - fd);
+        let (best, f, p1) = if u.abs() <= d.abs() {
+            (u, fu, pu)
+        } else {
+            (d, fd, pd)
+        };
         d_up.push(u);
         d_down.push(d);
         d_best.push(best);
+        if p1 {
+            d_period1.push(best);
+        } else {
+            not_period1.push((y, f));
+        }
         residuals.push((s, best));
     }
+    let range = |v: &mut dyn Iterator<Item = f64>| {
+        v.fold(None, |r: Option<(f64, f64)>, x| {
+            Some(r.map_or((x, x), |(lo, hi)| (lo.min(x), hi.max(x))))
+        })
+    };
     let curve_of = |b: &[ModelPoint]| {
         b.iter()
             .map(|p| (p.speed_rpm, p.dte_pp_um))
@@ -346,6 +376,10 @@ fn predict_load(
         rms_um: rms(&d_best),
         rms_up_um: rms(&d_up),
         rms_down_um: rms(&d_down),
+        rms_period1_um: (!d_period1.is_empty()).then(|| rms(&d_period1)),
+        not_period1_points: not_period1.len(),
+        not_period1_measured_um: range(&mut not_period1.iter().map(|p| p.0)),
+        not_period1_model_um: range(&mut not_period1.iter().map(|p| p.1)),
         jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
