@@ -8,6 +8,7 @@ use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
 use crate::plot::{write_xy, Series, XyPlot};
 use crate::report::{data_kind_banner, Page, Staged};
+use crate::validate::min_max;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -90,12 +91,8 @@ fn residual_plot(
             "Shaded: windows around Omega = 1/3, 1/2, 2/3, 1, 2 (+-{:.0}%); points excluded from the tests (non-period-1 or next to a jump) not drawn",
             100.0 * super::windows::HALF_WIDTH
         ));
-    let (lo, hi) = curves
-        .iter()
-        .flat_map(|c| c.points.iter().map(|p| p.1))
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-            (a.min(x), b.max(x))
-        });
+    let (lo, hi) = min_max(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)))
+        .unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
     for w in &d.windows {
         if w.hi >= lo && w.lo <= hi {
             plot = plot.with_band(w.lo, w.hi).with_vline(w.centre, w.label);

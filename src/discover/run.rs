@@ -13,7 +13,7 @@ use super::windows::Window;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
-use crate::validate::Rng;
+use crate::validate::{min_max, Rng};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -149,12 +149,6 @@ fn excluded_by_load(
     mask: &Mask,
     sigma: f64,
 ) -> Vec<ExcludedPoints> {
-    let range = |v: &[f64]| {
-        v.iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
-                (lo.min(*x), hi.max(*x))
-            })
-    };
     setup
         .curves
         .iter()
@@ -166,13 +160,12 @@ fn excluded_by_load(
                 return None;
             }
             let y: Vec<f64> = out.iter().map(|&j| c.dte_pp_um[j]).collect();
-            let f: Vec<f64> = out.iter().map(|&j| p.dte_pp_um[j]).collect();
-            let model = range(&f);
+            let model = min_max(out.iter().map(|&j| p.dte_pp_um[j]))?;
             Some(ExcludedPoints {
                 load_n: c.load_n,
                 points: out.len(),
                 non_period1: out.iter().filter(|&&j| !p.period1[j]).count(),
-                measured_range_um: range(&y),
+                measured_range_um: min_max(y.iter().copied())?,
                 model_range_um: model,
                 outside_model_range: {
                     let margin = 3.0 * sigma + 0.1 * model.1.abs();

@@ -8,7 +8,7 @@ mod munro;
 mod noise;
 mod synth;
 
-pub use curve_metrics::{jump_location, rms};
+pub use curve_metrics::{jump_location, min_max, rms};
 pub use kubo::{validate_kubo, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT};
 pub use linear::{dte_gain, dte_pp_um, load_factor_max, stays_in_contact};
 pub use munro::{validate_munro, LoadResult, ModelPoint, MunroOptions, MunroValidation, SteSource};

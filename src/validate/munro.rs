@@ -3,7 +3,7 @@
 //! then predict pp DTE at the other loads by simulation with every branch (carried up, carried
 //! down, all attractors), and compare with the measurements.
 
-use super::curve_metrics::{jump_location, rms};
+use super::curve_metrics::{jump_location, min_max, rms};
 use super::linear::{dte_pp_um, stays_in_contact};
 use crate::data::{MunroData, MunroPoint};
 use crate::error::{GearError, Result};
@@ -352,11 +352,6 @@ fn predict_load(
         }
         residuals.push((s, best));
     }
-    let range = |v: &mut dyn Iterator<Item = f64>| {
-        v.fold(None, |r: Option<(f64, f64)>, x| {
-            Some(r.map_or((x, x), |(lo, hi)| (lo.min(x), hi.max(x))))
-        })
-    };
     let curve_of = |b: &[ModelPoint]| {
         b.iter()
             .map(|p| (p.speed_rpm, p.dte_pp_um))
@@ -378,8 +373,8 @@ fn predict_load(
         rms_down_um: rms(&d_down),
         rms_period1_um: (!d_period1.is_empty()).then(|| rms(&d_period1)),
         not_period1_points: not_period1.len(),
-        not_period1_measured_um: range(&mut not_period1.iter().map(|p| p.0)),
-        not_period1_model_um: range(&mut not_period1.iter().map(|p| p.1)),
+        not_period1_measured_um: min_max(not_period1.iter().map(|p| p.0)),
+        not_period1_model_um: min_max(not_period1.iter().map(|p| p.1)),
         jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
