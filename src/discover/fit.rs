@@ -5,7 +5,7 @@
 
 use super::effects::{Candidate, Effect};
 use super::forward::{predict, predict_many, CurvePrediction, Globals, Setup};
-use super::lm::{levenberg_marquardt, LmFit};
+use super::lm::{levenberg_marquardt, rss, LmFit};
 use crate::error::{GearError, Result};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
@@ -113,14 +113,14 @@ pub fn fit_ste(
         let pred = predict(setup, i, g, p[0], effect)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, sigma))
     };
-    let rss = |e: f64| f(&[e]).map(|r| r.iter().map(|x| x * x).sum::<f64>());
+    let rss_at = |e: f64| f(&[e]).map(|r| rss(&r));
     // (amplitude, RSS) of the best finite point of the scan, if any.
     let scan = |factors: &[f64], around: f64| -> Result<Option<(f64, f64)>> {
         let scanned: Vec<(f64, f64)> = factors
             .par_iter()
             .map(|k| {
                 let e = k * around;
-                Ok((e, rss(e)?))
+                Ok((e, rss_at(e)?))
             })
             .collect::<Result<_>>()?;
         Ok(scanned

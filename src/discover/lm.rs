@@ -49,7 +49,8 @@ where
     Ok(j)
 }
 
-fn rss(r: &[f64]) -> f64 {
+/// Residual sum of squares.
+pub fn rss(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
 

@@ -223,11 +223,7 @@ fn excluded_text(d: &Discovery) -> String {
 
 /// The warning when excluded points lie far outside M0's range, if any do.
 fn excluded_warning(d: &Discovery) -> Option<String> {
-    let outside: usize = d
-        .excluded_by_load
-        .iter()
-        .map(|e| e.outside_model_range)
-        .sum();
+    let outside = d.excluded_far_outside();
     (outside > 0).then(|| format!(
         "WARNING: {outside} excluded point(s) lie far outside every pp M0 predicts there (by more than 3 sigma + 10% of M0's largest); the tests do not use them, so look at the curves"
     ))

@@ -215,6 +215,17 @@ pub struct Discovery {
     pub bootstrap: usize,
 }
 
+impl Discovery {
+    /// Excluded points, over all loads, whose measured pp lies far outside M0's range there
+    /// (see [`ExcludedPoints::outside_model_range`]): the run warns when there are any.
+    pub fn excluded_far_outside(&self) -> usize {
+        self.excluded_by_load
+            .iter()
+            .map(|e| e.outside_model_range)
+            .sum()
+    }
+}
+
 /// Training loads: every other load from the highest (the design load) down; the rest are
 /// held out (with one load there is nothing to hold out).
 pub fn split(n: usize) -> (Vec<usize>, Vec<usize>) {

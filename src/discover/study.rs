@@ -245,11 +245,7 @@ pub fn run_study(
             ci95,
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
             held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
-            excluded_far_outside: d
-                .excluded_by_load
-                .iter()
-                .map(|e| e.outside_model_range)
-                .sum(),
+            excluded_far_outside: d.excluded_far_outside(),
             effect: d.effect,
             p_values,
             seconds: start.elapsed().as_secs_f64(),
