@@ -67,6 +67,15 @@ impl Candidate {
         }
     }
 
+    /// Whether delta holds (cos, sin) pairs of an amplitude and a phase, so that -delta is the
+    /// same amplitude at the opposite phase.
+    pub fn has_phase(self) -> bool {
+        matches!(
+            self,
+            Candidate::MeshStiffnessVariation | Candidate::SteHarmonics | Candidate::TorqueRipple
+        )
+    }
+
     /// The reported scalar of an effect and its gradient with respect to delta (for the delta
     /// method): an amplitude hypot(c, s) for the phase-carrying effects, gamma, or exp(beta).
     pub fn estimate(self, delta: &[f64]) -> (f64, Vec<f64>) {
@@ -123,7 +132,7 @@ impl Candidate {
         }
     }
 
-    /// Starting points of the nonlinear refit: the best probe is added by the caller.
+    /// Typical size of one component of delta (the Levenberg-Marquardt parameter scale).
     pub fn scale(self) -> f64 {
         match self {
             Candidate::TorqueRipple => 0.01,

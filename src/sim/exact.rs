@@ -379,8 +379,9 @@ impl<'a> Segment<'a> {
                 )
             }
             Homogeneous::Decaying { .. } => {
-                let g = (-2.0 * zeta * tau).exp();
-                Matrix2::new(1.0, (1.0 - g) / (2.0 * zeta), 0.0, g)
+                // expm1: 1 - g cancels when zeta tau is small (light damping, short gaps).
+                let gm1 = (-2.0 * zeta * tau).exp_m1();
+                Matrix2::new(1.0, -gm1 / (2.0 * zeta), 0.0, 1.0 + gm1)
             }
         }
     }
