@@ -28,7 +28,7 @@ pub use forward::{Curve, Setup};
 pub use report::{discovery_json, summary_text, write_discovery};
 pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
-    Gap, GapSet, ResidualCurve, TestResult,
+    Gap, GapSet, OtherStart, ResidualCurve, TestResult,
 };
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 pub use windows::{windows, Window};

@@ -3,7 +3,7 @@
 //! residual plots before and after (PNG + SVG) with the Omega windows marked. The folder is
 //! staged and moved into place only when complete.
 
-use super::run::{Discovery, Gap, ResidualCurve};
+use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
 use crate::plot::{write_xy, Series, XyPlot};
@@ -37,6 +37,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "delta": c.delta,
             "refit_zeta": c.refit_zeta,
             "refit_omega_n_hz": c.refit_omega_n_hz,
+            "refit_other_start": c.other_start,
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
@@ -131,6 +132,24 @@ fn gap_text(g: &Gap) -> String {
     )
 }
 
+/// Where a phase-carrying candidate's refit from the opposite phase ended, when it ran.
+fn other_start_text(c: &CandidateResult) -> Option<String> {
+    let (o, kept) = (c.other_start.as_ref()?, c.delta.as_ref()?);
+    let deg = |d: &[f64]| d[1].atan2(d[0]).to_degrees();
+    Some(format!(
+        "{}: the refit from the opposite phase ended at phase {:.0} deg (kept: {:.0} deg) with a training residual sum of squares larger by {:.2} sigma^2{}",
+        c.name,
+        deg(&o.delta),
+        deg(kept),
+        o.rss_increase,
+        if o.phase_undetermined(kept) {
+            "; within chi2(0.95; 1) = 3.84 at a different phase: the training loads do not determine the phase, and the interval spans both fits"
+        } else {
+            ""
+        }
+    ))
+}
+
 fn opt(v: Option<f64>, prec: usize) -> String {
     v.map_or("-".into(), |x| format!("{x:.prec$}"))
 }
@@ -166,6 +185,9 @@ pub fn summary_text(d: &Discovery) -> String {
                 .as_ref()
                 .map_or(String::new(), |n| format!("  ({n})"))
         ));
+    }
+    for t in d.candidates.iter().filter_map(other_start_text) {
+        s.push_str(&format!("  {t}\n"));
     }
     s.push_str(&format!(
         "gap before: training {}\n",
@@ -323,6 +345,9 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         ],
         &rows,
     );
+    for t in d.candidates.iter().filter_map(other_start_text) {
+        page.paragraph(&t);
+    }
     if !d.post_fit.is_empty() {
         page.heading("Detection tests after adding the leading candidate");
         page.table(

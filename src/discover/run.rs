@@ -8,6 +8,7 @@ use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, ModelFit};
 use super::forward::{predict_many, CurvePrediction, Setup};
 use super::linearized::{detection_names, Linearized, Statistics};
+use super::lm::LmFit;
 use super::stats::{bootstrap_p, chi2_sf, holm};
 use super::windows::Window;
 use crate::data::MunroData;
@@ -73,7 +74,8 @@ pub struct CandidateResult {
     pub p_holm: Option<f64>,
     /// What `estimate` is.
     pub estimate_name: &'static str,
-    /// Refitted estimate with a 95% Wald interval (delta method); None unless refitted.
+    /// Refitted estimate with a 95% Wald interval (delta method; over both basins when the
+    /// phase is undetermined, see [`OtherStart`]); None unless refitted.
     pub estimate: Option<f64>,
     pub ci95: Option<(f64, f64)>,
     /// Refitted delta and the refit's drop in residual sum of squares (sigma^2 units).
@@ -82,6 +84,37 @@ pub struct CandidateResult {
     /// Zeta and omega_n (Hz) of the refit, which move with the effect.
     pub refit_zeta: Option<f64>,
     pub refit_omega_n_hz: Option<f64>,
+    /// A phase-carrying candidate's refit from the opposite phase, the one not kept.
+    pub other_start: Option<OtherStart>,
+}
+
+/// The fit a phase-carrying candidate's refit reached from the opposite phase and did not keep
+/// (see `refit_candidate`): where it ended, and how much worse it fits the training loads.
+/// When the two are distinct minima within chi2(0.95; 1) of each other, the candidate's
+/// reported interval is the hull of both fits' intervals: the likelihood-ratio confidence set
+/// then has a piece in each basin, and the kept fit's Wald interval covers only its own.
+#[derive(Clone, Debug, Serialize)]
+pub struct OtherStart {
+    pub delta: Vec<f64>,
+    /// Its residual sum of squares minus the kept fit's, sigma^2 units, both before the last
+    /// stage (on the same points). Below chi2(0.95; 1) = 3.84 at a different phase, the
+    /// training loads do not determine the phase.
+    pub rss_increase: f64,
+    /// Its own 95% Wald interval of the estimate.
+    pub ci95: Option<(f64, f64)>,
+}
+
+impl OtherStart {
+    /// Whether it is a distinct minimum (phase of the first pair more than 90 degrees from the
+    /// kept fit's) that fits within chi2(0.95; 1) = 3.84 sigma^2 of it.
+    pub fn phase_undetermined(&self, kept: &[f64]) -> bool {
+        let phase = |d: &[f64]| d[1].atan2(d[0]);
+        let mut diff = (phase(&self.delta) - phase(kept)).abs();
+        if diff > std::f64::consts::PI {
+            diff = 2.0 * std::f64::consts::PI - diff;
+        }
+        self.rss_increase < super::ambiguity::CHI2_95_1DF && diff > std::f64::consts::FRAC_PI_2
+    }
 }
 
 /// A detection test.
@@ -418,10 +451,32 @@ fn min_holm(t: &[TestResult]) -> f64 {
     t.iter().filter_map(|x| x.p_holm).fold(1.0, f64::min)
 }
 
+/// 95% Wald interval of `cand`'s estimate from a fit's Jacobian (delta method; `p0` is the
+/// index of delta's first component): on exp(beta) for the backlash, symmetric for gamma,
+/// clipped at zero for the amplitudes. None when J'J is singular.
+fn wald_ci(cand: Candidate, lm: &LmFit, p0: usize) -> Option<(f64, f64)> {
+    let delta = &lm.params[p0..];
+    let (est, grad) = cand.estimate(delta);
+    let jt = &lm.jacobian;
+    let cov = (jt.transpose() * jt).try_inverse()?;
+    let g = DVector::from_vec(grad);
+    let sub: DMatrix<f64> = cov.view((p0, p0), (cand.dim(), cand.dim())).into_owned();
+    let var = (g.transpose() * &sub * &g)[(0, 0)].max(0.0);
+    Some(match cand {
+        Candidate::Backlash => {
+            let sb = sub[(0, 0)].max(0.0).sqrt();
+            ((delta[0] - 1.96 * sb).exp(), (delta[0] + 1.96 * sb).exp())
+        }
+        Candidate::DampingLaw => (est - 1.96 * var.sqrt(), est + 1.96 * var.sqrt()),
+        _ => ((est - 1.96 * var.sqrt()).max(0.0), est + 1.96 * var.sqrt()),
+    })
+}
+
 /// Refit M0 + `cand` on the training curves in stages: the highest load alone first (the
 /// design load, usually in contact, where the fit is smooth) from M0's values and the best
 /// probe, then the other training loads' STE alone, then everything; finally once more with the
-/// points around the refitted model's own jumps also dropped. Returns the fit and its mask.
+/// points around the refitted model's own jumps also dropped. Returns the fit, its mask and
+/// the start not kept.
 ///
 /// A phase-carrying effect is refitted through the first two stages from the opposite phase
 /// too, and the lower residual sum of squares of the two goes on to the last stage: the probes
@@ -439,7 +494,7 @@ fn refit_candidate(
     m0: &ModelFit,
     delta0: &[f64],
     iters: usize,
-) -> Result<(ModelFit, Mask)> {
+) -> Result<(ModelFit, Mask, Option<OtherStart>)> {
     // Stages one and two from the start `d`.
     let from = |d: &[f64]| -> Result<ModelFit> {
         let mut s1 = vec![m0.globals.zeta, m0.globals.omega_n_hz, m0.ste_um[0]];
@@ -463,16 +518,30 @@ fn refit_candidate(
     } else {
         vec![delta0]
     };
-    let mut fits: Vec<Result<ModelFit>> = starts.par_iter().map(|d| from(d)).collect();
-    // The best start's fit, or the first start's error when none converged.
-    let first = fits.remove(0);
-    let f2 = fits
-        .into_iter()
-        .flatten()
-        .fold(first, |best, f| match best {
-            Ok(b) if b.lm.rss <= f.lm.rss => Ok(b),
-            _ => Ok(f),
-        })?;
+    let fits: Vec<Result<ModelFit>> = starts.par_iter().map(|d| from(d)).collect();
+    let mut converged = Vec::new();
+    let mut first_error = None;
+    for f in fits {
+        match f {
+            Ok(f) => converged.push(f),
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    // Stable: on a tie the best probe's own start is kept.
+    converged.sort_by(|a, b| a.lm.rss.total_cmp(&b.lm.rss));
+    let mut converged = converged.into_iter();
+    let Some(f2) = converged.next() else {
+        return Err(
+            first_error.unwrap_or_else(|| GearError::Numerical("a refit needs a start".into()))
+        );
+    };
+    let other = converged.next().map(|o| OtherStart {
+        rss_increase: o.lm.rss - f2.lm.rss,
+        ci95: wald_ci(cand, &o.lm, 2 + train.len()),
+        delta: o.effect.delta,
+    });
     let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
     let mut m2 = mask.clone();
     for (k, &i) in train.iter().enumerate() {
@@ -490,7 +559,7 @@ fn refit_candidate(
         &f2.lm.params.clone(),
         iters / 2 + 1,
     )?;
-    Ok((f3, m2))
+    Ok((f3, m2, other))
 }
 
 /// M0 fitted to the training curves with everything the tests need fixed under the null.
@@ -729,6 +798,7 @@ pub fn discover_setup(
                 refit_lr: None,
                 refit_zeta: None,
                 refit_omega_n_hz: None,
+                other_start: None,
             }
         })
         .collect();
@@ -745,7 +815,8 @@ pub fn discover_setup(
         .collect();
     order.sort_by(|&a, &b| cands[b].score.total_cmp(&cands[a].score));
     let refit: Vec<usize> = order.into_iter().take(opts.refit_top.max(1)).collect();
-    let fits: Vec<(usize, Result<(ModelFit, f64)>)> = refit
+    type Refit = (ModelFit, f64, Option<OtherStart>);
+    let fits: Vec<(usize, Result<Refit>)> = refit
         .par_iter()
         .map(|&c| {
             let k = observed.lr[c].1;
@@ -759,7 +830,7 @@ pub fn discover_setup(
                 &dict_delta[c][k],
                 opts.refit_iterations,
             )
-            .map(|(f, m2)| {
+            .map(|(f, m2, other)| {
                 // Drop in RSS on the points both models keep.
                 let mut r0 = 0.0;
                 for &i in &train {
@@ -770,41 +841,32 @@ pub fn discover_setup(
                     }
                 }
                 let drop = r0 - f.lm.rss;
-                (f, drop)
+                (f, drop, other)
             });
             (c, f)
         })
         .collect();
     let mut refits: Vec<(usize, ModelFit)> = Vec::new();
     for (c, f) in fits {
-        let Ok((f, drop)) = f else { continue };
+        let Ok((f, drop, other)) = f else { continue };
         let cand = LIBRARY[c];
         let p0 = 2 + train.len();
-        let (est, grad) = cand.estimate(&f.effect.delta);
-        let jt = &f.lm.jacobian;
-        let cov = (jt.transpose() * jt).try_inverse();
-        let ci = cov.map(|cov| {
-            let g = DVector::from_vec(grad.clone());
-            let sub: DMatrix<f64> = cov.view((p0, p0), (cand.dim(), cand.dim())).into_owned();
-            let var = (g.transpose() * &sub * &g)[(0, 0)].max(0.0);
-            match cand {
-                Candidate::Backlash => {
-                    let sb = sub[(0, 0)].max(0.0).sqrt();
-                    (
-                        (f.effect.delta[0] - 1.96 * sb).exp(),
-                        (f.effect.delta[0] + 1.96 * sb).exp(),
-                    )
-                }
-                Candidate::DampingLaw => (est - 1.96 * var.sqrt(), est + 1.96 * var.sqrt()),
-                _ => ((est - 1.96 * var.sqrt()).max(0.0), est + 1.96 * var.sqrt()),
-            }
-        });
+        let est = cand.estimate(&f.effect.delta).0;
+        let mut ci = wald_ci(cand, &f.lm, p0);
+        // Two basins within chi2(0.95; 1) of each other: the interval spans both.
+        if let Some(o) = other
+            .as_ref()
+            .filter(|o| o.phase_undetermined(&f.effect.delta))
+        {
+            ci = ci.zip(o.ci95).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1)));
+        }
         cands[c].estimate = Some(est);
         cands[c].ci95 = ci;
         cands[c].delta = Some(f.effect.delta.clone());
         cands[c].refit_lr = Some(drop);
         cands[c].refit_zeta = Some(f.globals.zeta);
         cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
+        cands[c].other_start = other;
         refits.push((c, f));
     }
     progress.advance(1);
@@ -938,4 +1000,33 @@ pub fn discover_setup(
         effect,
         bootstrap: opts.bootstrap,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::OtherStart;
+
+    /// A distinct minimum (phase 180 degrees away) within 3.84 sigma^2 leaves the phase
+    /// undetermined; the same minimum reached twice, a phase 60 degrees away, or a distinct one
+    /// 5 sigma^2 worse does not. The phase difference wraps at +-180 degrees.
+    #[test]
+    fn phase_is_undetermined_only_for_a_distinct_minimum_within_the_threshold() {
+        let at = |deg: f64, rss_increase: f64| OtherStart {
+            delta: vec![0.1 * deg.to_radians().cos(), 0.1 * deg.to_radians().sin()],
+            rss_increase,
+            ci95: None,
+        };
+        let kept = [0.1, 0.0];
+        assert!(at(180.0, 1.0).phase_undetermined(&kept));
+        assert!(at(-120.0, 3.8).phase_undetermined(&kept));
+        assert!(!at(0.0, 0.0).phase_undetermined(&kept));
+        assert!(!at(60.0, 1.0).phase_undetermined(&kept));
+        assert!(!at(180.0, 5.0).phase_undetermined(&kept));
+        // 170 and -170 degrees are 20 degrees apart, not 340.
+        let kept170 = [
+            0.1 * 170f64.to_radians().cos(),
+            0.1 * 170f64.to_radians().sin(),
+        ];
+        assert!(!at(-170.0, 1.0).phase_undetermined(&kept170));
+    }
 }
