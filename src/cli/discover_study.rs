@@ -97,6 +97,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "held-out RMS gap shrank in {c}/{n} correctly named seeds\n"
         ));
     }
+    if let Some((u, n)) = s.phase_undetermined {
+        msg.push_str(&format!(
+            "phase not determined by the training loads (interval over both phases) in {u}/{n} correctly named seeds\n"
+        ));
+    }
     msg.push_str(&format!(
         "warning about excluded points far outside M0's range in {}/{} seeds\n",
         s.warned, s.seeds

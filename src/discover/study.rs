@@ -99,6 +99,10 @@ pub struct SeedOutcome {
     pub estimate: Option<f64>,
     pub ci95: Option<(f64, f64)>,
     pub covered: Option<bool>,
+    /// The named candidate's phase is not determined by the training loads (its other-phase
+    /// refit is a distinct minimum within chi2(0.95; 1); the interval spans both); None when
+    /// no phase-carrying candidate was named.
+    pub phase_undetermined: Option<bool>,
     pub held_out_rms_before_um: Option<f64>,
     pub held_out_rms_after_um: Option<f64>,
     /// Raw (unadjusted) bootstrap p-value of every detection test and every identifiable
@@ -142,6 +146,9 @@ pub struct StudySummary {
     pub coverage: Option<(usize, usize)>,
     /// Held-out RMS smaller after than before, over the correctly named seeds.
     pub held_out_shrunk: Option<(usize, usize)>,
+    /// Phase not determined (interval over both phases), over the correctly named seeds with
+    /// a phase-carrying effect.
+    pub phase_undetermined: Option<(usize, usize)>,
     /// Seeds whose run warned about excluded points far outside M0's range.
     pub warned: usize,
     /// Per test (detection and candidates), its raw p-values over the seeds.
@@ -236,11 +243,18 @@ pub fn run_study(
             )
             .collect();
         let estimate = cand.and_then(|c| c.estimate);
+        let phase_undetermined = cand.and_then(|c| {
+            c.other_start
+                .as_ref()
+                .zip(c.delta.as_ref())
+                .map(|(o, kept)| o.phase_undetermined(kept))
+        });
         let ci95 = cand.and_then(|c| c.ci95);
         outcomes.push(SeedOutcome {
             seed,
             correct: d.effect == hidden.expected(),
             covered: truth.zip(ci95).map(|(v, (lo, hi))| v >= lo && v <= hi),
+            phase_undetermined,
             estimate,
             ci95,
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
@@ -273,6 +287,9 @@ pub fn run_study(
             .count();
         (s, good.len())
     });
+    let with_phase: Vec<bool> = good.iter().filter_map(|o| o.phase_undetermined).collect();
+    let phase_undetermined = (!with_phase.is_empty())
+        .then(|| (with_phase.iter().filter(|u| **u).count(), with_phase.len()));
     let calibration = calibration(&outcomes);
     Ok(StudySummary {
         hidden,
@@ -291,6 +308,7 @@ pub fn run_study(
         },
         coverage,
         held_out_shrunk,
+        phase_undetermined,
         warned: outcomes
             .iter()
             .filter(|o| o.excluded_far_outside > 0)
