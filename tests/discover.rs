@@ -130,6 +130,8 @@ fn null_set_gives_none_without_reading_the_truth() {
     for e in j["excluded_by_load"].as_array().unwrap() {
         assert_eq!(e["outside_model_range"], 0, "{e}");
     }
+    // M0 fits with physical damping (true zeta 0.0175), not at the lower bound.
+    assert_eq!(j["m0"]["zeta_at_lower_bound"], false, "{}", j["m0"]);
     // M0 residuals at the noise level (0.15 um) on both sets of loads.
     let rms = j["gap_before"]["held_out"]["rms_um"].as_f64().unwrap();
     assert!(rms < 0.2, "held-out RMS {rms}");
@@ -151,6 +153,9 @@ fn hidden_mesh_stiffness_variation_is_named_and_sized() {
     };
     let d = discover_hidden(h, 7, MunroTruth::default_munro().ste_um);
     assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
+    // M0 absorbs the stiffness variation with the least damping it may use (true zeta 0.0175),
+    // and says so.
+    assert!(d.m0_zeta_at_lower_bound(), "M0 zeta {}", d.zeta_m0);
     let (b, a) = held_out_rms(&d);
     assert!(a < 0.5 * b, "held-out RMS {b} -> {a}");
     assert!(d.gap_after.training.rms_um < 0.5 * d.gap_before.training.rms_um);

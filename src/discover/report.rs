@@ -3,6 +3,7 @@
 //! residual plots before and after (PNG + SVG) with the Omega windows marked. The folder is
 //! staged and moved into place only when complete.
 
+use super::forward::MIN_ZETA;
 use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
@@ -46,7 +47,11 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "post_fit": d.post_fit,
         "sigma_um": d.sigma_um,
         "sigma_source": d.sigma_source,
-        "m0": { "zeta": d.zeta_m0, "omega_n_hz": d.omega_n_hz_m0 },
+        "m0": {
+            "zeta": d.zeta_m0,
+            "omega_n_hz": d.omega_n_hz_m0,
+            "zeta_at_lower_bound": d.m0_zeta_at_lower_bound(),
+        },
         "training_loads_n": d.training_loads_n,
         "held_out_loads_n": d.held_out_loads_n,
         "held_out_ste_um": d.held_out_ste_um.iter().map(|(l, b, a)| json!({
@@ -150,6 +155,13 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
     ))
 }
 
+/// The note when M0's zeta sits at the fits' lower bound.
+fn zeta_bound_text(d: &Discovery) -> Option<String> {
+    d.m0_zeta_at_lower_bound().then(|| format!(
+        "M0's zeta sits at the fits' lower bound ({MIN_ZETA}): M0 fits these curves only with the least damping it may use, itself a sign that something is missing"
+    ))
+}
+
 fn opt(v: Option<f64>, prec: usize) -> String {
     v.map_or("-".into(), |x| format!("{x:.prec$}"))
 }
@@ -171,6 +183,9 @@ pub fn summary_text(d: &Discovery) -> String {
         d.sigma_um,
         d.sigma_source
     );
+    if let Some(t) = zeta_bound_text(d) {
+        s.push_str(&format!("NOTE: {t}\n"));
+    }
     for c in &d.candidates {
         s.push_str(&format!(
             "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}\n",
@@ -293,6 +308,9 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         d.excluded_points,
         d.bootstrap
     ));
+    if let Some(t) = zeta_bound_text(d) {
+        page.paragraph(&t);
+    }
     page.heading("Detection (bootstrap p-values under M0, Holm-adjusted)");
     let test_rows = |t: &[super::run::TestResult]| -> Vec<Vec<String>> {
         t.iter()

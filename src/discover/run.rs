@@ -6,7 +6,7 @@
 use super::ambiguity::{ambiguous_with as ambiguous_partners, Contender};
 use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, ModelFit};
-use super::forward::{predict_many, CurvePrediction, Setup};
+use super::forward::{predict_many, CurvePrediction, Setup, MIN_ZETA};
 use super::linearized::{detection_names, Linearized, Statistics};
 use super::lm::LmFit;
 use super::stats::{bootstrap_p, chi2_sf, holm};
@@ -256,6 +256,13 @@ impl Discovery {
             .iter()
             .map(|e| e.outside_model_range)
             .sum()
+    }
+
+    /// M0's fitted zeta sits at the fits' lower bound [`MIN_ZETA`] (within 5%): M0 reaches for
+    /// the least damping it may use, itself a sign that it lacks something (on the hidden-eps
+    /// sets M0 lands there, with the true zeta 0.0175; on null sets it does not).
+    pub fn m0_zeta_at_lower_bound(&self) -> bool {
+        self.zeta_m0 < 1.05 * MIN_ZETA
     }
 }
 
