@@ -458,10 +458,11 @@ fn min_holm(t: &[TestResult]) -> f64 {
     t.iter().filter_map(|x| x.p_holm).fold(1.0, f64::min)
 }
 
-/// 95% Wald interval of `cand`'s estimate from a fit's Jacobian (delta method; `p0` is the
-/// index of delta's first component): on exp(beta) for the backlash, symmetric for gamma,
-/// clipped at zero for the amplitudes. None when J'J is singular.
-fn wald_ci(cand: Candidate, lm: &LmFit, p0: usize) -> Option<(f64, f64)> {
+/// 95% Wald interval of `cand`'s estimate from a fit's Jacobian (delta method; delta is the
+/// last `cand.dim()` parameters, see [`ModelFit::lm`]): on exp(beta) for the backlash,
+/// symmetric for gamma, clipped at zero for the amplitudes. None when J'J is singular.
+fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
+    let p0 = lm.params.len() - cand.dim();
     let delta = &lm.params[p0..];
     let (est, grad) = cand.estimate(delta);
     let jt = &lm.jacobian;
@@ -546,7 +547,7 @@ fn refit_candidate(
     };
     let other = converged.next().map(|o| OtherStart {
         rss_increase: o.lm.rss - f2.lm.rss,
-        ci95: wald_ci(cand, &o.lm, 2 + train.len()),
+        ci95: wald_ci(cand, &o.lm),
         delta: o.effect.delta,
     });
     let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
@@ -857,9 +858,8 @@ pub fn discover_setup(
     for (c, f) in fits {
         let Ok((f, drop, other)) = f else { continue };
         let cand = LIBRARY[c];
-        let p0 = 2 + train.len();
         let est = cand.estimate(&f.effect.delta).0;
-        let mut ci = wald_ci(cand, &f.lm, p0);
+        let mut ci = wald_ci(cand, &f.lm);
         // Two basins within chi2(0.95; 1) of each other: the interval spans both.
         if let Some(o) = other
             .as_ref()
