@@ -8,6 +8,7 @@
 use super::fit::{fit_model, fit_ste};
 use super::forward::{predict, predict_many, CurvePrediction, Setup};
 use super::linearized::{Linearized, Statistics};
+use super::lm::Stop;
 use super::run::{fit_m0, split, M0Fit};
 use super::stats::noise_from_differences;
 use crate::progress::NoProgress;
@@ -21,7 +22,16 @@ fn refitted_statistics(setup: &Setup, fit: &M0Fit, train: &[usize], y: &[Vec<f64
         c.dte_pp_um = v.clone();
     }
     let sigma = noise_from_differences(y).unwrap();
-    let m = fit_model(&sy, train, &fit.mask, sigma, None, &fit.m0.lm.params, 30).unwrap();
+    let m = fit_model(
+        &sy,
+        train,
+        &fit.mask,
+        sigma,
+        None,
+        &fit.m0.lm.params,
+        Stop::converged(30),
+    )
+    .unwrap();
     let mut preds: Vec<CurvePrediction> = fit.f0.clone();
     let trained = predict_many(&sy, train, m.globals, &m.ste_um, &m.effect).unwrap();
     for (p, &i) in trained.into_iter().zip(train) {

@@ -5,7 +5,7 @@
 
 use super::effects::{Candidate, Effect};
 use super::forward::{predict, predict_many, CurvePrediction, Globals, Setup};
-use super::lm::{levenberg_marquardt, rss, LmFit};
+use super::lm::{levenberg_marquardt, rss, LmFit, Stop};
 use crate::error::{GearError, Result};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
@@ -67,7 +67,7 @@ pub fn fit_model(
     sigma: f64,
     cand: Option<Candidate>,
     start: &[f64],
-    max_iter: usize,
+    stop: Stop,
 ) -> Result<ModelFit> {
     let n = idx.len();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
@@ -80,7 +80,7 @@ pub fn fit_model(
     if let Some(c) = cand {
         scales.extend(std::iter::repeat_n(c.scale(), c.dim()));
     }
-    let lm = levenberg_marquardt(&f, start, &scales, max_iter)?;
+    let lm = levenberg_marquardt(&f, start, &scales, stop)?;
     let (globals, ste_um, effect) = unpack(&lm.params, n, cand);
     Ok(ModelFit {
         globals,
@@ -138,7 +138,7 @@ pub fn fit_ste(
         }
         None => scan(&STE_SCAN_FINE, start.abs())?.map_or(start.abs(), |fine| fine.0),
     };
-    let lm = levenberg_marquardt(&f, &[best], &[0.05], 8)?;
+    let lm = levenberg_marquardt(&f, &[best], &[0.05], Stop::converged(8))?;
     Ok((lm.params[0].abs(), lm))
 }
 
@@ -172,7 +172,12 @@ pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
     let mut best: Option<LmFit> = None;
     for z in [0.01, 0.03, 0.08] {
         for w in [0.97, 1.0, 1.03] {
-            if let Ok(fit) = levenberg_marquardt(&f, &[z, peak * w, e0], &[0.005, 10.0, 0.05], 60) {
+            if let Ok(fit) = levenberg_marquardt(
+                &f,
+                &[z, peak * w, e0],
+                &[0.005, 10.0, 0.05],
+                Stop::converged(60),
+            ) {
                 if best.as_ref().is_none_or(|b| fit.rss < b.rss) {
                     best = Some(fit);
                 }

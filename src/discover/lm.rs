@@ -8,6 +8,38 @@ use crate::error::{GearError, Result};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
+/// When a fit stops.
+#[derive(Clone, Copy, Debug)]
+pub struct Stop {
+    /// Jacobians at most.
+    pub max_iter: usize,
+    /// Stop once even a full Gauss-Newton step would lower the residual sum of squares by less
+    /// than this (sigma^2 units for normalised residuals; 0: only the relative 1e-9 rule).
+    pub decrement: f64,
+}
+
+impl Stop {
+    /// Run until a step gains less than 1e-9 relative or `max_iter` Jacobians are spent: for
+    /// fits whose parameters, Jacobian or residual sum of squares are reported or tested.
+    pub fn converged(max_iter: usize) -> Stop {
+        Stop {
+            max_iter,
+            decrement: 0.0,
+        }
+    }
+
+    /// Stop within about 0.01 sigma^2 of the minimum: for fits that only start a later one
+    /// (and a basin comparison against a 3.84 sigma^2 threshold, which 0.01 cannot move). On
+    /// an eps 0.2 set the design-load stage ran all 12 Jacobians, the last six gaining
+    /// 0.013 sigma^2 together.
+    pub fn near(max_iter: usize) -> Stop {
+        Stop {
+            max_iter,
+            decrement: 0.01,
+        }
+    }
+}
+
 /// Result of a Levenberg-Marquardt fit.
 #[derive(Clone, Debug)]
 pub struct LmFit {
@@ -56,14 +88,13 @@ pub fn rss(r: &[f64]) -> f64 {
 
 /// Minimise |f(p)|^2 from `start`. `scales[i]` is a typical size of parameter i: the difference
 /// step is 1e-4 max(|p_i|, scales[i]). A residual evaluation that fails (e.g. a trial step to an
-/// invalid damping) counts as an infinitely bad step. Stops after `max_iter` Jacobians or when a
-/// step improves the sum of squares by less than 1e-9 relative.
-pub fn levenberg_marquardt<F>(
-    f: &F,
-    start: &[f64],
-    scales: &[f64],
-    max_iter: usize,
-) -> Result<LmFit>
+/// invalid damping) counts as an infinitely bad step. Stops after `stop.max_iter` Jacobians,
+/// when a step improves the sum of squares by less than 1e-9 relative, or when the
+/// Gauss-Newton decrement g' (J'J)^-1 g (the decrease a full Gauss-Newton step would give on
+/// the linearised residuals; Nocedal & Wright 2006 Sec. 10.3) falls below `stop.decrement`.
+/// The decrement, unlike the last step's gain, does not depend on the damping lambda, so a
+/// short, heavily damped step far from the minimum does not end the fit.
+pub fn levenberg_marquardt<F>(f: &F, start: &[f64], scales: &[f64], stop: Stop) -> Result<LmFit>
 where
     F: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
@@ -83,10 +114,21 @@ where
     };
     let mut j = jacobian(f, &p, &r, &steps(&p))?;
     let mut lambda = 1e-3;
-    for _ in 0..max_iter {
+    for _ in 0..stop.max_iter {
         let jt = j.transpose();
         let a = &jt * &j;
         let g = &jt * DVector::from_column_slice(&r);
+        if stop.decrement > 0.0 {
+            let mut m = a.clone();
+            for i in 0..m.nrows() {
+                m[(i, i)] += 1e-12 * a[(i, i)].max(1e-300);
+            }
+            if let Some(d) = m.lu().solve(&g) {
+                if g.dot(&d) < stop.decrement {
+                    break;
+                }
+            }
+        }
         let mut improved = false;
         for _ in 0..12 {
             let mut m = a.clone();
@@ -137,9 +179,39 @@ mod tests {
                 .map(|x| 2.0 * (-0.7 * x).exp() + 0.3 - (p[0] * (-p[1] * x).exp() + p[2]))
                 .collect())
         };
-        let fit = levenberg_marquardt(&f, &[1.0, 0.2, 0.0], &[1.0, 1.0, 1.0], 100).unwrap();
+        let fit = levenberg_marquardt(&f, &[1.0, 0.2, 0.0], &[1.0, 1.0, 1.0], Stop::converged(100))
+            .unwrap();
         assert!((fit.params[0] - 2.0).abs() < 1e-5, "{:?}", fit.params);
         assert!((fit.params[1] - 0.7).abs() < 1e-5);
         assert!(fit.rss < 1e-12);
+    }
+
+    /// `Stop::near` ends within 0.01 of the minimum's sum of squares (a residual with a
+    /// positive minimum: the decay plus a wiggle no exponential can follow) and spends fewer
+    /// residual evaluations than converging fully.
+    #[test]
+    fn near_stop_ends_within_its_decrement_of_the_minimum() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let xs: Vec<f64> = (0..60).map(|i| i as f64 * 0.05).collect();
+        let calls = AtomicUsize::new(0);
+        let f = |p: &[f64]| -> Result<Vec<f64>> {
+            calls.fetch_add(1, Ordering::Relaxed);
+            Ok(xs
+                .iter()
+                .map(|x| {
+                    2.0 * (-0.7 * x).exp() + 0.3 + 0.1 * (17.0 * x).sin()
+                        - (p[0] * (-p[1] * x).exp() + p[2])
+                })
+                .collect())
+        };
+        let (start, scales) = ([1.0, 0.2, 0.0], [1.0, 1.0, 1.0]);
+        let full = levenberg_marquardt(&f, &start, &scales, Stop::converged(100)).unwrap();
+        let full_calls = calls.swap(0, Ordering::Relaxed);
+        let near = levenberg_marquardt(&f, &start, &scales, Stop::near(100)).unwrap();
+        let near_calls = calls.load(Ordering::Relaxed);
+        assert!(full.rss > 0.1, "{}", full.rss);
+        assert!(near.rss >= full.rss - 1e-12, "{} {}", near.rss, full.rss);
+        assert!(near.rss - full.rss < 0.01, "{} {}", near.rss, full.rss);
+        assert!(near_calls < full_calls, "{near_calls} vs {full_calls}");
     }
 }

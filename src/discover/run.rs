@@ -8,7 +8,7 @@ use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, ModelFit};
 use super::forward::{predict_many, CurvePrediction, Setup, MIN_ZETA};
 use super::linearized::{detection_names, Linearized, Statistics};
-use super::lm::LmFit;
+use super::lm::{LmFit, Stop};
 use super::stats::{bootstrap_p, chi2_sf, holm};
 use super::windows::Window;
 use crate::data::MunroData;
@@ -508,7 +508,15 @@ fn refit_candidate(
 ) -> Result<(ModelFit, Mask, Option<OtherStart>)> {
     let mut s1 = vec![m0.globals.zeta, m0.globals.omega_n_hz, m0.ste_um[0]];
     s1.extend_from_slice(delta0);
-    let f1 = fit_model(setup, &train[..1], mask, sigma, Some(cand), &s1, iters)?;
+    let f1 = fit_model(
+        setup,
+        &train[..1],
+        mask,
+        sigma,
+        Some(cand),
+        &s1,
+        Stop::near(iters),
+    )?;
     // Stage two from the design-load fit with the effect `effect`.
     let from = |effect: &Effect| -> Result<ModelFit> {
         let mut start = vec![f1.globals.zeta, f1.globals.omega_n_hz, f1.ste_um[0]];
@@ -521,7 +529,15 @@ fn refit_candidate(
             start.push(e?);
         }
         start.extend_from_slice(&effect.delta);
-        fit_model(setup, train, mask, sigma, Some(cand), &start, iters)
+        fit_model(
+            setup,
+            train,
+            mask,
+            sigma,
+            Some(cand),
+            &start,
+            Stop::near(iters),
+        )
     };
     let mut starts = vec![f1.effect.clone()];
     if cand.has_phase() {
@@ -569,7 +585,7 @@ fn refit_candidate(
         sigma,
         Some(cand),
         &f2.lm.params.clone(),
-        iters / 2 + 1,
+        Stop::converged(iters / 2 + 1),
     )?;
     Ok((f3, m2, other))
 }
@@ -606,7 +622,7 @@ pub(super) fn fit_m0(
         .iter()
         .map(|c| vec![true; c.speeds_rpm.len()])
         .collect();
-    let m0 = fit_model(setup, train, &all, sigma, None, &start, 25)?;
+    let m0 = fit_model(setup, train, &all, sigma, None, &start, Stop::converged(25))?;
     progress.advance(1);
     // Held-out STE from the quasi-static end for the mask; fitted afterwards.
     let pre_ste: Vec<f64> = (0..n_curves)
@@ -618,7 +634,15 @@ pub(super) fn fit_m0(
     let every: Vec<usize> = (0..n_curves).collect();
     let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
     let mask = make_mask(&pre, sigma);
-    let m0 = fit_model(setup, train, &mask, sigma, None, &m0.lm.params.clone(), 30)?;
+    let m0 = fit_model(
+        setup,
+        train,
+        &mask,
+        sigma,
+        None,
+        &m0.lm.params.clone(),
+        Stop::converged(30),
+    )?;
     let (f0, held0) = predict_all(setup, &m0, train, held, &mask, sigma, None)?;
     progress.advance(1);
     let omega: Vec<Vec<f64>> = setup
