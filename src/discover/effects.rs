@@ -76,6 +76,13 @@ impl Candidate {
         )
     }
 
+    /// Phase (rad) of the first (cos, sin) pair of a phase-carrying candidate's delta, which
+    /// holds (A cos psi, A sin psi): psi for the stiffness variation and the torque ripple, the
+    /// 2nd harmonic's phase for the STE harmonics.
+    pub fn first_phase(delta: &[f64]) -> f64 {
+        delta[1].atan2(delta[0])
+    }
+
     /// The reported scalar of an effect and its gradient with respect to delta (for the delta
     /// method): an amplitude hypot(c, s) for the phase-carrying effects, gamma, or exp(beta).
     pub fn estimate(self, delta: &[f64]) -> (f64, Vec<f64>) {

@@ -3,6 +3,7 @@
 //! residual plots before and after (PNG + SVG) with the Omega windows marked. The folder is
 //! staged and moved into place only when complete.
 
+use super::effects::Candidate;
 use super::forward::MIN_ZETA;
 use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
@@ -140,7 +141,7 @@ fn gap_text(g: &Gap) -> String {
 /// Where a phase-carrying candidate's refit from the opposite phase ended, when it ran.
 fn other_start_text(c: &CandidateResult) -> Option<String> {
     let (o, kept) = (c.other_start.as_ref()?, c.delta.as_ref()?);
-    let deg = |d: &[f64]| d[1].atan2(d[0]).to_degrees();
+    let deg = |d: &[f64]| Candidate::first_phase(d).to_degrees();
     Some(format!(
         "{}: the refit from the opposite phase ended at phase {:.0} deg (kept: {:.0} deg) with a training residual sum of squares larger by {:.2} sigma^2{}",
         c.name,

@@ -108,8 +108,7 @@ impl OtherStart {
     /// Whether it is a distinct minimum (phase of the first pair more than 90 degrees from the
     /// kept fit's) that fits within chi2(0.95; 1) = 3.84 sigma^2 of it.
     pub fn phase_undetermined(&self, kept: &[f64]) -> bool {
-        let phase = |d: &[f64]| d[1].atan2(d[0]);
-        let mut diff = (phase(&self.delta) - phase(kept)).abs();
+        let mut diff = (Candidate::first_phase(&self.delta) - Candidate::first_phase(kept)).abs();
         if diff > std::f64::consts::PI {
             diff = 2.0 * std::f64::consts::PI - diff;
         }
@@ -557,7 +556,7 @@ fn refit_candidate(
             }
         }
     }
-    // Stable: on a tie the best probe's own start is kept.
+    // Stable: on a tie the design-load fit's own phase is kept.
     converged.sort_by(|a, b| a.lm.rss.total_cmp(&b.lm.rss));
     let mut converged = converged.into_iter();
     let Some(f2) = converged.next() else {
