@@ -23,6 +23,8 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "ambiguous_with": d.ambiguous_with,
         "closest_candidate": d.closest_candidate,
         "detected": d.detected,
+        "detected_by_tests": d.detected_by_tests,
+        "detected_by_excluded_points": d.detected_by_excluded_points,
         "candidates": d.candidates.iter().map(|c| json!({
             "name": c.name,
             "estimate": c.estimate,
@@ -173,9 +175,10 @@ pub fn summary_text(d: &Discovery) -> String {
         "effect: {}{}\nM0: zeta {:.5}, omega_n {:.1} Hz; noise sigma {:.3} um ({})\n",
         d.effect,
         if d.ambiguous_with.is_empty() {
-            d.closest_candidate.as_ref().map_or(String::new(), |c| {
-                format!(" (closest candidate {c} leaves a discrepancy)")
-            })
+            d.closest_candidate.as_ref().map_or_else(
+                || unexplained_by_excluded_text(d).unwrap_or_default(),
+                |c| format!(" (closest candidate {c} leaves a discrepancy)"),
+            )
         } else {
             format!(" between {}", d.ambiguous_with.join(", "))
         },
@@ -263,8 +266,21 @@ fn excluded_text(d: &Discovery) -> String {
 fn excluded_warning(d: &Discovery) -> Option<String> {
     let outside = d.excluded_far_outside();
     (outside > 0).then(|| format!(
-        "WARNING: {outside} excluded point(s) lie far outside every pp M0 predicts there (by more than 3 sigma + 10% of M0's largest); the tests do not use them, so look at the curves"
+        "WARNING: {outside} excluded point(s) lie far outside every pp M0 predicts there (by more than 3 sigma + 10% of M0's largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
     ))
+}
+
+/// Why the effect is "unexplained" when only the excluded points detected a discrepancy and
+/// no candidate is significant.
+fn unexplained_by_excluded_text(d: &Discovery) -> Option<String> {
+    (d.effect == "unexplained" && d.detected_by_excluded_points && !d.detected_by_tests).then(
+        || {
+            format!(
+                " (no test significant, but {} excluded point(s) lie far outside M0's range, and no candidate is significant)",
+                d.excluded_far_outside()
+            )
+        },
+    )
 }
 
 /// Write the output folder `out`; returns the files written.
@@ -299,7 +315,7 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     page.paragraph(&format!(
         "Effect: {}{}. Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. Noise sigma {:.3} um ({}). {} points excluded from the tests. {} bootstrap replicates under M0.",
         d.effect,
-        if d.ambiguous_with.is_empty() { String::new() } else { format!(" ({})", d.ambiguous_with.join(", ")) },
+        if d.ambiguous_with.is_empty() { unexplained_by_excluded_text(d).unwrap_or_default() } else { format!(" ({})", d.ambiguous_with.join(", ")) },
         d.training_loads_n,
         d.held_out_loads_n,
         d.zeta_m0,
