@@ -313,7 +313,7 @@ fn damping_falling_at_light_load_is_flagged_among_the_excluded_points() {
         ..HiddenEffects::default()
     };
     let d = discover_hidden(hidden, 3, MunroTruth::default_munro().ste_um);
-    assert!(!d.detected_by_tests && d.detected_by_excluded_points && d.detected);
+    assert!(!d.detected_by_tests && d.detected_by_excluded_points() && d.detected);
     assert_eq!(d.effect, "unexplained");
     assert!(geardyn::discover::summary_text(&d).contains("excluded point(s) lie far outside"));
     let e945 = d

@@ -24,7 +24,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "closest_candidate": d.closest_candidate,
         "detected": d.detected,
         "detected_by_tests": d.detected_by_tests,
-        "detected_by_excluded_points": d.detected_by_excluded_points,
+        "detected_by_excluded_points": d.detected_by_excluded_points(),
         "candidates": d.candidates.iter().map(|c| json!({
             "name": c.name,
             "estimate": c.estimate,
@@ -273,7 +273,7 @@ fn excluded_warning(d: &Discovery) -> Option<String> {
 /// Why the effect is "unexplained" when only the excluded points detected a discrepancy and
 /// no candidate is significant.
 fn unexplained_by_excluded_text(d: &Discovery) -> Option<String> {
-    (d.effect == "unexplained" && d.detected_by_excluded_points && !d.detected_by_tests).then(
+    (d.effect == "unexplained" && d.detected_by_excluded_points() && !d.detected_by_tests).then(
         || {
             format!(
                 " (no test significant, but {} excluded point(s) lie far outside M0's range, and no candidate is significant)",

@@ -210,6 +210,12 @@ fn excluded_by_load(
         .collect()
 }
 
+/// Excluded points, over all loads, far outside M0's range (see
+/// [`ExcludedPoints::outside_model_range`]).
+fn far_outside(excluded: &[ExcludedPoints]) -> usize {
+    excluded.iter().map(|e| e.outside_model_range).sum()
+}
+
 /// Everything a discovery run found.
 #[derive(Clone, Debug, Serialize)]
 pub struct Discovery {
@@ -220,15 +226,10 @@ pub struct Discovery {
     /// the training loads: chi-square after its refit still significant).
     pub closest_candidate: Option<String>,
     /// A discrepancy is detected: by the tests (`detected_by_tests`) or by excluded points far
-    /// outside M0's range (`detected_by_excluded_points`).
+    /// outside M0's range ([`Discovery::detected_by_excluded_points`]).
     pub detected: bool,
     /// Some detection test is significant after Holm at alpha / 2.
     pub detected_by_tests: bool,
-    /// Some excluded point lies far outside every pp M0 predicts at its load (see
-    /// [`ExcludedPoints::outside_model_range`]). Not a calibrated test: on 600 null seeds it
-    /// fired on none (README), while a chaotic or subharmonic region whose measured pp is far
-    /// from anything M0 produces is a discrepancy the point-wise tests cannot see.
-    pub detected_by_excluded_points: bool,
     pub detection: Vec<TestResult>,
     /// Detection tests on the residuals after adding the chosen effect (same null distribution).
     pub post_fit: Vec<TestResult>,
@@ -260,10 +261,15 @@ impl Discovery {
     /// Excluded points, over all loads, whose measured pp lies far outside M0's range there
     /// (see [`ExcludedPoints::outside_model_range`]): the run warns when there are any.
     pub fn excluded_far_outside(&self) -> usize {
-        self.excluded_by_load
-            .iter()
-            .map(|e| e.outside_model_range)
-            .sum()
+        far_outside(&self.excluded_by_load)
+    }
+
+    /// Some excluded point lies far outside every pp M0 predicts at its load. Not a calibrated
+    /// test: on 600 null seeds it fired on none (README), while a chaotic or subharmonic region
+    /// whose measured pp is far from anything M0 produces is a discrepancy the point-wise tests
+    /// cannot see.
+    pub fn detected_by_excluded_points(&self) -> bool {
+        self.excluded_far_outside() > 0
     }
 
     /// M0's fitted zeta sits at the fits' lower bound [`MIN_ZETA`] (within 5%): M0 reaches for
@@ -801,8 +807,7 @@ pub fn discover_setup(
     let detection = detection_tests(&names, &observed, &reps);
     let detected_by_tests = min_holm(&detection) < opts.alpha / 2.0;
     let excluded = excluded_by_load(setup, &f0, &mask, sigma);
-    let detected_by_excluded_points = excluded.iter().any(|e| e.outside_model_range > 0);
-    let detected = detected_by_tests || detected_by_excluded_points;
+    let detected = detected_by_tests || far_outside(&excluded) > 0;
 
     // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
     // In single-sided impacts the teeth fly through the gap and return to the same flank: the
@@ -822,12 +827,12 @@ pub fn discover_setup(
         .enumerate()
         .map(|(c, &cand)| {
             let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max) / (observed.sigma * observed.sigma);
-            let (identifiable, note) = if biggest < 1.0 && cand == Candidate::Backlash && !back_contact {
-                (false, Some("not identifiable: no back-side contact (double-sided impact) in the training curves, at the stated b or at any probed b; in contact or with single-sided impacts the response in um does not depend on b".to_string()))
-            } else if biggest < 1.0 {
-                (false, Some("not identifiable: its largest probe changes the fitted curves by less than the noise".to_string()))
-            } else {
+            let (identifiable, note) = if biggest >= 1.0 {
                 (true, None)
+            } else if cand == Candidate::Backlash && !back_contact {
+                (false, Some("not identifiable: no back-side contact (double-sided impact) in the training curves, at the stated b or at any probed b; in contact or with single-sided impacts the response in um does not depend on b".to_string()))
+            } else {
+                (false, Some("not identifiable: its largest probe changes the fitted curves by less than the noise".to_string()))
             };
             let lr = observed.lr[c].0;
             let null: Vec<f64> = reps.iter().map(|r| r.lr[c].0).collect();
@@ -1014,7 +1019,6 @@ pub fn discover_setup(
         closest_candidate: closest,
         detected,
         detected_by_tests,
-        detected_by_excluded_points,
         post_fit,
         sigma_um: sigma,
         sigma_source,
