@@ -181,6 +181,15 @@ impl Effect {
         d
     }
 
+    /// Damping ratio at a load W / W_design = `load_ratio`: zeta (W / W_design)^gamma under the
+    /// damping law, zeta otherwise.
+    pub fn zeta_at(&self, zeta: f64, load_ratio: f64) -> f64 {
+        match self.candidate {
+            Some(Candidate::DampingLaw) => zeta * load_ratio.powf(self.delta[0]),
+            _ => zeta,
+        }
+    }
+
     /// The model at one load: M0 (zeta, F_m, F_ah) with the effect added. `load_ratio` is
     /// W / W_design and `design_fm` the design-load F_m (both under the effect's scales).
     pub fn model(
@@ -191,11 +200,11 @@ impl Effect {
         load_ratio: f64,
         design_fm: f64,
     ) -> Result<GearPair> {
-        let mut m = GearPair::paper(fm, fah, zeta, 1.0)?;
+        let mut m = GearPair::paper(fm, fah, self.zeta_at(zeta, load_ratio), 1.0)?;
         let d = &self.delta;
         let polar = |c: f64, s: f64| (c.hypot(s), s.atan2(c));
         match self.candidate {
-            None | Some(Candidate::Backlash) => {}
+            None | Some(Candidate::Backlash) | Some(Candidate::DampingLaw) => {}
             Some(Candidate::MeshStiffnessVariation) => {
                 let (eps, psi) = polar(d[0], d[1]);
                 if eps > 0.0 {
@@ -218,7 +227,6 @@ impl Effect {
                     }
                 }
             }
-            Some(Candidate::DampingLaw) => m.zeta *= load_ratio.powf(d[0]),
             Some(Candidate::TorqueRipple) => {
                 let (a, ph) = polar(d[0], d[1]);
                 if a > 0.0 {

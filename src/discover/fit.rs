@@ -4,7 +4,9 @@
 //! loads can predict). Residuals are (measured - model) / sigma at the points kept by a mask.
 
 use super::effects::{Candidate, Effect};
-use super::forward::{predict, predict_many, CurvePrediction, Globals, Setup};
+use super::forward::{
+    fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup,
+};
 use super::lm::{levenberg_marquardt, rss, LmFit, Stop};
 use crate::error::{GearError, Result};
 use crate::validate::{dte_gain, dte_pp_um};
@@ -72,6 +74,7 @@ pub fn fit_model(
     let n = idx.len();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let (g, ste, effect) = unpack(p, n, cand);
+        fitted_damping_admissible(setup, idx, g, &effect)?;
         let preds = predict_many(setup, idx, g, &ste, &effect)?;
         Ok(residuals_of(setup, idx, &preds, mask, sigma))
     };

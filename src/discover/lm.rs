@@ -86,6 +86,29 @@ pub fn rss(r: &[f64]) -> f64 {
     r.iter().map(|x| x * x).sum()
 }
 
+/// Below this, in residual units (sigma), the residuals do not see a parameter: moving it by
+/// its own size changes them by less than rounding in the simulated curves makes of its
+/// forward difference.
+const UNSEEN: f64 = 1e-3;
+
+/// Hold still the parameters the residuals do not see at `p`: a column of J whose norm times
+/// the parameter's size max(|p_i|, scale_i) is below [`UNSEEN`]. Marquardt's damping scales
+/// with diag(J'J), so such a column's step is -g_i / a_ii, rounding over rounding squared:
+/// the backlash, which the design-load curve does not depend on (the teeth stay in contact),
+/// drifted to b = b_stated e^-667 in three steps and overflowed the solver. Its row and column
+/// are replaced by the identity's, so its step is exactly zero; the next Jacobian looks again.
+fn freeze_unseen(a: &mut DMatrix<f64>, g: &mut DVector<f64>, p: &[f64], scales: &[f64]) {
+    for (i, (x, sc)) in p.iter().zip(scales).enumerate() {
+        let size = x.abs().max(*sc);
+        if a[(i, i)].sqrt() * size < UNSEEN {
+            a.row_mut(i).fill(0.0);
+            a.column_mut(i).fill(0.0);
+            a[(i, i)] = 1.0;
+            g[i] = 0.0;
+        }
+    }
+}
+
 /// Minimise |f(p)|^2 from `start`. `scales[i]` is a typical size of parameter i: the difference
 /// step is 1e-4 max(|p_i|, scales[i]). A residual evaluation that fails (e.g. a trial step to an
 /// invalid damping) counts as an infinitely bad step. Stops after `stop.max_iter` Jacobians,
@@ -93,7 +116,8 @@ pub fn rss(r: &[f64]) -> f64 {
 /// Gauss-Newton decrement g' (J'J)^-1 g (the decrease a full Gauss-Newton step would give on
 /// the linearised residuals; Nocedal & Wright 2006 Sec. 10.3) falls below `stop.decrement`.
 /// The decrement, unlike the last step's gain, does not depend on the damping lambda, so a
-/// short, heavily damped step far from the minimum does not end the fit.
+/// short, heavily damped step far from the minimum does not end the fit. A parameter the
+/// residuals do not see at the current point is held there (see [`freeze_unseen`]).
 pub fn levenberg_marquardt<F>(f: &F, start: &[f64], scales: &[f64], stop: Stop) -> Result<LmFit>
 where
     F: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
@@ -116,8 +140,9 @@ where
     let mut lambda = 1e-3;
     for _ in 0..stop.max_iter {
         let jt = j.transpose();
-        let a = &jt * &j;
-        let g = &jt * DVector::from_column_slice(&r);
+        let mut a = &jt * &j;
+        let mut g = &jt * DVector::from_column_slice(&r);
+        freeze_unseen(&mut a, &mut g, &p, scales);
         if stop.decrement > 0.0 {
             let mut m = a.clone();
             for i in 0..m.nrows() {
@@ -184,6 +209,27 @@ mod tests {
         assert!((fit.params[0] - 2.0).abs() < 1e-5, "{:?}", fit.params);
         assert!((fit.params[1] - 0.7).abs() < 1e-5);
         assert!(fit.rss < 1e-12);
+    }
+
+    /// A parameter the residuals see only through rounding (here a pseudo-random 1e-13 wobble,
+    /// as the backlash at a load whose teeth never separate) stays where it started, while the
+    /// one they see is fitted. Marquardt's step for it was -g/a, ~1e13 times its size.
+    #[test]
+    fn a_parameter_the_residuals_do_not_see_stays_put() {
+        let xs: Vec<f64> = (0..40).map(|i| i as f64 * 0.1).collect();
+        let f = |p: &[f64]| -> Result<Vec<f64>> {
+            Ok(xs
+                .iter()
+                .enumerate()
+                .map(|(k, x)| {
+                    let wobble = 1e-13 * ((k as f64 + 1.0) * 1e4 * p[1]).sin();
+                    1.5 * x - p[0] * x + wobble
+                })
+                .collect())
+        };
+        let fit = levenberg_marquardt(&f, &[1.0, 0.3], &[1.0, 0.05], Stop::converged(20)).unwrap();
+        assert!((fit.params[0] - 1.5).abs() < 1e-9, "{:?}", fit.params);
+        assert_eq!(fit.params[1], 0.3, "{:?}", fit.params);
     }
 
     /// `Stop::near` ends within 0.01 of the minimum's sum of squares (a residual with a

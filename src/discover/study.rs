@@ -111,6 +111,8 @@ pub struct SeedOutcome {
     /// Points excluded from the tests whose measured pp lies far outside M0's range there
     /// (the run's warning; see `ExcludedPoints`).
     pub excluded_far_outside: usize,
+    /// Candidates refitted with the full model (leading by score, and the dictionary-LR leader).
+    pub refitted: Vec<&'static str>,
     pub seconds: f64,
 }
 
@@ -260,6 +262,12 @@ pub fn run_study(
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
             held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
             excluded_far_outside: d.excluded_far_outside(),
+            refitted: d
+                .candidates
+                .iter()
+                .filter(|c| c.estimate.is_some())
+                .map(|c| c.name)
+                .collect(),
             effect: d.effect,
             p_values,
             seconds: start.elapsed().as_secs_f64(),

@@ -3,6 +3,14 @@
 use crate::error::{GearError, Result};
 use serde::{Deserialize, Serialize};
 
+/// Largest force the model accepts, in units of the half backlash (F_m is the static deflection
+/// over b). Beyond it b is, to any gear, zero, and the closed form's derivative bounds in the
+/// exact solver approach overflow (a fit that let b drift to b e^-667 reached F_m ~ 1e289).
+pub const MAX_FORCE: f64 = 1e9;
+
+const TOO_LARGE: &str =
+    "force beyond 1e9 half backlashes of deflection: the backlash is negligible, use a linear model";
+
 /// One harmonic term `amplitude * sin(order * Omega * t + phase)` (or `cos` for stiffness terms),
 /// at an integer multiple `order` of the fundamental frequency Omega of [`GearPair`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -97,6 +105,9 @@ impl GearPair {
                 "mean load must be finite and >= 0 (the model is symmetric under q -> -q)",
             ));
         }
+        if self.mean_force > MAX_FORCE {
+            return Err(GearError::param("F_m", self.mean_force, TOO_LARGE));
+        }
         for (name, terms) in [
             ("F_ah", &self.ste),
             ("F_aT", &self.torque),
@@ -112,6 +123,9 @@ impl GearPair {
                         t.amplitude,
                         "harmonic amplitude must be finite and >= 0 (use the phase for the sign)",
                     ));
+                }
+                if t.amplitude > MAX_FORCE {
+                    return Err(GearError::param(name, t.amplitude, TOO_LARGE));
                 }
                 if !t.phase.is_finite() {
                     return Err(GearError::param(name, t.phase, "phase must be finite"));
@@ -175,6 +189,11 @@ mod tests {
         let mut m = GearPair::paper(0.1, 0.2, 0.02, 0.5).unwrap();
         m.stiffness = vec![Term::new(1, 1.0)];
         assert!(m.validated().is_err());
+        // Forces of more than MAX_FORCE backlashes: b is negligible, and the exact solver's
+        // bounds would approach overflow.
+        assert!(GearPair::paper(1e9, 0.2, 0.02, 0.5).is_ok());
+        assert!(GearPair::paper(2e9, 0.2, 0.02, 0.5).is_err());
+        assert!(GearPair::paper(0.1, 2e9, 0.02, 0.5).is_err());
     }
 
     #[test]

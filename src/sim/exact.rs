@@ -213,6 +213,14 @@ impl<'a> Segment<'a> {
         }
     }
 
+    /// Whether its derivative bounds and rounding level are finite: with an infinite bound the
+    /// crossing search can exclude nothing and would bisect every cell to the bottom (2^60
+    /// halves), so an overflowing segment is an error, not a hang.
+    fn bounded(&self) -> bool {
+        let (m2, m3) = self.bounds_from_decay(1.0);
+        m2.is_finite() && m3.is_finite() && self.noise.is_finite()
+    }
+
     #[inline]
     fn state(&self, s: f64) -> State {
         let [q, v, _] = self.full(s);
@@ -703,6 +711,11 @@ impl ExactFlow {
         let mut phase = (0.0, 1.0);
         for _ in 0..MAX_CROSSINGS_PER_PERIOD {
             let mut seg = Segment::start_at_phase(self, region, s, x, phase);
+            if !seg.bounded() {
+                return Err(GearError::Numerical(
+                    "the exact solution's derivative bounds overflow (state or forcing near f64's limit); the crossing search cannot exclude any interval".into(),
+                ));
+            }
             match self.scan(&seg, self.period) {
                 Scan::Reached([q, v, _]) => {
                     seg.s1 = self.period;
@@ -771,6 +784,15 @@ mod tests {
         let v0 = qa * om * phase.cos();
         assert!((x[0] - q0).abs() < 1e-10, "{} vs {}", x[0], q0);
         assert!((x[1] - v0).abs() < 1e-10, "{} vs {}", x[1], v0);
+    }
+
+    /// A state near f64's limit overflows the closed form's derivative bounds: one period is an
+    /// error, not a search that can exclude nothing (it bisected every cell 60 levels deep).
+    #[test]
+    fn overflowing_state_is_an_error_not_a_hang() {
+        let flow = ExactFlow::new(&GearPair::paper(0.1, 0.2, 0.02, 0.5).unwrap()).unwrap();
+        assert!(flow.step([1.0e300, -1.0e300], None).is_err());
+        assert!(flow.step([1.2, 0.0], None).is_ok());
     }
 
     /// Free flight through the gap with no forcing has the closed form q = q0 + v0 (1 - e^{-2 zeta t}) / (2 zeta)
