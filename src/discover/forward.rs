@@ -31,14 +31,20 @@ pub fn fitted_damping_admissible(
     effect: &Effect,
 ) -> Result<()> {
     for &i in idx {
-        let zeta = effect.zeta_at(g.zeta, setup.curves[i].load_n / setup.design_load_n);
-        if zeta.is_nan() || zeta < MIN_ZETA {
-            return Err(GearError::param(
-                "zeta",
-                zeta,
-                "discovery fits keep zeta >= 0.003 at every fitted load",
-            ));
-        }
+        above_floor(effect.zeta_at(g.zeta, setup.curves[i].load_n / setup.design_load_n))?;
+    }
+    Ok(())
+}
+
+/// Below 0.3% damping the steady state needs tens of thousands of periods and no gear mesh
+/// is that lightly damped: a fit that wanders there is stopped (the step is rejected).
+fn above_floor(zeta: f64) -> Result<()> {
+    if zeta.is_nan() || zeta < MIN_ZETA {
+        return Err(GearError::param(
+            "zeta",
+            zeta,
+            "discovery fits keep zeta >= 0.003 (at every fitted load, after a damping law)",
+        ));
     }
     Ok(())
 }
@@ -128,15 +134,7 @@ pub fn predict(
         c.load_n / setup.design_load_n,
         dim.mean_force(setup.design_load_n),
     )?;
-    // Below 0.3% damping the steady state needs tens of thousands of periods and no gear mesh
-    // is that lightly damped: a fit that wanders there is stopped (the step is rejected).
-    if g.zeta < MIN_ZETA {
-        return Err(GearError::param(
-            "zeta",
-            g.zeta,
-            "discovery fits keep zeta >= 0.003",
-        ));
-    }
+    above_floor(g.zeta)?;
     if !(g.omega_n_hz.is_finite() && g.omega_n_hz > 0.0) {
         return Err(GearError::param(
             "omega_n_hz",

@@ -87,8 +87,8 @@ pub fn rss(r: &[f64]) -> f64 {
 }
 
 /// Below this, in residual units (sigma), the residuals do not see a parameter: moving it by
-/// its own size changes them by less than rounding in the simulated curves makes of its
-/// forward difference.
+/// its own size changes them by less than a thousandth of the noise, the level at which the
+/// forward difference of a simulated curve is rounding rather than response.
 const UNSEEN: f64 = 1e-3;
 
 /// Hold still the parameters the residuals do not see at `p`: a column of J whose norm times
