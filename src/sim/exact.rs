@@ -22,7 +22,9 @@
 //! The tangent dynamics are products of the region matrices e^{A tau}: f is continuous, so the
 //! vector field is continuous at q = +-1 and there is no saltation term.
 
-use super::exact_bounds::{excluded, hermite_root, safe_horizon, Boundary, Crossing, Sample};
+use super::exact_bounds::{
+    excluded, hermite_root, safe_horizon, within_rounding, Boundary, Crossing, Sample,
+};
 use super::fast_math::{exp_small, sin_cos, sin_cos_small, EXP_SMALL_LIMIT};
 use super::flow::{Observer, PeriodFlow, Piece, State};
 use crate::error::{GearError, Result};
@@ -617,9 +619,9 @@ impl ExactFlow {
             // d decreases throughout: exactly one root, found by safeguarded Halley.
             return Some(self.refine_root(seg, bd, a, b));
         }
-        if depth >= MAX_DEPTH {
+        if depth >= MAX_DEPTH || within_rounding(a, w, m.0, seg.noise) {
             // Not excludable but no sign change at this resolution: a tangency (grazing touch)
-            // whose penetration is below M2 w^2 / 8, i.e. far below rounding.
+            // whose penetration is below rounding (at MAX_DEPTH, below M2 w^2 / 8).
             return (b.d < 0.0).then(|| self.refine_root(seg, bd, a, b));
         }
         let mid = 0.5 * (a.s + b.s);
@@ -793,6 +795,19 @@ mod tests {
         let flow = ExactFlow::new(&GearPair::paper(0.1, 0.2, 0.02, 0.5).unwrap()).unwrap();
         assert!(flow.step([1.0e300, -1.0e300], None).is_err());
         assert!(flow.step([1.2, 0.0], None).is_ok());
+    }
+
+    /// A pair at rest exactly on the drive flank with no load and no forcing stays there: its
+    /// distance to the boundary is zero with every derivative, no bound can exclude a root and
+    /// the crossing search used to halve every cell 60 levels deep (2^60 cells: a hang).
+    #[test]
+    fn pair_at_rest_on_a_flank_stays_there() {
+        let flow = ExactFlow::new(&GearPair::paper(0.0, 0.0, 0.05, 0.8).unwrap()).unwrap();
+        let mut x = [1.0, 0.0];
+        for _ in 0..10 {
+            x = flow.step(x, None).unwrap();
+        }
+        assert_eq!(x, [1.0, 0.0]);
     }
 
     /// Free flight through the gap with no forcing has the closed form q = q0 + v0 (1 - e^{-2 zeta t}) / (2 zeta)

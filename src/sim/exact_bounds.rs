@@ -143,6 +143,16 @@ pub(super) fn safe_horizon(bounds: &[Boundary], x: [f64; 3], m2: f64) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
+/// True when the quadratic Taylor bound d + d' t - M2 t^2 / 2 from sample `x` keeps the
+/// distance above -`noise` (its rounding level) on [0, w]: a root in there is a touch within
+/// rounding, which halving cannot resolve. Where d, d' and M2 are themselves at rounding (a
+/// pair at rest on a flank with no forcing; every force ~1e-16 b) each half is as undecided
+/// as the whole, and without this stop the search visited 2^60 cells.
+#[inline]
+pub(super) fn within_rounding(x: Sample, w: f64, m2: f64, noise: f64) -> bool {
+    x.d.min(x.d + x.dv * w - 0.5 * m2 * w * w) >= -noise
+}
+
 /// True when a Taylor lower bound from sample `x` proves d > 0 on (0, w] away from x, looking
 /// forward (dir = 1) or backward (dir = -1).
 #[inline]
