@@ -92,12 +92,7 @@ fn linearised_bootstrap_statistics_match_full_refits() {
     rows.push(0);
     rows.extend(in_window);
     for b in 0..3u64 {
-        let mut rng = Rng::new(4242 + b);
-        let y: Vec<Vec<f64>> = lin
-            .f0
-            .iter()
-            .map(|c| c.iter().map(|v| v + sigma * rng.normal()).collect())
-            .collect();
+        let y = lin.replicate(sigma, &mut Rng::new(4242 + b));
         let linear = lin.statistics(&y);
         let full = refitted_statistics(&setup, &fit, &train, &y);
         assert!((linear.sigma - full.sigma).abs() < 1e-15);

@@ -2,7 +2,7 @@
 //! parameters delta such that delta = 0 gives M0 back exactly (nested models, so that a
 //! likelihood-ratio test between M0 and M0 + effect is meaningful).
 
-use crate::error::Result;
+use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair, Term};
 use serde::Serialize;
 
@@ -148,6 +148,12 @@ impl Candidate {
     }
 }
 
+/// Largest factor between the fitted and the stated backlash, either way. A stated backlash is
+/// measured (a feeler gauge, or rocking one gear against the other); one off by more than a
+/// factor five describes another gear pair. The study's hidden values are 0.7 and 1.5, and the
+/// probes 0.61-1.65.
+pub const MAX_BACKLASH_FACTOR: f64 = 5.0;
+
 /// A candidate with its parameters (or M0 when `candidate` is None).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Effect {
@@ -172,13 +178,26 @@ impl Effect {
         }
     }
 
-    /// The dimensional scales under the effect (only the backlash changes them).
-    pub fn dimensional(&self, dim: &Dimensional) -> Dimensional {
+    /// The dimensional scales under the effect (only the backlash changes them). The backlash
+    /// stays within a factor [`MAX_BACKLASH_FACTOR`] of the stated one: a fit step beyond it is
+    /// rejected. Without the bound a design-load fit, which the backlash does not move (the
+    /// teeth stay in contact), stepped to b = e^37 b_stated, where every force is ~1e-16 b and
+    /// the exact solver's boundary distances sit at rounding, so nothing can be excluded and
+    /// the crossing search bisects for hours.
+    pub fn dimensional(&self, dim: &Dimensional) -> Result<Dimensional> {
         let mut d = dim.clone();
         if self.candidate == Some(Candidate::Backlash) {
-            d.half_backlash_m *= self.delta[0].exp();
+            let factor = self.delta[0].exp();
+            if !(1.0 / MAX_BACKLASH_FACTOR..=MAX_BACKLASH_FACTOR).contains(&factor) {
+                return Err(GearError::param(
+                    "backlash_factor",
+                    factor,
+                    "a discovery fit keeps the backlash within a factor 5 of the stated one",
+                ));
+            }
+            d.half_backlash_m *= factor;
         }
-        d
+        Ok(d)
     }
 
     /// Damping ratio at a load W / W_design = `load_ratio`: zeta (W / W_design)^gamma under the
@@ -261,17 +280,35 @@ mod tests {
         }
         let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
         let e = Effect::of(Candidate::Backlash, vec![0.0]);
-        assert_eq!(e.dimensional(&dim), dim);
+        assert_eq!(e.dimensional(&dim).unwrap(), dim);
     }
 
-    /// The probes stay inside the models' admissible ranges (eps < 1, zeta > 0).
+    /// The probes stay inside the models' admissible ranges (eps < 1, zeta > 0, b within a
+    /// factor 5 of the stated one).
     #[test]
     fn probes_build_valid_models() {
+        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
         for c in LIBRARY {
             for d in c.probes() {
                 assert_eq!(d.len(), c.dim());
-                Effect::of(c, d).model(0.02, 0.3, 0.01, 0.25, 0.6).unwrap();
+                let e = Effect::of(c, d);
+                e.model(0.02, 0.3, 0.01, 0.25, 0.6).unwrap();
+                e.dimensional(&dim).unwrap();
             }
+        }
+    }
+
+    /// The backlash bound: b x 4.9 and b / 4.9 are fitted, b x 5.1, b / 5.1 and the e^37 a
+    /// design-load fit once stepped to are refused, and so is a NaN.
+    #[test]
+    fn backlash_stays_within_a_factor_five_of_the_stated_one() {
+        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let at = |factor: f64| Effect::of(Candidate::Backlash, vec![factor.ln()]).dimensional(&dim);
+        let b = at(4.9).unwrap().half_backlash_m / dim.half_backlash_m;
+        assert!((b - 4.9).abs() < 1e-12, "{b}");
+        assert!(at(1.0 / 4.9).is_ok());
+        for factor in [5.1, 1.0 / 5.1, 37f64.exp(), f64::NAN] {
+            assert!(at(factor).is_err(), "{factor}");
         }
     }
 }

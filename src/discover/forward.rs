@@ -126,7 +126,7 @@ pub fn predict(
     effect: &Effect,
 ) -> Result<CurvePrediction> {
     let c = &setup.curves[i];
-    let dim = effect.dimensional(&setup.dim);
+    let dim = effect.dimensional(&setup.dim)?;
     let model = effect.model(
         g.zeta,
         dim.mean_force(c.load_n),

@@ -9,9 +9,12 @@
 use super::forward::CurvePrediction;
 use super::stats::{noise_from_differences, runs_z};
 use super::windows::{windows, Window};
+use crate::validate::Rng;
 use nalgebra::{DMatrix, DVector};
+use rayon::prelude::*;
 
 /// Everything fixed under the null: fitted M0 curves, mask, projections, probe curves.
+#[derive(Clone)]
 pub struct Linearized {
     /// M0 predictions per curve (um), every curve.
     pub f0: Vec<Vec<f64>>,
@@ -90,6 +93,26 @@ impl Linearized {
 
     fn project_out(q: &DMatrix<f64>, v: &DVector<f64>) -> DVector<f64> {
         v - q * (q.transpose() * v)
+    }
+
+    /// One replicate data set under the fitted curves: y* = f0 + sigma z, z standard normal.
+    pub fn replicate(&self, sigma: f64, rng: &mut Rng) -> Vec<Vec<f64>> {
+        self.f0
+            .iter()
+            .map(|c| c.iter().map(|v| v + sigma * rng.normal()).collect())
+            .collect()
+    }
+
+    /// Statistics of `n` replicates (replicate b seeded from `seed` and b), in parallel: the
+    /// parametric bootstrap under the fitted curves.
+    pub fn bootstrap(&self, sigma: f64, n: usize, seed: u64) -> Vec<Statistics> {
+        (0..n)
+            .into_par_iter()
+            .map(|b| {
+                let mut rng = Rng::new(seed.wrapping_mul(1_000_003).wrapping_add(b as u64));
+                self.statistics(&self.replicate(sigma, &mut rng))
+            })
+            .collect()
     }
 
     /// Compute every statistic on curves `y` (all curves, full length).

@@ -14,7 +14,7 @@ use super::windows::Window;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
-use crate::validate::{min_max, Rng};
+use crate::validate::min_max;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -33,7 +33,8 @@ pub struct DiscoverOptions {
     pub alpha: f64,
     /// Significant candidates refitted with the full nonlinear model, leading by score first
     /// (a refit costs a few hundred simulated sweeps; a non-significant one is not needed); the
-    /// significant one with the largest dictionary LR is refitted as well when these miss it.
+    /// significant one with the largest dictionary LR is refitted as well when these miss it,
+    /// and every other significant one when these leave the discrepancy unexplained.
     pub refit_top: usize,
     /// Levenberg-Marquardt iterations of a candidate refit.
     pub refit_iterations: usize,
@@ -497,7 +498,8 @@ fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
 
 /// Refit M0 + `cand` on the training curves in stages: the highest load alone first (the
 /// design load, usually in contact, where the fit is smooth) from M0's values and the best
-/// probe, then the other training loads' STE alone, then everything; finally once more with the
+/// probe (held there when `seen_at_design` is false: no probe moves the design-load curve by
+/// the noise, so that stage cannot fit it), then the other training loads' STE alone, then everything; finally once more with the
 /// points around the refitted model's own jumps also dropped. Returns the fit, its mask and
 /// the start not kept.
 ///
@@ -519,19 +521,41 @@ fn refit_candidate(
     cand: Candidate,
     m0: &ModelFit,
     delta0: &[f64],
+    seen_at_design: bool,
     iters: usize,
 ) -> Result<(ModelFit, Mask, Option<OtherStart>)> {
     let mut s1 = vec![m0.globals.zeta, m0.globals.omega_n_hz, m0.ste_um[0]];
-    s1.extend_from_slice(delta0);
-    let f1 = fit_model(
-        setup,
-        &train[..1],
-        mask,
-        sigma,
-        Some(cand),
-        &s1,
-        Stop::near(iters),
-    )?;
+    let f1 = if seen_at_design {
+        s1.extend_from_slice(delta0);
+        fit_model(
+            setup,
+            &train[..1],
+            mask,
+            sigma,
+            Some(cand),
+            &s1,
+            Stop::near(iters),
+        )?
+    } else {
+        // The design load does not see the effect (the backlash while the teeth stay in
+        // contact): its stage fits M0 and the probe is carried to the next stage. Left free,
+        // delta followed the forward model's own last bits (1e-6 um at one point of the
+        // rattle-regime set's design load, a forward-difference slope of 0.15 sigma per unit
+        // beta) to b = e^37 b_stated.
+        let f = fit_model(
+            setup,
+            &train[..1],
+            mask,
+            sigma,
+            None,
+            &s1,
+            Stop::near(iters),
+        )?;
+        ModelFit {
+            effect: Effect::of(cand, delta0.to_vec()),
+            ..f
+        }
+    };
     // Stage two from the design-load fit with the effect `effect`.
     let from = |effect: &Effect| -> Result<ModelFit> {
         let mut start = vec![f1.globals.zeta, f1.globals.omega_n_hz, f1.ste_um[0]];
@@ -603,6 +627,22 @@ fn refit_candidate(
         Stop::converged(iters / 2 + 1),
     )?;
     Ok((f3, m2, other))
+}
+
+/// The decision from the refits so far, and what the report shows of it.
+struct Decision {
+    effect: String,
+    ambiguous_with: Vec<String>,
+    closest: Option<String>,
+    /// Detection tests after the best refit (empty without one).
+    post_fit: Vec<TestResult>,
+    /// Curves shown as "after": the best refit's when it explains the data, else M0's.
+    after_preds: Vec<CurvePrediction>,
+    /// Points both M0 and the best refit compare (M0's mask without one).
+    compare_mask: Mask,
+    /// The best refit's curves and held-out STE fits, even when it does not explain the data.
+    refit_preds: Option<Vec<CurvePrediction>>,
+    refit_held: Option<Vec<HeldFit>>,
 }
 
 /// M0 fitted to the training curves with everything the tests need fixed under the null.
@@ -781,8 +821,14 @@ pub fn discover_setup(
     let q_train = &lin.q_train;
     let mut dict: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
     let mut dict_delta: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
+    // Whether some probe moves the design-load curve (the first kept points of each probe's
+    // differences) by the noise: the identifiability rule, on the refit's first stage.
+    let n_design = mask[train[0]].iter().filter(|k| **k).count();
+    let mut seen_at_design = [false; LIBRARY.len()];
     for (pc, (c, d)) in probe_curves.into_iter().zip(&probes) {
         let (_, v) = pc?;
+        let design: f64 = v[..n_design].iter().map(|x| x * x).sum();
+        seen_at_design[*c] |= design >= sigma * sigma;
         let v = DVector::from_vec(v);
         dict[*c].push(&v - q_train * (q_train.transpose() * &v));
         dict_delta[*c].push(d.clone());
@@ -791,18 +837,7 @@ pub fn discover_setup(
 
     // 3. Observed statistics and the bootstrap under M0.
     let observed = lin.statistics(&measured);
-    let reps: Vec<Statistics> = (0..opts.bootstrap)
-        .into_par_iter()
-        .map(|b| {
-            let mut rng = Rng::new(opts.seed.wrapping_mul(1_000_003).wrapping_add(b as u64));
-            let y: Vec<Vec<f64>> = lin
-                .f0
-                .iter()
-                .map(|c| c.iter().map(|v| v + sigma * rng.normal()).collect())
-                .collect();
-            lin.statistics(&y)
-        })
-        .collect();
+    let reps = lin.bootstrap(sigma, opts.bootstrap, opts.seed);
     progress.advance(1);
     let names = detection_names(&ws);
     let detection = detection_tests(&names, &observed, &reps);
@@ -881,138 +916,172 @@ pub fn discover_setup(
     if let Some(c) = by_lr.filter(|c| !refit.contains(c)) {
         refit.push(c);
     }
+    // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
     type Refit = (ModelFit, f64, Option<OtherStart>);
-    let fits: Vec<(usize, Result<Refit>)> = refit
-        .par_iter()
-        .map(|&c| {
-            let k = observed.lr[c].1;
-            let f = refit_candidate(
-                setup,
-                &train,
-                &mask,
-                sigma,
-                LIBRARY[c],
-                &m0,
-                &dict_delta[c][k],
-                opts.refit_iterations,
-            )
-            .map(|(f, m2, other)| {
-                // Drop in RSS on the points both models keep.
-                let mut r0 = 0.0;
-                for &i in &train {
-                    for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
-                        if m2[i][j] {
-                            r0 += ((y - f0[i].dte_pp_um[j]) / sigma).powi(2);
+    let refit_round =
+        |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<(usize, ModelFit)>| {
+            let fits: Vec<(usize, Result<Refit>)> = list
+                .par_iter()
+                .map(|&c| {
+                    let k = observed.lr[c].1;
+                    let f = refit_candidate(
+                        setup,
+                        &train,
+                        &mask,
+                        sigma,
+                        LIBRARY[c],
+                        &m0,
+                        &dict_delta[c][k],
+                        seen_at_design[c],
+                        opts.refit_iterations,
+                    )
+                    .map(|(f, m2, other)| {
+                        // Drop in RSS on the points both models keep.
+                        let mut r0 = 0.0;
+                        for &i in &train {
+                            for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
+                                if m2[i][j] {
+                                    r0 += ((y - f0[i].dte_pp_um[j]) / sigma).powi(2);
+                                }
+                            }
                         }
-                    }
+                        let drop = r0 - f.lm.rss;
+                        (f, drop, other)
+                    });
+                    (c, f)
+                })
+                .collect();
+            for (c, f) in fits {
+                let Ok((f, drop, other)) = f else { continue };
+                let cand = LIBRARY[c];
+                let est = cand.estimate(&f.effect.delta).0;
+                let mut ci = wald_ci(cand, &f.lm);
+                // Two basins within chi2(0.95; 1) of each other: the interval spans both.
+                if let Some(o) = other
+                    .as_ref()
+                    .filter(|o| o.phase_undetermined(&f.effect.delta))
+                {
+                    ci = ci.zip(o.ci95).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1)));
                 }
-                let drop = r0 - f.lm.rss;
-                (f, drop, other)
-            });
-            (c, f)
-        })
-        .collect();
-    let mut refits: Vec<(usize, ModelFit)> = Vec::new();
-    for (c, f) in fits {
-        let Ok((f, drop, other)) = f else { continue };
-        let cand = LIBRARY[c];
-        let est = cand.estimate(&f.effect.delta).0;
-        let mut ci = wald_ci(cand, &f.lm);
-        // Two basins within chi2(0.95; 1) of each other: the interval spans both.
-        if let Some(o) = other
-            .as_ref()
-            .filter(|o| o.phase_undetermined(&f.effect.delta))
-        {
-            ci = ci.zip(o.ci95).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1)));
-        }
-        cands[c].estimate = Some(est);
-        cands[c].ci95 = ci;
-        cands[c].delta = Some(f.effect.delta.clone());
-        cands[c].refit_lr = Some(drop);
-        cands[c].refit_zeta = Some(f.globals.zeta);
-        cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
-        cands[c].other_start = other;
-        refits.push((c, f));
-    }
-    progress.advance(1);
+                cands[c].estimate = Some(est);
+                cands[c].ci95 = ci;
+                cands[c].delta = Some(f.effect.delta.clone());
+                cands[c].refit_lr = Some(drop);
+                cands[c].refit_zeta = Some(f.globals.zeta);
+                cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
+                cands[c].other_start = other;
+                refits.push((c, f));
+            }
+        };
 
-    // 5. Decide.
-    let sig: Vec<usize> = refits.iter().map(|(c, _)| *c).collect();
-    let mut effect = if detected {
-        "unexplained".to_string()
-    } else {
-        "none".to_string()
-    };
-    let mut ambiguous_with: Vec<String> = Vec::new();
-    let mut closest = None;
-    let mut refitted = false;
-    let mut post_fit = Vec::new();
-    let mut after_preds = f0.clone();
-    let mut compare_mask = mask.clone();
-    let mut refit_preds: Option<Vec<CurvePrediction>> = None;
-    let mut refit_held: Option<Vec<HeldFit>> = None;
-    if let Some(&best) = sig.iter().max_by(|&&a, &&b| {
-        let la = cands[a].refit_lr.unwrap_or(cands[a].lr);
-        let lb = cands[b].refit_lr.unwrap_or(cands[b].lr);
-        la.total_cmp(&lb)
-    }) {
+    // 5. Decide, from the refits so far.
+    let decide = |cands: &[CandidateResult], refits: &[(usize, ModelFit)]| -> Result<Decision> {
+        let mut d = Decision {
+            effect: if detected { "unexplained" } else { "none" }.to_string(),
+            ambiguous_with: Vec::new(),
+            closest: None,
+            post_fit: Vec::new(),
+            after_preds: f0.clone(),
+            compare_mask: mask.clone(),
+            refit_preds: None,
+            refit_held: None,
+        };
+        let sig: Vec<usize> = refits.iter().map(|(c, _)| *c).collect();
+        let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
+        let Some(&best) = sig.iter().max_by(|&&a, &&b| drop(a).total_cmp(&drop(b))) else {
+            return Ok(d);
+        };
         // Two refitted candidates are ambiguous when the data cannot tell their fits apart
         // (see `ambiguity`); the coarse dictionary LR is not used.
-        let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
         let contender = |c: usize| Contender {
             index: c,
             drop: drop(c),
             direction: &dict[c][observed.lr[c].1],
         };
         let others: Vec<Contender> = sig.iter().map(|&c| contender(c)).collect();
-        ambiguous_with = ambiguous_partners(&contender(best), &others, opts.collinear_cos)
+        d.ambiguous_with = ambiguous_partners(&contender(best), &others, opts.collinear_cos)
             .into_iter()
             .map(|c| cands[c].name.to_string())
             .collect();
-        if let Some((_, f)) = refits.iter().find(|(c, _)| *c == best) {
-            let (preds, held1) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
-            refit_held = Some(held1);
-            let m1 = make_mask(&preds, sigma);
-            let zero: Mask = mask
-                .iter()
-                .zip(&m1)
-                .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && !*b).collect())
-                .collect();
-            compare_mask = m1
-                .iter()
-                .zip(&mask)
-                .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && *b).collect())
-                .collect();
-            let mut lin1 = Linearized {
-                f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
-                zero: Some(zero),
-                ..lin
-            };
-            lin1.probes = Vec::new();
-            let post = lin1.statistics(&measured);
-            post_fit = detection_tests(&names, &post, &reps);
-            refit_preds = Some(preds.clone());
-            after_preds = preds;
-            refitted = true;
-        }
-        if !ambiguous_with.is_empty() {
-            ambiguous_with.insert(0, cands[best].name.to_string());
-            effect = "ambiguous".into();
-        } else if refitted
-            && post_fit
-                .first()
-                .and_then(|t| t.p_value)
-                .is_some_and(|p| p < opts.alpha / 2.0)
+        let Some((_, f)) = refits.iter().find(|(c, _)| *c == best) else {
+            return Ok(d);
+        };
+        let (preds, held1) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
+        d.refit_held = Some(held1);
+        let m1 = make_mask(&preds, sigma);
+        let zero: Mask = mask
+            .iter()
+            .zip(&m1)
+            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && !*b).collect())
+            .collect();
+        d.compare_mask = m1
+            .iter()
+            .zip(&mask)
+            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && *b).collect())
+            .collect();
+        let lin1 = Linearized {
+            f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
+            zero: Some(zero),
+            probes: Vec::new(),
+            ..lin.clone()
+        };
+        let post = lin1.statistics(&measured);
+        // Its null is the bootstrap under the refitted curves, not under M0: the noise is
+        // re-estimated from second differences of each replicate, which also see the
+        // curves' own jumps and chaotic scatter. On a rattle-regime set (M0 24 um off) a
+        // refit at the noise (training RMS 0.151 um against a true 0.15 um, data sigma
+        // 0.267 um) failed this test at p = 0.02 under M0's bootstrap: a statistic of 29
+        // on 94 rows that M0's replicates exceeded only 2% of the time, whose noise
+        // re-estimate must have come out near twice the data's.
+        let post_reps = lin1.bootstrap(sigma, opts.bootstrap, opts.seed);
+        d.post_fit = detection_tests(&names, &post, &post_reps);
+        d.refit_preds = Some(preds.clone());
+        d.after_preds = preds;
+        if !d.ambiguous_with.is_empty() {
+            d.ambiguous_with.insert(0, cands[best].name.to_string());
+            d.effect = "ambiguous".into();
+        } else if d
+            .post_fit
+            .first()
+            .and_then(|t| t.p_value)
+            .is_some_and(|p| p < opts.alpha / 2.0)
         {
-            // The training chi-square after the refit (its null from the M0 bootstrap): the
+            // The training chi-square after the refit (its null from the refit's bootstrap): the
             // held-out loads are predictions and their multi-stable branches are reported as
             // the held-out gap, not used to reject the name.
-            effect = "unexplained".into();
-            closest = Some(cands[best].name.to_string());
-        } else if refitted {
-            effect = cands[best].name.to_string();
+            d.effect = "unexplained".into();
+            d.closest = Some(cands[best].name.to_string());
+        } else {
+            d.effect = cands[best].name.to_string();
         }
+        Ok(d)
+    };
+
+    let mut refits: Vec<(usize, ModelFit)> = Vec::new();
+    refit_round(&refit, &mut cands, &mut refits);
+    let mut decision = decide(&cands, &refits)?;
+    // Before a discrepancy is called unexplained, every significant candidate is refitted:
+    // where M0 is far off, its local statistics can rank the right one low. On rattle-regime
+    // sets (b x 0.7) M0 sometimes settled at zeta 0.058 and omega_n 1815 Hz (true 0.0175,
+    // 1600 Hz), where the backlash probes ranked third by score and by LR.
+    let rest: Vec<usize> = (0..cands.len())
+        .filter(|&c| significant(&cands[c]) && !refit.contains(&c))
+        .collect();
+    if decision.effect == "unexplained" && !rest.is_empty() {
+        refit_round(&rest, &mut cands, &mut refits);
+        decision = decide(&cands, &refits)?;
     }
+    progress.advance(1);
+    let Decision {
+        effect,
+        ambiguous_with,
+        closest,
+        post_fit,
+        mut after_preds,
+        compare_mask,
+        refit_preds,
+        refit_held,
+    } = decision;
     let explained = LIBRARY.iter().any(|c| c.name() == effect);
     if !explained {
         after_preds = f0.clone();
