@@ -279,9 +279,10 @@ fn hidden_load_dependent_damping_is_named_and_sized() {
 ///   local statistic), so it is refitted as the LR leader even with `refit_top` 1; its refit
 ///   explains the curves, and it is named with 0.7 inside its interval (about +-0.004) and the
 ///   held-out gap (tens of um) shrinking to the noise. Refitting by score alone never refitted
-///   it (seed 1, default options: "unexplained", damping_law closest); refitting it before
-///   Levenberg-Marquardt held still the b that the design-load stage cannot see drove b to
-///   b_stated e^-667 and hung the exact solver.
+///   it (seed 1, default options: "unexplained", damping_law closest). The design-load stage
+///   cannot see b (the teeth stay in contact) and holds it at the probe: left free, b followed
+///   the forward model's last bits to b_stated e^-667 (and on seed 4 to e^37), where the exact
+///   solver hung.
 #[test]
 fn backlash_hidden_in_a_rattle_regime_set_is_identifiable_named_and_sized() {
     let hidden = HiddenEffects {

@@ -499,9 +499,9 @@ fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
 /// Refit M0 + `cand` on the training curves in stages: the highest load alone first (the
 /// design load, usually in contact, where the fit is smooth) from M0's values and the best
 /// probe (held there when `seen_at_design` is false: no probe moves the design-load curve by
-/// the noise, so that stage cannot fit it), then the other training loads' STE alone, then everything; finally once more with the
-/// points around the refitted model's own jumps also dropped. Returns the fit, its mask and
-/// the start not kept.
+/// the noise, so that stage cannot fit it), then the other training loads' STE alone, then
+/// everything; finally once more with the points around the refitted model's own jumps also
+/// dropped. Returns the fit, its mask and the start not kept.
 ///
 /// A phase-carrying effect goes through the second stage twice, from the design-load fit's
 /// delta and from its negation (the same amplitude at the opposite phase), and the lower
@@ -525,9 +525,10 @@ fn refit_candidate(
     iters: usize,
 ) -> Result<(ModelFit, Mask, Option<OtherStart>)> {
     let mut s1 = vec![m0.globals.zeta, m0.globals.omega_n_hz, m0.ste_um[0]];
-    let f1 = if seen_at_design {
+    // The design-load stage: its globals, its STE and the effect it hands on.
+    let (g1, ste1, effect1) = if seen_at_design {
         s1.extend_from_slice(delta0);
-        fit_model(
+        let f = fit_model(
             setup,
             &train[..1],
             mask,
@@ -535,7 +536,8 @@ fn refit_candidate(
             Some(cand),
             &s1,
             Stop::near(iters),
-        )?
+        )?;
+        (f.globals, f.ste_um[0], f.effect)
     } else {
         // The design load does not see the effect (the backlash while the teeth stay in
         // contact): its stage fits M0 and the probe is carried to the next stage. Left free,
@@ -551,18 +553,15 @@ fn refit_candidate(
             &s1,
             Stop::near(iters),
         )?;
-        ModelFit {
-            effect: Effect::of(cand, delta0.to_vec()),
-            ..f
-        }
+        (f.globals, f.ste_um[0], Effect::of(cand, delta0.to_vec()))
     };
     // Stage two from the design-load fit with the effect `effect`.
     let from = |effect: &Effect| -> Result<ModelFit> {
-        let mut start = vec![f1.globals.zeta, f1.globals.omega_n_hz, f1.ste_um[0]];
+        let mut start = vec![g1.zeta, g1.omega_n_hz, ste1];
         let others: Vec<Result<f64>> = train[1..]
             .par_iter()
             .zip(&m0.ste_um[1..])
-            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, sigma, f1.globals, effect, e)?.0))
+            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, sigma, g1, effect, e)?.0))
             .collect();
         for e in others {
             start.push(e?);
@@ -578,12 +577,9 @@ fn refit_candidate(
             Stop::near(iters),
         )
     };
-    let mut starts = vec![f1.effect.clone()];
+    let mut starts = vec![effect1.clone()];
     if cand.has_phase() {
-        starts.push(Effect::of(
-            cand,
-            f1.effect.delta.iter().map(|d| -d).collect(),
-        ));
+        starts.push(Effect::of(cand, effect1.delta.iter().map(|d| -d).collect()));
     }
     let fits: Vec<Result<ModelFit>> = starts.par_iter().map(from).collect();
     let mut converged = Vec::new();
