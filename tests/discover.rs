@@ -394,8 +394,9 @@ fn bad_input_fails_without_output() {
 }
 
 /// `discover-study` as a user runs it, on two null seeds: the summary's counts, intervals and
-/// per-test calibration agree with its own per-seed outcomes, the scratch sets are removed, and
-/// a study that cannot run fails with one message and no summary.
+/// per-test calibration agree with its own per-seed outcomes, which were also written one line
+/// per seed as they finished, the scratch sets are removed, and a study that cannot run fails
+/// with one message and no summary.
 #[test]
 fn null_study_summarises_rates_and_per_test_calibration() {
     let tmp = tempfile::tempdir().unwrap();
@@ -460,11 +461,20 @@ fn null_study_summarises_rates_and_per_test_calibration() {
         let below = p.iter().filter(|p| **p < 0.05).count();
         assert_eq!(c["below_5pct"][0].as_u64().unwrap() as usize, below);
     }
-    let left: Vec<_> = std::fs::read_dir(out.parent().unwrap())
+    // Each seed's outcome was also written as it finished, one JSON line each, the same as
+    // the summary's.
+    let lines = std::fs::read_to_string(out.with_extension("seeds.jsonl")).unwrap();
+    let per_seed: Vec<serde_json::Value> = lines
+        .lines()
+        .map(|l| serde_json::from_str(l).unwrap())
+        .collect();
+    assert_eq!(&per_seed, outcomes);
+    let mut left: Vec<_> = std::fs::read_dir(out.parent().unwrap())
         .unwrap()
         .map(|e| e.unwrap().file_name())
         .collect();
-    assert_eq!(left, vec![std::ffi::OsString::from("summary.json")]);
+    left.sort();
+    assert_eq!(left, ["summary.json", "summary.seeds.jsonl"]);
     // The null study hides nothing, so a strength is an error.
     let bad = tmp.path().join("bad").join("summary.json");
     let o = geardyn(&[

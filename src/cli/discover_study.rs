@@ -5,7 +5,8 @@ use super::common::{parse_load_ste, print_text};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::discover::{run_study, DiscoverOptions, Hidden, StudyOptions};
+use geardyn::discover::{run_study, DiscoverOptions, Hidden, SeedOutcome, StudyOptions};
+use geardyn::error::GearError;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -35,7 +36,8 @@ pub struct Args {
     /// Bootstrap replicates per discovery run.
     #[arg(long, default_value_t = 1999)]
     bootstrap: usize,
-    /// Summary JSON (the scratch data sets go next to it, in a folder removed at the end).
+    /// Summary JSON (the scratch data sets go next to it, in a folder removed at the end; each
+    /// seed's outcome is appended to SUMMARY.seeds.jsonl as soon as it is known).
     #[arg(long, default_value = "reports/discover-study/summary.json")]
     out: PathBuf,
 }
@@ -62,7 +64,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let parent = a.out.parent().map(PathBuf::from).unwrap_or_default();
     std::fs::create_dir_all(&parent).with_context(|| parent.display().to_string())?;
     let scratch = parent.join(format!(".scratch-{}", std::process::id()));
-    let result = run_study(hidden, &opts, &scratch, &Bar::new());
+    // Each seed's outcome, one JSON line as it finishes (the file is made by the first one).
+    let seeds_path = a.out.with_extension("seeds.jsonl");
+    let mut seeds_file: Option<std::fs::File> = None;
+    let mut on_seed = |o: &SeedOutcome| -> geardyn::error::Result<()> {
+        use std::io::Write;
+        let io = GearError::io(&seeds_path);
+        let f = match seeds_file.as_mut() {
+            Some(f) => f,
+            None => seeds_file.insert(std::fs::File::create(&seeds_path).map_err(&io)?),
+        };
+        let line = serde_json::to_string(o)
+            .map_err(|e| GearError::Numerical(format!("seed outcome to JSON: {e}")))?;
+        writeln!(f, "{line}").map_err(&io)
+    };
+    let result = run_study(hidden, &opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
     let s = result?;
     let text = serde_json::to_string_pretty(&s)?;
@@ -123,6 +139,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             ));
         }
     }
-    msg.push_str(&format!("wrote {}\n", a.out.display()));
+    msg.push_str(&format!(
+        "wrote {} (per seed: {})\n",
+        a.out.display(),
+        seeds_path.display()
+    ));
     print_text(&msg)
 }
