@@ -255,7 +255,7 @@ pub fn run_study(
                 .map(|(o, kept)| o.phase_undetermined(kept))
         });
         let ci95 = cand.and_then(|c| c.ci95);
-        outcomes.push(SeedOutcome {
+        let outcome = SeedOutcome {
             seed,
             correct: d.effect == hidden.expected(),
             covered: truth.zip(ci95).map(|(v, (lo, hi))| v >= lo && v <= hi),
@@ -274,10 +274,9 @@ pub fn run_study(
             effect: d.effect,
             p_values,
             seconds: start.elapsed().as_secs_f64(),
-        });
-        if let Some(o) = outcomes.last() {
-            on_seed(o)?;
-        }
+        };
+        on_seed(&outcome)?;
+        outcomes.push(outcome);
         progress.advance(1);
     }
     progress.finish();
