@@ -19,14 +19,36 @@ fn make_set(dir: &Path, hidden: HiddenEffects, seed: u64) {
     make_set_at(dir, hidden, seed, MunroTruth::default_munro().ste_um);
 }
 
-/// A set at the given (load N, STE um) pairs.
+/// A set at the given (load N, STE um) pairs on the 100 rpm grid.
 fn make_set_at(dir: &Path, hidden: HiddenEffects, seed: u64, loads: Vec<(f64, f64)>) {
+    make_set_on(dir, hidden, seed, loads, 100.0);
+}
+
+/// A set at the given (load N, STE um) pairs, speeds 1000-5000 rpm in steps of `step_rpm`.
+fn make_set_on(
+    dir: &Path,
+    hidden: HiddenEffects,
+    seed: u64,
+    loads: Vec<(f64, f64)>,
+    step_rpm: f64,
+) {
     let mut t = MunroTruth::default_munro();
     t.ste_um = loads;
     t.seed = seed;
-    t.speeds_rpm = (1000.0, 5000.0, 100.0);
+    t.speeds_rpm = (1000.0, 5000.0, step_rpm);
     t.hidden = hidden;
     synth_munro(&t, dir, &NoProgress).unwrap();
+}
+
+/// The rattle-regime backlash set: true b 0.7 of the stated one, STE 8-12 um at the light
+/// loads (synthetic), on a grid of `step_rpm`.
+fn rattle_backlash_set(dir: &Path, seed: u64, step_rpm: f64) {
+    let hidden = HiddenEffects {
+        backlash_factor: 0.7,
+        ..HiddenEffects::default()
+    };
+    let loads = vec![(3780.0, 0.3), (1890.0, 8.0), (945.0, 10.0), (472.0, 12.0)];
+    make_set_on(dir, hidden, seed, loads, step_rpm);
 }
 
 /// `discover` on a fresh set at the given loads with `hidden` inside.
@@ -280,18 +302,13 @@ fn hidden_load_dependent_damping_is_named_and_sized() {
 ///   explains the curves, and it is named with 0.7 inside its interval (about +-0.004) and the
 ///   held-out gap (tens of um) shrinking to the noise. Refitting by score alone never refitted
 ///   it (seed 1, default options: "unexplained", damping_law closest). The design-load stage
-///   cannot see b (the teeth stay in contact) and holds it at the probe: left free, b followed
-///   the forward model's last bits to b_stated e^-667 (and on seed 4 to e^37), where the exact
+///   cannot see b (the teeth stay in contact) and leaves it out: left free, b followed the
+///   forward model's last bits to b_stated e^-667 (and on seed 4 to e^37), where the exact
 ///   solver hung.
 #[test]
 fn backlash_hidden_in_a_rattle_regime_set_is_identifiable_named_and_sized() {
-    let hidden = HiddenEffects {
-        backlash_factor: 0.7,
-        ..HiddenEffects::default()
-    };
     let tmp = tempfile::tempdir().unwrap();
-    let loads = vec![(3780.0, 0.3), (1890.0, 8.0), (945.0, 10.0), (472.0, 12.0)];
-    make_set_at(tmp.path(), hidden, 2, loads);
+    rattle_backlash_set(tmp.path(), 2, 100.0);
     let data = load_munro(tmp.path()).unwrap();
     let opts = DiscoverOptions {
         bootstrap: 399,
@@ -320,16 +337,8 @@ fn backlash_hidden_in_a_rattle_regime_set_is_identifiable_named_and_sized() {
 ///   straddling it, 120 um off when the refit's jump came one speed early, is not compared.
 #[test]
 fn backlash_is_named_when_m0_settles_far_off_and_its_best_probe_points_the_wrong_way() {
-    let hidden = HiddenEffects {
-        backlash_factor: 0.7,
-        ..HiddenEffects::default()
-    };
     let tmp = tempfile::tempdir().unwrap();
-    let mut t = MunroTruth::default_munro();
-    t.ste_um = vec![(3780.0, 0.3), (1890.0, 8.0), (945.0, 10.0), (472.0, 12.0)];
-    t.seed = 16;
-    t.hidden = hidden;
-    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
+    rattle_backlash_set(tmp.path(), 16, 50.0);
     let data = load_munro(tmp.path()).unwrap();
     let opts = DiscoverOptions {
         bootstrap: 399,
