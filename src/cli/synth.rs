@@ -103,6 +103,10 @@ struct MunroArgs {
     /// [default: 3780:0.3,2835:1.5,1890:2.5,945:3.5].
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
+    /// Make the curves with DOP853 at this relative tolerance instead of the exact solver:
+    /// chaotic points then differ from what the exact solver fits (as real data would).
+    #[arg(long)]
+    dop853_rtol: Option<f64>,
     #[command(flatten)]
     hidden: Hidden,
 }
@@ -138,6 +142,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 t.ste_um = loads;
             }
             t.hidden = m.hidden.effects();
+            t.dop853_rtol = m.dop853_rtol;
             synth_munro(&t, &m.out, &Bar::new())?;
             m.out
         }

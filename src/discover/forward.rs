@@ -7,14 +7,24 @@
 use super::effects::Effect;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
-use crate::model::Dimensional;
+use crate::model::{Dimensional, GearPair};
 use crate::progress::NoProgress;
-use crate::validate::simulate_up_sweep;
+use crate::sim::{dte_pp_over_windows, State, SteadyOptions};
+use crate::validate::{flow_with_rtol, min_max, simulate_up_sweep};
 use rayon::prelude::*;
 
 /// DOP853 tolerance when k(t) varies: pp DTE agrees with rtol 1e-9 to ~1e-5 um on periodic
 /// orbits, at about half the cost.
 const RK_RTOL: f64 = 1e-7;
+
+/// Observation windows over which the pp of a non-periodic steady state is sampled by
+/// [`aperiodic_pp_range`]. A measured chaotic pp is one window out of a distribution: on the
+/// shipped data/munro at 945 N and 4300 rpm, M0's windows of 64 periods range over 35-84 um,
+/// its first window (the prediction) says 46 um, the data 84 um. Among n windows the largest
+/// exceeds a fresh window's pp with probability n / (n + 1); 32 windows at each of a load's
+/// non-periodic points make that range the attractor's, at about 2000 periods a point, the
+/// cost of the Lyapunov exponent that classified it.
+const SPREAD_WINDOWS: usize = 32;
 
 /// Smallest damping ratio a discovery fit may use.
 pub const MIN_ZETA: f64 = 0.003;
@@ -108,6 +118,9 @@ pub struct CurvePrediction {
     pub separated: Vec<bool>,
     /// The back flanks touch somewhere in the period (q_min < -1, double-sided impacts).
     pub back_contact: Vec<bool>,
+    /// Phase-0 section state where no period up to 32 was found (chaotic or aperiodic): the
+    /// start of the analysed window, from which [`aperiodic_pp_range`] samples later ones.
+    pub aperiodic_start: Vec<Option<State>>,
 }
 
 /// Parameters shared by all loads.
@@ -117,14 +130,15 @@ pub struct Globals {
     pub omega_n_hz: f64,
 }
 
-/// Predicted curve of `setup.curves[i]` with STE amplitude `ste_um` (um, first harmonic).
-pub fn predict(
+/// The dimensional scales and the model of `setup.curves[i]` with STE amplitude `ste_um` (um,
+/// first harmonic), M0 or M0 + `effect`, at Omega = 1 (the sweep sets Omega).
+fn curve_model(
     setup: &Setup,
     i: usize,
     g: Globals,
     ste_um: f64,
     effect: &Effect,
-) -> Result<CurvePrediction> {
+) -> Result<(Dimensional, GearPair)> {
     let c = &setup.curves[i];
     let dim = effect.dimensional(&setup.dim)?;
     let model = effect.model(
@@ -142,11 +156,23 @@ pub fn predict(
             "natural frequency must be positive",
         ));
     }
+    Ok((dim, model))
+}
+
+/// Predicted curve of `setup.curves[i]` with STE amplitude `ste_um` (um, first harmonic).
+pub fn predict(
+    setup: &Setup,
+    i: usize,
+    g: Globals,
+    ste_um: f64,
+    effect: &Effect,
+) -> Result<CurvePrediction> {
+    let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
     let pts = simulate_up_sweep(
         &dim,
         &model,
         g.omega_n_hz,
-        &c.speeds_rpm,
+        &setup.curves[i].speeds_rpm,
         RK_RTOL,
         &NoProgress,
     )?;
@@ -155,7 +181,44 @@ pub fn predict(
         period1: pts.iter().map(|p| p.steady.period == Some(1)).collect(),
         separated: pts.iter().map(|p| p.steady.q_min < 1.0).collect(),
         back_contact: pts.iter().map(|p| p.steady.q_min < -1.0).collect(),
+        aperiodic_start: pts
+            .iter()
+            .map(|p| {
+                p.steady
+                    .period
+                    .is_none()
+                    .then(|| p.steady.poincare.first().copied())
+                    .flatten()
+            })
+            .collect(),
     })
+}
+
+/// Smallest and largest pp DTE (um) over [`SPREAD_WINDOWS`] consecutive observation windows of
+/// the analysed length, at each non-periodic point of `pred` (the prediction of
+/// `setup.curves[i]` with these parameters); `None` at periodic points, whose pp every window
+/// repeats. The first window is the predicted pp itself.
+pub fn aperiodic_pp_range(
+    setup: &Setup,
+    i: usize,
+    g: Globals,
+    ste_um: f64,
+    effect: &Effect,
+    pred: &CurvePrediction,
+) -> Result<Vec<Option<(f64, f64)>>> {
+    let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
+    let keep = SteadyOptions::default().keep;
+    setup.curves[i]
+        .speeds_rpm
+        .par_iter()
+        .zip(&pred.aperiodic_start)
+        .map(|(&rpm, start)| {
+            let Some(x) = start else { return Ok(None) };
+            let flow = flow_with_rtol(&model.at_omega(dim.omega(rpm, g.omega_n_hz))?, RK_RTOL)?;
+            let pp = dte_pp_over_windows(flow.as_ref(), *x, keep, SPREAD_WINDOWS)?;
+            Ok(min_max(pp.into_iter().map(|v| dim.dte_um(v))))
+        })
+        .collect()
 }
 
 /// Predictions of several curves in parallel, each with its STE amplitude.

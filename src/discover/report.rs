@@ -244,12 +244,14 @@ fn excluded_text(d: &Discovery) -> String {
     let mut s = String::new();
     for e in &d.excluded_by_load {
         s.push_str(&format!(
-            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {:.1}-{:.1} um, M0 {:.1}-{:.1} um, {} measured far outside M0's range\n",
+            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {:.1}-{:.1} um, M0 predicted {:.1}-{:.1} um and {:.1}-{:.1} um over 32 observation windows at its non-periodic points, {} measured far outside M0's range\n",
             e.load_n,
             e.points,
             e.non_period1,
             e.measured_range_um.0,
             e.measured_range_um.1,
+            e.predicted_range_um.0,
+            e.predicted_range_um.1,
             e.model_range_um.0,
             e.model_range_um.1,
             e.outside_model_range
@@ -266,7 +268,7 @@ fn excluded_text(d: &Discovery) -> String {
 fn excluded_warning(d: &Discovery) -> Option<String> {
     let outside = d.excluded_far_outside();
     (outside > 0).then(|| format!(
-        "WARNING: {outside} excluded point(s) lie far outside every pp M0 predicts there (by more than 3 sigma + 10% of M0's largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
+        "WARNING: {outside} excluded point(s) lie far outside every pp M0 produces there, in any observation window (by more than 3 sigma + 10% of M0's largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
     ))
 }
 
@@ -392,7 +394,7 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     }
     if !d.excluded_by_load.is_empty() {
         page.heading("Points excluded from the tests");
-        page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway; measured points far outside every pp M0 produces there (by more than 3 sigma plus 10% of M0's largest pp: beyond the noise and beyond a chaotic pp or the onset of non-period-1 motion moving a little) are a discrepancy the tests cannot see.");
+        page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one. Measured points far outside that range (by more than 3 sigma plus 10% of M0's largest pp: beyond the noise, beyond any window of M0's motion and beyond the onset of non-period-1 motion moving a little with the parameters) are a discrepancy the tests cannot see.");
         let rows: Vec<Vec<String>> = d
             .excluded_by_load
             .iter()
@@ -405,6 +407,10 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
                         "{:.1} .. {:.1}",
                         e.measured_range_um.0, e.measured_range_um.1
                     ),
+                    format!(
+                        "{:.1} .. {:.1}",
+                        e.predicted_range_um.0, e.predicted_range_um.1
+                    ),
                     format!("{:.1} .. {:.1}", e.model_range_um.0, e.model_range_um.1),
                     e.outside_model_range.to_string(),
                 ]
@@ -416,7 +422,8 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
                 "excluded points",
                 "non-period-1 in M0",
                 "measured pp (um)",
-                "M0 pp (um)",
+                "M0 predicted pp (um)",
+                "M0 pp over 32 windows (um)",
                 "measured outside M0's range by > 3 sigma + 10% of its top",
             ],
             &rows,

@@ -6,7 +6,9 @@
 use super::ambiguity::{ambiguous_with as ambiguous_partners, Contender};
 use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{fit_model, fit_ste, linear_start, ste_from_low_speed, Mask, ModelFit};
-use super::forward::{fitted_damping_admissible, predict_many, CurvePrediction, Setup, MIN_ZETA};
+use super::forward::{
+    aperiodic_pp_range, fitted_damping_admissible, predict_many, CurvePrediction, Setup, MIN_ZETA,
+};
 use super::linearized::{detection_names, Linearized, Statistics};
 use super::lm::{LmFit, Stop};
 use super::stats::{bootstrap_p, chi2_sf, holm};
@@ -157,9 +159,9 @@ pub struct ResidualCurve {
 }
 
 /// The points of one load excluded from the tests, described: where M0 predicts non-period-1
-/// motion (or a jump) a point-wise residual says nothing (a chaotic pp depends on the last bits
-/// of the arithmetic and on the history), but a measured pp far outside every pp M0 produces
-/// there is a discrepancy the tests cannot see: the report shows both ranges.
+/// motion (or a jump) a point-wise residual says nothing (a chaotic pp is one observation
+/// window's sample and depends on the history), but a measured pp far outside every pp M0
+/// produces there is a discrepancy the tests cannot see: the report shows both ranges.
 #[derive(Clone, Debug, Serialize)]
 pub struct ExcludedPoints {
     pub load_n: f64,
@@ -168,48 +170,76 @@ pub struct ExcludedPoints {
     pub non_period1: usize,
     /// Smallest and largest measured pp DTE over the excluded points, um.
     pub measured_range_um: (f64, f64),
-    /// Smallest and largest M0 pp DTE over the same points, um.
+    /// Smallest and largest M0 prediction (its first observation window) over the same
+    /// points, um.
+    pub predicted_range_um: (f64, f64),
+    /// Smallest and largest M0 pp DTE over the same points, um: the predicted pp, and at a
+    /// chaotic or aperiodic point also the pp of each of 32 later observation windows
+    /// ([`super::forward::aperiodic_pp_range`]), since the measured pp there is one window out
+    /// of that distribution.
     pub model_range_um: (f64, f64),
     /// Excluded points whose measured pp lies outside the M0 range by more than 3 sigma plus
-    /// 10% of M0's largest pp there: a gross disagreement, beyond the noise and beyond a chaotic
-    /// pp or the onset of non-period-1 motion moving a little with the parameters.
+    /// 10% of M0's largest pp there: a gross disagreement, beyond the noise, beyond any
+    /// window of M0's motion and beyond the onset of non-period-1 motion moving a little with
+    /// the parameters.
     pub outside_model_range: usize,
 }
 
-/// [`ExcludedPoints`] of every load that has excluded points.
+/// STE amplitude (um) of curve `i` under `fit`: fitted with it on a training curve, fitted
+/// alone (`held`) on a held-out one.
+fn curve_ste(i: usize, train: &[usize], fit: &ModelFit, held: &[HeldFit]) -> Option<f64> {
+    match train.iter().position(|&t| t == i) {
+        Some(k) => fit.ste_um.get(k).copied(),
+        None => held.iter().find(|h| h.0 == i).map(|h| h.1),
+    }
+}
+
+/// [`ExcludedPoints`] of every load that has excluded points, with M0's range over the
+/// predicted pp and, at its non-periodic points, over their observation windows.
 fn excluded_by_load(
     setup: &Setup,
-    preds: &[CurvePrediction],
-    mask: &Mask,
+    m0: &M0Fit,
+    train: &[usize],
     sigma: f64,
-) -> Vec<ExcludedPoints> {
-    setup
+) -> Result<Vec<ExcludedPoints>> {
+    let mut out = Vec::new();
+    for (i, (c, (p, m))) in setup
         .curves
         .iter()
-        .zip(preds)
-        .zip(mask)
-        .filter_map(|((c, p), m)| {
-            let out: Vec<usize> = (0..m.len()).filter(|&j| !m[j]).collect();
-            if out.is_empty() {
-                return None;
-            }
-            let y: Vec<f64> = out.iter().map(|&j| c.dte_pp_um[j]).collect();
-            let model = min_max(out.iter().map(|&j| p.dte_pp_um[j]))?;
-            Some(ExcludedPoints {
-                load_n: c.load_n,
-                points: out.len(),
-                non_period1: out.iter().filter(|&&j| !p.period1[j]).count(),
-                measured_range_um: min_max(y.iter().copied())?,
-                model_range_um: model,
-                outside_model_range: {
-                    let margin = 3.0 * sigma + 0.1 * model.1.abs();
-                    y.iter()
-                        .filter(|v| **v > model.1 + margin || **v < model.0 - margin)
-                        .count()
-                },
-            })
-        })
-        .collect()
+        .zip(m0.f0.iter().zip(&m0.mask))
+        .enumerate()
+    {
+        let dropped: Vec<usize> = (0..m.len()).filter(|&j| !m[j]).collect();
+        let (Some(measured), Some(predicted)) = (
+            min_max(dropped.iter().map(|&j| c.dte_pp_um[j])),
+            min_max(dropped.iter().map(|&j| p.dte_pp_um[j])),
+        ) else {
+            continue;
+        };
+        let ste = curve_ste(i, train, &m0.m0, &m0.held0).ok_or_else(|| {
+            GearError::Numerical(format!("no M0 STE amplitude for load {} N", c.load_n))
+        })?;
+        let windows = aperiodic_pp_range(setup, i, m0.m0.globals, ste, &m0.m0.effect, p)?;
+        let model = dropped
+            .iter()
+            .filter_map(|&j| windows[j])
+            .fold(predicted, |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+        let margin = 3.0 * sigma + 0.1 * model.1.abs();
+        out.push(ExcludedPoints {
+            load_n: c.load_n,
+            points: dropped.len(),
+            non_period1: dropped.iter().filter(|&&j| !p.period1[j]).count(),
+            measured_range_um: measured,
+            predicted_range_um: predicted,
+            model_range_um: model,
+            outside_model_range: dropped
+                .iter()
+                .map(|&j| c.dte_pp_um[j])
+                .filter(|v| *v > model.1 + margin || *v < model.0 - margin)
+                .count(),
+        });
+    }
+    Ok(out)
 }
 
 /// Excluded points, over all loads, far outside M0's range (see
@@ -778,9 +808,9 @@ pub(super) fn fit_m0(
     progress.advance(1);
     // Held-out STE from the quasi-static end for the mask; fitted afterwards.
     let pre_ste: Vec<f64> = (0..n_curves)
-        .map(|i| match train.iter().position(|&t| t == i) {
-            Some(k) => m0.ste_um[k],
-            None => ste_from_low_speed(setup, i, m0.globals),
+        .map(|i| {
+            curve_ste(i, train, &m0, &[])
+                .unwrap_or_else(|| ste_from_low_speed(setup, i, m0.globals))
         })
         .collect();
     let every: Vec<usize> = (0..n_curves).collect();
@@ -887,6 +917,8 @@ pub fn discover_setup(
         .collect();
     progress.start(4 + probes.len() as u64, "discovery steps");
 
+    let m0_fit = fit_m0(setup, &train, &held, sigma, opts.noise_um, progress)?;
+    let excluded = excluded_by_load(setup, &m0_fit, &train, sigma)?;
     let M0Fit {
         m0,
         mask,
@@ -894,7 +926,7 @@ pub fn discover_setup(
         held0,
         omega,
         mut lin,
-    } = fit_m0(setup, &train, &held, sigma, opts.noise_um, progress)?;
+    } = m0_fit;
     let ws = lin.windows.clone();
 
     // 2. Probe dictionary at the M0 fit (training curves).
@@ -939,7 +971,6 @@ pub fn discover_setup(
     let names = detection_names(&ws);
     let detection = detection_tests(&names, &observed, &reps);
     let detected_by_tests = min_holm(&detection) < opts.alpha / 2.0;
-    let excluded = excluded_by_load(setup, &f0, &mask, sigma);
     let detected = detected_by_tests || far_outside(&excluded) > 0;
 
     // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
@@ -1252,6 +1283,7 @@ mod tests {
             period1: vec![true, true, true, true, true, true, true, true, false],
             separated: vec![false, true, true, true, true, true, true, false, false],
             back_contact: vec![false, false, false, true, true, false, false, false, false],
+            aperiodic_start: vec![None; 9],
         };
         let m = make_mask(&[p], 0.15);
         assert_eq!(

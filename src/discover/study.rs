@@ -135,6 +135,9 @@ pub struct StudySummary {
     pub hidden: Hidden,
     pub expected: &'static str,
     pub true_value: Option<f64>,
+    /// DOP853 tolerance the sets were made with ([`StudyOptions::dop853_rtol`]); `None`: the
+    /// exact solver, the same one that fits them.
+    pub data_dop853_rtol: Option<f64>,
     pub seeds: usize,
     pub correct: usize,
     pub correct_rate: f64,
@@ -171,6 +174,9 @@ pub struct StudyOptions {
     /// (load N, STE um) of the sets; None takes Munro's four loads of
     /// [`MunroTruth::default_munro`].
     pub loads: Option<Vec<(f64, f64)>>,
+    /// Make the sets with DOP853 at this tolerance ([`MunroTruth::dop853_rtol`]): their
+    /// chaotic points are then not the fitting solver's, as with real data.
+    pub dop853_rtol: Option<f64>,
     pub discover: DiscoverOptions,
 }
 
@@ -183,6 +189,7 @@ impl Default for StudyOptions {
             noise_um: 0.15,
             strength: None,
             loads: None,
+            dop853_rtol: None,
             discover: DiscoverOptions::default(),
         }
     }
@@ -226,6 +233,7 @@ pub fn run_study(
         t.noise_um = opts.noise_um;
         t.speeds_rpm = opts.speeds_rpm;
         t.hidden = effects.clone();
+        t.dop853_rtol = opts.dop853_rtol;
         if let Some(loads) = &opts.loads {
             t.ste_um = loads.clone();
         }
@@ -308,6 +316,7 @@ pub fn run_study(
         hidden,
         expected: hidden.expected(),
         true_value: truth,
+        data_dop853_rtol: opts.dop853_rtol,
         seeds: n,
         correct,
         correct_rate: correct as f64 / n as f64,

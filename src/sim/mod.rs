@@ -15,6 +15,7 @@ mod rk_flow;
 mod steady;
 mod sweep;
 mod trajectory;
+mod window_spread;
 
 pub use attractors::{find_attractors, same_attractor, Attractor, AttractorMap};
 pub use exact::ExactFlow;
@@ -32,3 +33,4 @@ pub use rk_flow::{RkFlow, ATOL_PER_RTOL};
 pub use steady::{default_transient, steady_state, Motion, SteadyOptions, SteadyState};
 pub use sweep::{frequency_range, sweep, Branch, FlowFactory, SweepPlan, SweepPoint};
 pub use trajectory::{sample_trajectory, Sample};
+pub use window_spread::dte_pp_over_windows;

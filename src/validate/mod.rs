@@ -13,6 +13,7 @@ pub use kubo::{validate_kubo, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO
 pub use linear::{dte_gain, dte_pp_um, load_factor_max, stays_in_contact};
 pub use munro::{validate_munro, LoadResult, ModelPoint, MunroOptions, MunroValidation, SteSource};
 pub use noise::Rng;
+pub(crate) use synth::flow_with_rtol;
 pub use synth::{
     munro_rig, simulate_dte_curve, simulate_up_sweep, synth_kubo, synth_munro, HiddenEffects,
     KuboTruth, MunroTruth,
