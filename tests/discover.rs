@@ -59,8 +59,12 @@ fn discover_hidden(hidden: HiddenEffects, seed: u64, loads: Vec<(f64, f64)>) -> 
 }
 
 fn run(dir: &Path) -> Discovery {
+    run_with(dir, &DiscoverOptions::default())
+}
+
+fn run_with(dir: &Path, opts: &DiscoverOptions) -> Discovery {
     let data = load_munro(dir).unwrap();
-    discover(&data, &DiscoverOptions::default(), &NoProgress).unwrap()
+    discover(&data, opts, &NoProgress).unwrap()
 }
 
 /// The effect is named `name` and its true value lies inside the reported 95% interval.
@@ -346,13 +350,12 @@ fn hidden_load_dependent_damping_is_named_and_sized() {
 fn backlash_hidden_in_a_rattle_regime_set_is_identifiable_named_and_sized() {
     let tmp = tempfile::tempdir().unwrap();
     rattle_backlash_set(tmp.path(), 2, 100.0);
-    let data = load_munro(tmp.path()).unwrap();
     let opts = DiscoverOptions {
         bootstrap: 399,
         refit_top: 1,
         ..DiscoverOptions::default()
     };
-    let d = discover(&data, &opts, &NoProgress).unwrap();
+    let d = run_with(tmp.path(), &opts);
     let b = d.candidates.iter().find(|c| c.name == "backlash").unwrap();
     assert!(b.identifiable, "{:?}", b.note);
     // 1 / (B + 1) is the smallest bootstrap p-value: nothing under M0 comes near this LR.
@@ -376,12 +379,11 @@ fn backlash_hidden_in_a_rattle_regime_set_is_identifiable_named_and_sized() {
 fn backlash_is_named_when_m0_settles_far_off_and_its_best_probe_points_the_wrong_way() {
     let tmp = tempfile::tempdir().unwrap();
     rattle_backlash_set(tmp.path(), 16, 50.0);
-    let data = load_munro(tmp.path()).unwrap();
     let opts = DiscoverOptions {
         bootstrap: 399,
         ..DiscoverOptions::default()
     };
-    let d = discover(&data, &opts, &NoProgress).unwrap();
+    let d = run_with(tmp.path(), &opts);
     // The precondition that makes this case: M0 far from the truth (zeta 0.0175).
     assert!(d.zeta_m0 > 0.04, "M0 zeta {}", d.zeta_m0);
     assert_named_with_truth_inside(&d, "backlash", 0.7);

@@ -1,8 +1,25 @@
 //! Extremes of the response over analysed periods: q (for q_a, q_m and the impact regime), the
 //! dynamic transmission error x = q + e/b, and the dynamic mesh force (for D_L, Sec. 7).
 
-use super::flow::Piece;
+use super::flow::{PeriodFlow, Piece, State};
+use crate::error::Result;
 use crate::model::GearPair;
+
+/// Advance `x` by `periods` forcing periods, folding every piece of the trajectory into fresh
+/// extremes; returns them and the state reached.
+pub(crate) fn extremes_over<F: PeriodFlow + ?Sized>(
+    flow: &F,
+    x: State,
+    periods: usize,
+) -> Result<(Extremes, State)> {
+    let model = flow.model();
+    let mut ext = Extremes::default();
+    let mut z = x;
+    for _ in 0..periods {
+        z = flow.step(z, Some(&mut |piece| ext.observe(model, piece)))?;
+    }
+    Ok((ext, z))
+}
 
 /// Running minima and maxima over the pieces of trajectory observed so far.
 #[derive(Clone, Copy, Debug)]

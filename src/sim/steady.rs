@@ -2,7 +2,7 @@
 //! Poincare section, period detection up to 32 forcing periods, refinement of periodic orbits,
 //! chaos flagged by the largest Lyapunov exponent, and the response measures of design.md 1.
 
-use super::extrema::Extremes;
+use super::extrema::extremes_over;
 use super::flow::{PeriodFlow, State};
 use super::lyapunov::largest_lyapunov;
 use super::period::{detect_period, distance, refine_orbit, scale, PeriodicOrbit, MAX_PERIOD};
@@ -263,11 +263,7 @@ fn analyse<F: PeriodFlow + ?Sized>(
         (None, Some(p)) => (x, p as usize),
         (None, None) => (x, keep),
     };
-    let mut ext = Extremes::default();
-    let mut z = start;
-    for _ in 0..analysed {
-        z = flow.step(z, Some(&mut |piece| ext.observe(model, piece)))?;
-    }
+    let (ext, _) = extremes_over(flow, start, analysed)?;
     let mut cloud = Vec::new();
     let lyapunov = match (&orbit, period) {
         (Some(o), _) if opts.lyapunov => {

@@ -3,7 +3,7 @@
 //! there is one sample of a distribution over windows (and over the history that led to the
 //! window), which the range over many windows describes.
 
-use super::extrema::Extremes;
+use super::extrema::extremes_over;
 use super::flow::{PeriodFlow, State};
 use crate::error::{GearError, Result};
 
@@ -24,15 +24,12 @@ pub fn dte_pp_over_windows(
             "observation windows need at least one window of at least one period",
         ));
     }
-    let model = flow.model();
     let mut z = x;
     let mut out = Vec::with_capacity(windows);
     for _ in 0..windows {
-        let mut ext = Extremes::default();
-        for _ in 0..periods {
-            z = flow.step(z, Some(&mut |piece| ext.observe(model, piece)))?;
-        }
+        let (ext, next) = extremes_over(flow, z, periods)?;
         out.push(ext.dte.1 - ext.dte.0);
+        z = next;
     }
     Ok(out)
 }

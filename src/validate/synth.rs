@@ -328,25 +328,23 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
         let model = truth
             .hidden
             .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
-        let clean: Vec<f64> = match truth.dop853_rtol {
-            None => simulate_dte_curve(&true_dim, &model, truth.omega_n_hz, &speeds, progress)?,
-            Some(rtol) => {
-                let dop853 = |m: &GearPair| -> Result<Box<dyn PeriodFlow>> {
-                    Ok(Box::new(RkFlow::new(m, rtol)?))
-                };
-                up_sweep(
-                    &true_dim,
-                    &model,
-                    truth.omega_n_hz,
-                    &speeds,
-                    &dop853,
-                    progress,
-                )?
-                .iter()
-                .map(|p| true_dim.dte_um(p.steady.dte_pp))
-                .collect()
+        let factory = |m: &GearPair| -> Result<Box<dyn PeriodFlow>> {
+            match truth.dop853_rtol {
+                None => flow_with_rtol(m, RK_RTOL),
+                Some(rtol) => Ok(Box::new(RkFlow::new(m, rtol)?)),
             }
         };
+        let clean: Vec<f64> = up_sweep(
+            &true_dim,
+            &model,
+            truth.omega_n_hz,
+            &speeds,
+            &factory,
+            progress,
+        )?
+        .iter()
+        .map(|p| true_dim.dte_um(p.steady.dte_pp))
+        .collect();
         for (s, y) in speeds.iter().zip(clean) {
             let y = y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s));
             let noisy = (y + truth.noise_um * rng.normal()).max(0.0);
