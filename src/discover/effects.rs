@@ -83,6 +83,19 @@ impl Candidate {
         delta[1].atan2(delta[0])
     }
 
+    /// A phase-carrying candidate's delta with every (A cos psi, A sin psi) pair turned to
+    /// psi + `theta`: the same amplitudes, all phases shifted alike (theta = pi gives -delta).
+    pub fn phase_shifted(delta: &[f64], theta: f64) -> Vec<f64> {
+        let (s, c) = theta.sin_cos();
+        delta
+            .chunks(2)
+            .flat_map(|p| match p {
+                [x, y] => vec![x * c - y * s, x * s + y * c],
+                other => other.to_vec(),
+            })
+            .collect()
+    }
+
     /// The reported scalar of an effect and its gradient with respect to delta (for the delta
     /// method): an amplitude hypot(c, s) for the phase-carrying effects, gamma, or exp(beta).
     pub fn estimate(self, delta: &[f64]) -> (f64, Vec<f64>) {
