@@ -547,8 +547,8 @@ fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
 /// the pp response jumps with the phase (a jump moves by a grid step), so Levenberg-Marquardt
 /// stops within a few degrees of where it starts. On an r2 0.4 set (true phase 0, 50 rpm grid,
 /// seed 3) the design-load fit turned the probe at 0 deg to -37 deg; from there and from its
-/// opposite the all-load fit ended at -37 deg and -177 deg, 1871 and 252 sigma^2 against 74.8
-/// at the truth, and twelve starts 30 deg apart ended within 30 deg of their own phase. The
+/// opposite the all-load fit ended at -37 deg and -177 deg, 1871 and 252 sigma^2 against 74.4
+/// from a start at the truth, and twelve starts 30 deg apart ended within 30 deg of their own phase. The
 /// opposite start stays because psi and psi + pi fit the in-contact points alike (at eps 0.1,
 /// seed 7, both probes ended in the psi = pi basin, 7.6 sigma^2 above the true minimum), and
 /// where the two end within the LR threshold the phase is reported undetermined. The profile
@@ -710,8 +710,10 @@ type ScoredStart = (Vec<f64>, f64);
 const PROFILE_REFINE: [f64; 4] = [-2.0, -1.0, 1.0, 2.0];
 
 /// Phases of [`phase_profile`]: shifts of the design-load fit's phase 30 deg apart (the
-/// all-load fit moves a phase by less than that), then steps around the best.
+/// all-load fit moves a phase by less than that)...
 const PHASE_PROFILE_STEP_DEG: f64 = 30.0;
+/// ...then these steps around the best (the coarse shifts leave a phase up to 15 deg from the
+/// nearest; with the steps, 5 deg).
 const PHASE_REFINE_DEG: [f64; 2] = [-10.0, 10.0];
 
 /// The all-load stage's start of a candidate the design load does not see (the backlash while
