@@ -312,8 +312,9 @@ fn hidden_second_ste_harmonic_is_named_and_sized() {
 /// The same seed on Munro's 50 rpm grid (the synth default). The design-load fit turned the r2
 /// probe's phase from 0 to -37 degrees, and the all-load fit, which hardly moves a phase (the
 /// pp jumps with it), ended at -37 and -177 degrees from there and from its opposite: 1871 and
-/// 252 sigma^2 against 75 in the true basin, so the refit left a discrepancy and the answer was
-/// "unexplained". The phase profile at the design-load fit starts it in the true basin.
+/// 252 sigma^2 against 74.4 from a start at the truth, so the refit left a discrepancy and the
+/// answer was "unexplained". The phase profile at the design-load fit starts it in the true
+/// basin.
 #[test]
 fn second_ste_harmonic_on_the_50_rpm_grid_is_named_with_its_phase() {
     let tmp = tempfile::tempdir().unwrap();

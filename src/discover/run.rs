@@ -548,12 +548,12 @@ fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
 /// stops within a few degrees of where it starts. On an r2 0.4 set (true phase 0, 50 rpm grid,
 /// seed 3) the design-load fit turned the probe at 0 deg to -37 deg; from there and from its
 /// opposite the all-load fit ended at -37 deg and -177 deg, 1871 and 252 sigma^2 against 74.4
-/// from a start at the truth, and twelve starts 30 deg apart ended within 30 deg of their own phase. The
-/// opposite start stays because psi and psi + pi fit the in-contact points alike (at eps 0.1,
-/// seed 7, both probes ended in the psi = pi basin, 7.6 sigma^2 above the true minimum), and
-/// where the two end within the LR threshold the phase is reported undetermined. The profile
-/// scores all training loads: at eps 0.2 the opposite phase fits the design load alone three
-/// times better and all training loads twice worse.
+/// from a start at the truth, and twelve starts 30 deg apart ended within 30 deg of their own
+/// phase. The opposite start stays because psi and psi + pi fit the in-contact points alike
+/// (at eps 0.1, seed 7, both probes ended in the psi = pi basin, 7.6 sigma^2 above the true
+/// minimum), and where the two end within the LR threshold the phase is reported
+/// undetermined. The profile scores all training loads: at eps 0.2 the opposite phase fits the
+/// design load alone three times better and all training loads twice worse.
 ///
 /// An effect without a phase that the design load does not see starts the second stage from
 /// the best value of a profile at the design-load fit ([`profile_start`]), not from the probe.
@@ -601,11 +601,20 @@ fn refit_candidate(
         )?;
         (f.globals, f.ste_um[0], Effect::of(cand, delta0.to_vec()))
     };
+    // The other training loads' STE fitted alone at the design-load fit with the effect
+    // `effect`, once its damping is admissible at every training load.
+    let fitted_others = |effect: &Effect| -> Result<Vec<f64>> {
+        fitted_damping_admissible(setup, train, g1, effect)?;
+        train[1..]
+            .par_iter()
+            .zip(&m0.ste_um[1..])
+            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, sigma, g1, effect, e)?.0))
+            .collect()
+    };
     // Stage two's start from the design-load fit with the effect `effect` and the other training
     // loads' STE `others`, and the residual sum of squares of all training loads there
     // (sigma^2): the all-load stage's objective at its start.
     let scored = |effect: &Effect, others: &[f64]| -> Result<ScoredStart> {
-        fitted_damping_admissible(setup, train, g1, effect)?;
         let mut start = vec![g1.zeta, g1.omega_n_hz, ste1];
         start.extend_from_slice(others);
         let preds = predict_many(setup, train, g1, &start[2..], effect)?;
@@ -613,16 +622,8 @@ fn refit_candidate(
         start.extend_from_slice(&effect.delta);
         Ok((start, r))
     };
-    // The same with the other training loads' STE fitted alone.
-    let start_at = |effect: &Effect| -> Result<ScoredStart> {
-        fitted_damping_admissible(setup, train, g1, effect)?;
-        let others: Vec<f64> = train[1..]
-            .par_iter()
-            .zip(&m0.ste_um[1..])
-            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, sigma, g1, effect, e)?.0))
-            .collect::<Result<_>>()?;
-        scored(effect, &others)
-    };
+    let start_at =
+        |effect: &Effect| -> Result<ScoredStart> { scored(effect, &fitted_others(effect)?) };
     let from = |start: Result<Vec<f64>>| -> Result<ModelFit> {
         fit_model(
             setup,
@@ -638,10 +639,10 @@ fn refit_candidate(
         // The phase profile holds the other loads' STE at their fit with the design-load phase:
         // each start of `start_at` fits them anew (36 predictions of a curve, 2 s at one load
         // for the stiffness variation), and the profile's best phase was the same either way on
-        // the r2 0.4 set above from three probe phases.
-        let phased = start_at(&effect1).and_then(|(s1, _)| {
-            let others = &s1[3..2 + train.len()];
-            phase_profile(cand, &effect1.delta, &|e: &Effect| scored(e, others))
+        // the r2 0.4 set above from three probe phases. A phase shift leaves the damping as it
+        // is, admissible with `effect1`.
+        let phased = fitted_others(&effect1).and_then(|others| {
+            phase_profile(cand, &effect1.delta, &|e: &Effect| scored(e, &others))
         });
         match phased {
             Ok(best) => {

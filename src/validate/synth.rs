@@ -377,7 +377,7 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
     t.insert(
         "integrator".into(),
         match truth.dop853_rtol {
-            None => "exact for k = 1, DOP853 (rtol 1e-9) when k(t) varies".into(),
+            None => format!("exact for k = 1, DOP853 (rtol {RK_RTOL:e}) when k(t) varies").into(),
             Some(rtol) => format!("DOP853 (rtol {rtol:e}) throughout").into(),
         },
     );
