@@ -54,9 +54,9 @@ fn fit_recovers_truth_and_predictions_match_truth_curves() {
             seed,
             [truth.zeta, truth.omega_n_hz],
             [r.zeta, r.omega_n_hz],
-            &r.ci95_profile,
+            &r.fit.ci95_profile,
         );
-        let (c0, c1) = (r.fit.ci95_covariance[0], r.fit.ci95_covariance[1]);
+        let (c0, c1) = (r.fit.estimate.ci95[0], r.fit.estimate.ci95[1]);
         assert!(
             c0.0 <= truth.zeta && truth.zeta <= c0.1,
             "seed {seed}: covariance interval {c0:?}"

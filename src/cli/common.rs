@@ -144,3 +144,55 @@ pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
     };
     Ok((num(l, "load")?, num(e, "STE amplitude")?))
 }
+
+/// The measurement noise of generated sets: a family and its parameters.
+#[derive(clap::Args, Debug, Clone)]
+pub struct NoiseArgs {
+    /// Noise family: constant (Gaussian), relative (Gaussian, floor plus 3% of the level),
+    /// student-t (3 degrees of freedom, floor plus 3%), quantized (floor plus 3%, read to a
+    /// 0.25 um grid).
+    #[arg(long, default_value = "constant")]
+    pub noise: String,
+    /// Noise floor (the standard deviation of the constant family), um.
+    #[arg(long, default_value_t = 0.15)]
+    pub noise_um: f64,
+    /// Relative part of the level-dependent families (default 0.03).
+    #[arg(long)]
+    pub noise_relative: Option<f64>,
+    /// Degrees of freedom of the student-t family (default 3).
+    #[arg(long)]
+    pub noise_dof: Option<f64>,
+    /// Reading grid of the quantized family, um (default 0.25).
+    #[arg(long)]
+    pub noise_quantum_um: Option<f64>,
+}
+
+impl NoiseArgs {
+    /// The noise these options describe.
+    pub fn noise(&self) -> anyhow::Result<geardyn::validate::SynthNoise> {
+        use geardyn::validate::NoiseFamily;
+        let family = NoiseFamily::parse(&self.noise).ok_or_else(|| {
+            anyhow::anyhow!(
+                "unknown --noise '{}': constant, relative, student-t or quantized",
+                self.noise
+            )
+        })?;
+        let mut n = family.noise(self.noise_um);
+        if let Some(r) = self.noise_relative {
+            n.model.relative = r;
+        }
+        if let Some(d) = self.noise_dof {
+            if family != NoiseFamily::StudentT {
+                anyhow::bail!("--noise-dof applies to --noise student-t only");
+            }
+            n.model.distribution = geardyn::fit::Distribution::StudentT { dof: d };
+        }
+        if let Some(q) = self.noise_quantum_um {
+            if family != NoiseFamily::Quantized {
+                anyhow::bail!("--noise-quantum-um applies to --noise quantized only");
+            }
+            n.quantum_um = Some(q);
+        }
+        Ok(n)
+    }
+}

@@ -1,7 +1,7 @@
 //! `geardyn discover-study --hidden none|<candidate>|sensor_peak --seeds N`: the null-rate and
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
-use super::common::{parse_load_ste, print_text};
+use super::common::{parse_load_ste, print_text, NoiseArgs};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
@@ -38,6 +38,8 @@ pub struct Args {
     /// data (the null rate of the excluded-points rule depends on it).
     #[arg(long)]
     dop853_rtol: Option<f64>,
+    #[command(flatten)]
+    noise: NoiseArgs,
     /// Bootstrap replicates per discovery run.
     #[arg(long, default_value_t = 1999)]
     bootstrap: usize,
@@ -61,6 +63,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         strength: a.strength,
         loads: a.loads,
         dop853_rtol: a.dop853_rtol,
+        noise: a.noise.noise()?,
         discover: DiscoverOptions {
             bootstrap: a.bootstrap,
             ..DiscoverOptions::default()

@@ -19,6 +19,7 @@ mod study;
 mod sweep;
 mod synth;
 mod validate;
+mod validate_study;
 
 use clap::{Parser, Subcommand};
 
@@ -62,6 +63,9 @@ enum Command {
     /// Null-rate and recovery studies of `discover` on seeded synthetic sets with one effect
     /// hidden (or none), with Wilson 95% intervals.
     DiscoverStudy(discover_study::Args),
+    /// Coverage of `validate munro`'s 95% intervals of zeta and omega_n on seeded synthetic
+    /// design-load curves (another integrator, a chosen noise family and speed grid).
+    ValidateStudy(validate_study::Args),
     /// Every figure of the paper (PNG + SVG) and a claim-by-claim reproduction report
     /// (REPRODUCTION.md, index.html, claims.json, claims.csv).
     Reproduce(reproduce::Args),
@@ -84,5 +88,6 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Discover(a) => discover::run(a),
         Command::DiscoverStudy(a) => discover_study::run(a),
         Command::Reproduce(a) => reproduce::run(a),
+        Command::ValidateStudy(a) => validate_study::run(a),
     }
 }

@@ -1,6 +1,6 @@
 //! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
 
-use super::common::{parse_load_ste, print_text};
+use super::common::{parse_load_ste, print_text, NoiseArgs};
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand};
 use geardyn::validate::{synth_kubo, synth_munro, HiddenEffects, KuboTruth, MunroTruth};
@@ -90,9 +90,8 @@ struct MunroArgs {
     /// True natural frequency, Hz.
     #[arg(long, default_value_t = 1600.0)]
     omega_n_hz: f64,
-    /// Additive noise standard deviation, um.
-    #[arg(long, default_value_t = 0.15)]
-    noise_um: f64,
+    #[command(flatten)]
+    noise: NoiseArgs,
     /// Noise seed.
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -135,7 +134,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let mut t = MunroTruth::default_munro();
             t.zeta = m.zeta;
             t.omega_n_hz = m.omega_n_hz;
-            t.noise_um = m.noise_um;
+            t.noise = m.noise.noise()?;
             t.seed = m.seed;
             t.publish_ste = m.publish_ste;
             if let Some(loads) = m.loads {

@@ -44,10 +44,26 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let mut s = format!(
                 "zeta {:.5} [{}], omega_n {:.1} Hz [{}]\n",
                 r.zeta,
-                ci_text(r.fit.ci95_covariance[0]),
+                ci_text(r.fit.estimate.ci95[0], 5),
                 r.omega_n_hz,
-                ci_text(r.fit.ci95_covariance[1])
+                ci_text(r.fit.estimate.ci95[1], 2)
             );
+            let n = &r.fit.estimate.noise;
+            s.push_str(&format!(
+                "noise: floor {:.3} um, relative {:.4}, {}{}\n",
+                n.model.floor,
+                n.model.relative,
+                match n.model.distribution {
+                    geardyn::fit::Distribution::Gaussian => "Gaussian".to_string(),
+                    geardyn::fit::Distribution::StudentT { dof } =>
+                        format!("Student-t ({dof} dof)"),
+                },
+                if n.outliers.is_empty() {
+                    String::new()
+                } else {
+                    format!(", {} outlying points", n.outliers.len())
+                }
+            ));
             for l in &r.loads {
                 s.push_str(&format!(
                     "  {:>7.1} N {:>10}: F_hat {:6.2}, RMS {:.3} um{}, jump error {}\n",
@@ -90,6 +106,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     print_text(&text)
 }
 
-fn ci_text((a, b): (f64, f64)) -> String {
-    format!("95% {a:.4} .. {b:.4}")
+fn ci_text((a, b): (f64, f64), digits: usize) -> String {
+    format!("95% {a:.digits$} .. {b:.digits$}")
 }

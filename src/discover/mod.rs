@@ -30,5 +30,6 @@ pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
     Gap, GapSet, OtherStart, ResidualCurve, TestResult,
 };
+pub use stats::{clopper_pearson_upper95, wilson95};
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 pub use windows::{windows, Window};

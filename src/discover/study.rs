@@ -9,7 +9,7 @@ use super::stats::{clopper_pearson_upper95, ks_from_uniform, wilson95};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
-use crate::validate::{synth_munro, HiddenEffects, MunroTruth};
+use crate::validate::{synth_munro, HiddenEffects, MunroTruth, NoiseFamily, SynthNoise};
 use serde::Serialize;
 use std::path::Path;
 
@@ -138,6 +138,10 @@ pub struct StudySummary {
     /// DOP853 tolerance the sets were made with ([`StudyOptions::dop853_rtol`]); `None`: the
     /// exact solver, the same one that fits them.
     pub data_dop853_rtol: Option<f64>,
+    /// The sets' noise family, floor (um) and relative part.
+    pub data_noise_family: &'static str,
+    pub data_noise_floor_um: f64,
+    pub data_noise_relative: f64,
     pub seeds: usize,
     pub correct: usize,
     pub correct_rate: f64,
@@ -168,7 +172,8 @@ pub struct StudyOptions {
     pub seeds: usize,
     /// Speed grid of the sets (start, stop, step rpm); coarser grids run faster.
     pub speeds_rpm: (f64, f64, f64),
-    pub noise_um: f64,
+    /// The sets' measurement noise (family and floor).
+    pub noise: SynthNoise,
     /// Strength of the hidden effect; None takes [`Hidden::default_strength`].
     pub strength: Option<f64>,
     /// (load N, STE um) of the sets; None takes Munro's four loads of
@@ -186,7 +191,7 @@ impl Default for StudyOptions {
             first_seed: 1,
             seeds: 100,
             speeds_rpm: (1000.0, 5000.0, 50.0),
-            noise_um: 0.15,
+            noise: NoiseFamily::Constant.noise(0.15),
             strength: None,
             loads: None,
             dop853_rtol: None,
@@ -230,7 +235,7 @@ pub fn run_study(
         let seed = opts.first_seed + k as u64;
         let mut t = MunroTruth::default_munro();
         t.seed = seed;
-        t.noise_um = opts.noise_um;
+        t.noise = opts.noise;
         t.speeds_rpm = opts.speeds_rpm;
         t.hidden = effects.clone();
         t.dop853_rtol = opts.dop853_rtol;
@@ -317,6 +322,9 @@ pub fn run_study(
         expected: hidden.expected(),
         true_value: truth,
         data_dop853_rtol: opts.dop853_rtol,
+        data_noise_family: opts.noise.family.name(),
+        data_noise_floor_um: opts.noise.model.floor,
+        data_noise_relative: opts.noise.model.relative,
         seeds: n,
         correct,
         correct_rate: correct as f64 / n as f64,

@@ -1,9 +1,23 @@
-//! Nonlinear least squares for the validation pipelines: multi-start Nelder-Mead (argmin) on the
-//! sum of squared residuals in log-parameter space, covariance from the Jacobian at the optimum,
-//! and profile-likelihood intervals.
+//! The estimation engine of geardyn, used by `validate munro`, `validate kubo`, `discover` and
+//! the studies alike: parameters with transforms ([`Param`]), Levenberg-Marquardt least squares
+//! on the `levenberg-marquardt` crate ([`least_squares`]), a noise model that is part of the
+//! likelihood ([`NoiseModel`]: floor plus relative part, Gaussian or Student-t), the
+//! maximum-likelihood fit of both with Fisher and sandwich covariances ([`estimate`]), and
+//! profile-likelihood intervals ([`profile_interval`]).
 
-mod least_squares;
+mod estimate;
+mod lm;
+mod noise;
+mod params;
 mod profile;
 
-pub use least_squares::{fit, FitOptions, FitResult, Residuals};
+pub use estimate::{
+    estimate, Estimate, EstimateOptions, NoiseFit, NoiseSetting, NoiseSource, Robust,
+};
+pub use lm::{least_squares, rss, LmFit, Stop, UNSEEN};
+pub use noise::{
+    estimate_noise, log_likelihood, robust_weight, Distribution, NoiseData, NoiseFreedom,
+    NoiseModel,
+};
+pub use params::{Param, Transform};
 pub use profile::profile_interval;

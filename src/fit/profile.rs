@@ -1,82 +1,93 @@
-//! Profile-likelihood 95% intervals: the values of one parameter at which the residual sum of
-//! squares, minimised over the others, exceeds its minimum by chi^2_1(0.95) sigma^2 = 3.84 sigma^2.
+//! Profile-likelihood 95% intervals (Venzon & Moolgavkar 1988; Bates & Watts 1988, Sec. 6.1):
+//! the values of one parameter at which the weighted residual sum of squares, minimised over
+//! the others with the fit's final weights held (the working likelihood of the reweighted fit),
+//! exceeds its minimum by q^2, q the fit's t quantile, so that the profile and Wald intervals
+//! agree where the model is linear in its parameters.
 
-use super::least_squares::{minimise, FitResult, Residuals};
+use super::estimate::Estimate;
+use super::lm::{least_squares, rss, Stop};
+use super::params::Param;
 use crate::error::Result;
 
-/// chi-square quantile with one degree of freedom at 95%.
-const CHI2_1_95: f64 = 3.841_458_820_694_124;
+/// Doublings of the bracketing step (from one standard error, internal coordinates) before a
+/// side is declared unbounded.
+const MAX_DOUBLINGS: usize = 12;
+/// Bisections of the bracket: 2^-30 of it.
+const BISECTIONS: usize = 30;
 
-struct Fixed<'a, R: Residuals + ?Sized> {
-    model: &'a R,
+/// Profile interval of parameter `index` of the fit `est` of `model` to `y`; None on a side
+/// where the profile does not rise enough within 2^12 standard errors (the parameter is not
+/// identifiable that way).
+pub fn profile_interval<M>(
+    model: &M,
+    y: &[f64],
+    est: &Estimate,
     index: usize,
-    value: f64,
-}
-
-impl<R: Residuals + ?Sized> Residuals for Fixed<'_, R> {
-    fn names(&self) -> Vec<String> {
-        let mut n = self.model.names();
-        n.remove(self.index);
-        n
-    }
-    fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
-        let mut full = p.to_vec();
-        full.insert(self.index, self.value);
-        self.model.residuals(&full)
-    }
-}
-
-/// Profile interval of parameter `index` around the fit `best`; None on a side where the profile
-/// does not rise enough within a factor of 10 (the parameter is not identifiable that way).
-pub fn profile_interval<R: Residuals + ?Sized>(
-    model: &R,
-    best: &FitResult,
-    index: usize,
-) -> Result<(Option<f64>, Option<f64>)> {
-    let target = best.ssr + CHI2_1_95 * best.sigma * best.sigma;
-    let others: Vec<f64> = best
-        .params
+    stop: Stop,
+) -> Result<(Option<f64>, Option<f64>)>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    let defs = &est.param_defs;
+    let w = &est.weights;
+    let weighted = |p: &[f64]| -> Result<Vec<f64>> {
+        let m = model(p)?;
+        Ok(y.iter()
+            .zip(&m)
+            .zip(w)
+            .map(|((y, f), w)| (y - f) * w.sqrt())
+            .collect())
+    };
+    let minimum = rss(&weighted(&est.params)?);
+    let target = minimum + est.quantile[index] * est.quantile[index];
+    let others: Vec<Param> = defs
         .iter()
+        .zip(&est.params)
         .enumerate()
         .filter(|(i, _)| *i != index)
-        .map(|(_, v)| *v)
+        .map(|(_, (d, v))| Param {
+            start: *v,
+            ..d.clone()
+        })
         .collect();
-    let profile = |v: f64| -> Result<f64> {
-        if others.is_empty() {
-            let mut p = best.params.clone();
-            p[index] = v;
-            return Ok(model.residuals(&p)?.iter().map(|x| x * x).sum());
-        }
-        let fixed = Fixed {
-            model,
-            index,
-            value: v,
+    let t = defs[index].transform;
+    let profile = |u: f64| -> Result<f64> {
+        let value = t.value(u);
+        let full = |p: &[f64]| {
+            let mut q = p.to_vec();
+            q.insert(index, value);
+            q
         };
-        Ok(minimise(&fixed, &others, 1000)?.1)
+        if others.is_empty() {
+            return Ok(rss(&weighted(&full(&[]))?));
+        }
+        let f = |p: &[f64]| weighted(&full(p));
+        // A profile point that cannot be fitted counts as outside the interval.
+        Ok(least_squares(&f, &others, stop).map_or(f64::INFINITY, |fit| fit.rss))
     };
-    let centre = best.params[index];
-    let step = best.std_errors[index].max(1e-6 * centre) / centre;
+    let centre = t.internal(est.params[index]).unwrap_or(est.params[index]);
+    let se_u = est.std_errors[index] / t.derivative(centre).abs().max(1e-300);
+    let step = if se_u.is_finite() && se_u > 0.0 {
+        se_u
+    } else {
+        1e-3 * centre.abs().max(1e-3)
+    };
     let side = |dir: f64| -> Result<Option<f64>> {
-        // Bracket in log space by doubling, then bisect.
-        let mut lo = 0.0f64;
-        let mut hi = dir * step;
-        for _ in 0..40 {
-            if profile(centre * hi.exp())? > target {
-                for _ in 0..40 {
+        let (mut lo, mut hi) = (0.0, dir * step);
+        for _ in 0..MAX_DOUBLINGS {
+            if profile(centre + hi)? > target {
+                for _ in 0..BISECTIONS {
                     let mid = 0.5 * (lo + hi);
-                    if profile(centre * mid.exp())? > target {
+                    if profile(centre + mid)? > target {
                         hi = mid;
                     } else {
                         lo = mid;
                     }
                 }
-                return Ok(Some(centre * (0.5 * (lo + hi)).exp()));
+                return Ok(Some(t.value(centre + 0.5 * (lo + hi))));
             }
             lo = hi;
             hi *= 2.0;
-            if hi.abs() > 10f64.ln() {
-                return Ok(None);
-            }
         }
         Ok(None)
     };

@@ -16,7 +16,7 @@ pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
     let src = &data.rig.source;
     let ci = |i: usize| {
         json!({
-            "covariance": r.fit.as_ref().and_then(|f| f.ci95_covariance.get(i).map(|(a, b)| [*a, *b])),
+            "covariance": r.fit.as_ref().and_then(|f| f.ci95.get(i).map(|(a, b)| [*a, *b])),
             "profile": r.ci95_profile.get(i).map(|(a, b)| [*a, *b]),
         })
     };

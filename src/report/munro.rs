@@ -12,31 +12,59 @@ use serde_json::json;
 use std::path::{Path, PathBuf};
 
 fn ci(r: &MunroValidation, i: usize) -> serde_json::Value {
-    let c = r.fit.ci95_covariance.get(i).copied();
-    let p = r.ci95_profile.get(i).copied();
+    let e = &r.fit.estimate;
+    let pair = |c: Option<&(f64, f64)>| c.map(|(a, b)| [*a, *b]);
     json!({
-        "covariance": c.map(|(a, b)| [a, b]),
-        "profile": p.map(|(a, b)| [a, b]),
+        "covariance": pair(e.ci95.get(i)),
+        "sandwich": pair(e.ci95_sandwich.get(i)),
+        "profile": r.fit.ci95_profile.get(i).map(|(a, b)| [*a, *b]),
+    })
+}
+
+/// The noise model of the design-load fit, with the speeds of its outliers.
+fn noise_json(r: &MunroValidation) -> serde_json::Value {
+    let n = &r.fit.estimate.noise;
+    let design = r.loads.iter().find(|l| l.fitted);
+    let outlier_speeds: Vec<f64> = n
+        .outliers
+        .iter()
+        .filter_map(|&i| design.and_then(|l| l.measured.get(i)).map(|m| m.0))
+        .collect();
+    json!({
+        "source": n.source,
+        "floor_um": n.model.floor,
+        "floor_um_ci95": n.floor_ci95,
+        "relative": n.model.relative,
+        "relative_ci95": n.relative_ci95,
+        "distribution": n.model.distribution,
+        "robust_lr": n.robust_lr,
+        "outlier_speeds_rpm": outlier_speeds,
+        "chi_square": r.fit.estimate.chi_square,
+        "residual_dof": r.fit.estimate.residual_dof,
+        "interval_dof": r.fit.estimate.dof,
     })
 }
 
 /// The fitted-parameter record (design.md section 3 fields and more).
 pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
     let src = &data.rig.source;
-    let ste_fitted = r.fit.names.iter().position(|n| n == "ste_um");
+    let e = &r.fit.estimate;
+    let ste_fitted = e.names.iter().position(|n| n == "ste_um");
     json!({
         "data_kind": src.kind.name(),
         "notice": data_kind_banner(&data.rig),
         "zeta": r.zeta,
-        "zeta_std_error": r.fit.std_errors[0],
+        "zeta_std_error": e.std_errors[0],
+        "zeta_std_error_sandwich": e.std_errors_sandwich[0],
         "zeta_ci95": ci(r, 0),
         "omega_n_hz": r.omega_n_hz,
-        "omega_n_hz_std_error": r.fit.std_errors[1],
+        "omega_n_hz_std_error": e.std_errors[1],
+        "omega_n_hz_std_error_sandwich": e.std_errors_sandwich[1],
         "omega_n_hz_ci95": ci(r, 1),
-        "ste_design_um": ste_fitted.map(|i| r.fit.params[i]),
+        "ste_design_um": ste_fitted.map(|i| e.params[i]),
         "ste_design_um_ci95": ste_fitted.map(|i| ci(r, i)),
-        "residual_sigma_um": r.fit.sigma,
-        "design_points": r.fit.n,
+        "noise": noise_json(r),
+        "design_points": e.n,
         "design_load_in_contact": r.design_load_in_contact,
         "mesh_stiffness_n_per_um": r.mesh_stiffness_n_per_um,
         "mesh_stiffness_source": r.stiffness_source,
@@ -46,6 +74,7 @@ pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
             "fitted": l.fitted,
             "mean_force": l.mean_force,
             "ste_um": l.ste_um,
+            "ste_um_ci95": l.ste_ci95_um,
             "ste_source": l.ste_source,
             "force_ratio": l.force_ratio,
             "rms_um": l.rms_um,
@@ -90,18 +119,7 @@ pub fn write_munro_report(
         &banner,
         synthetic,
     );
-    page.paragraph(&format!(
-        "zeta = {:.5} (95% profile {}), omega_n = {:.1} Hz (95% profile {}), fitted at the design load {} N where the teeth {} in contact. Mesh stiffness {:.1} N/um ({}), half backlash b = {:.1} um.",
-        r.zeta,
-        fmt_ci(r.ci95_profile.first()),
-        r.omega_n_hz,
-        fmt_ci(r.ci95_profile.get(1)),
-        data.rig.rig.design_load_n,
-        if r.design_load_in_contact { "stay" } else { "do NOT stay (the linear fit model is then approximate)" },
-        r.mesh_stiffness_n_per_um,
-        r.stiffness_source,
-        r.half_backlash_um
-    ));
+    parameter_table(&mut page, data, r);
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
     let rows: Vec<Vec<String>> = r
         .loads
@@ -111,7 +129,13 @@ pub fn write_munro_report(
                 format!("{}", l.load_n),
                 if l.fitted { "fit" } else { "prediction" }.to_string(),
                 format!("{:.2}", l.force_ratio),
-                format!("{:.2} ({:?})", l.ste_um, l.ste_source),
+                format!(
+                    "{:.3}{} ({})",
+                    l.ste_um,
+                    l.ste_ci95_um
+                        .map_or(String::new(), |c| format!(" [{:.3}, {:.3}]", c.0, c.1)),
+                    ste_source_text(l.ste_source)
+                ),
                 format!("{:.3}", l.rms_um),
                 format!("{:.3}", l.rms_up_um),
                 format!("{:.3}", l.rms_down_um),
@@ -179,10 +203,24 @@ pub fn write_munro_report(
             );
         }
         let plot = XyPlot {
-            title: format!("{} N{} ({kind} data)", l.load_n, if l.fitted { ", design load, fitted" } else { ", predicted" }),
+            title: format!(
+                "{} N{} ({kind} data)",
+                l.load_n,
+                if l.fitted {
+                    ", design load, fitted"
+                } else {
+                    ", predicted"
+                }
+            ),
             caption: Some(format!(
-                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} um, {:?}), F_hat = {:.2}, zeta = {:.4}, omega_n = {:.0} Hz",
-                l.mean_force, l.ste_amplitude, l.ste_um, l.ste_source, l.force_ratio, r.zeta, r.omega_n_hz
+                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F̂ = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
+                l.mean_force,
+                l.ste_amplitude,
+                l.ste_um,
+                ste_source_text(l.ste_source),
+                l.force_ratio,
+                r.zeta,
+                r.omega_n_hz
             )),
             x_label: "speed (rpm)".into(),
             y_label: "pp dynamic transmission error (um)".into(),
@@ -215,13 +253,111 @@ pub fn write_munro_report(
     )
 }
 
-fn fmt_ci(c: Option<&(Option<f64>, Option<f64>)>) -> String {
+/// The fitted parameters first: estimate, 95% intervals (Fisher, sandwich, profile), unit,
+/// source; then the noise model and the fit's setting.
+fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
+    let e = &r.fit.estimate;
+    let pair = |c: (f64, f64), d: usize| format!("[{:.d$}, {:.d$}]", c.0, c.1);
+    let units = ["", "Hz", "µm"];
+    let symbols = [
+        "ζ (damping ratio)",
+        "ωₙ (natural frequency)",
+        "STE amplitude at the design load",
+    ];
+    let digits = [5, 2, 4];
+    let rows: Vec<Vec<String>> = e
+        .params
+        .iter()
+        .enumerate()
+        .map(|(i, v)| {
+            let d = digits[i.min(2)];
+            vec![
+                symbols[i.min(2)].to_string(),
+                format!("{v:.d$}"),
+                pair(e.ci95[i], d),
+                pair(e.ci95_sandwich[i], d),
+                fmt_ci(r.fit.ci95_profile.get(i), d),
+                units[i.min(2)].to_string(),
+                format!(
+                    "fitted at the design load ({} N, {} points)",
+                    data.rig.rig.design_load_n, e.n
+                ),
+            ]
+        })
+        .collect();
+    page.heading("Fitted parameters");
+    page.table(
+        &[
+            "parameter",
+            "estimate",
+            "95% interval (Fisher)",
+            "95% interval (sandwich)",
+            "95% interval (profile)",
+            "unit",
+            "source",
+        ],
+        &rows,
+    );
+    let n = &e.noise;
+    let noise_rows = vec![
+        vec![
+            "noise floor".to_string(),
+            format!("{:.4}", n.model.floor),
+            n.floor_ci95.map_or("stated".into(), |c| pair(c, 4)),
+            "µm".into(),
+        ],
+        vec![
+            "noise relative part".to_string(),
+            format!("{:.4}", n.model.relative),
+            n.relative_ci95.map_or("-".into(), |c| pair(c, 4)),
+            "of the level".into(),
+        ],
+    ];
+    page.heading("Noise model (σᵢ² = floor² + (relative · level)²)");
+    page.table(&["part", "estimate", "95% interval", "unit"], &noise_rows);
+    let dist = match n.model.distribution {
+        crate::fit::Distribution::Gaussian => "Gaussian errors".to_string(),
+        crate::fit::Distribution::StudentT { dof } => {
+            format!("Student-t errors with {dof} degrees of freedom (outliers down-weighted)")
+        }
+    };
+    let source = match n.source {
+        crate::fit::NoiseSource::Estimated => "estimated jointly with the fit",
+        crate::fit::NoiseSource::Stated => "stated in rig.toml",
+        crate::fit::NoiseSource::PerPoint => "stated per point (dte_pp_sd_um column)",
+        crate::fit::NoiseSource::Proportional => "proportional to stated scales",
+    };
+    page.paragraph(&format!(
+        "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom. Points beyond the Bonferroni bound: {}. The design load's teeth {} in contact at every measured speed under the fit. Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
+        n.robust_lr.map_or("not computed".into(), |v| format!("{v:.2} (Student-t kept above 2.71)")),
+        e.chi_square,
+        e.residual_dof,
+        if n.outliers.is_empty() { "none".to_string() } else { n.outliers.len().to_string() },
+        if r.design_load_in_contact { "stay" } else { "do NOT stay (the linear fit model is then approximate)" },
+        r.mesh_stiffness_n_per_um,
+        r.stiffness_source,
+        r.half_backlash_um
+    ));
+}
+
+fn fmt_ci(c: Option<&(Option<f64>, Option<f64>)>, digits: usize) -> String {
     match c {
         Some((a, b)) => format!(
             "[{}, {}]",
-            a.map_or("unbounded".to_string(), |v| format!("{v:.4}")),
-            b.map_or("unbounded".to_string(), |v| format!("{v:.4}"))
+            a.map_or("unbounded".to_string(), |v| format!("{v:.digits$}")),
+            b.map_or("unbounded".to_string(), |v| format!("{v:.digits$}"))
         ),
         None => "-".into(),
+    }
+}
+
+/// Human wording of where an STE amplitude came from.
+fn ste_source_text(s: crate::validate::SteSource) -> &'static str {
+    use crate::validate::SteSource;
+    match s {
+        SteSource::RigToml => "given in rig.toml",
+        SteSource::Fitted => "fitted with ζ and ωₙ",
+        SteSource::LowSpeedFit => "fitted to the curve's low-speed part",
+        SteSource::LowSpeedEnd => "from the lowest-speed point",
     }
 }

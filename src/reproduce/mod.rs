@@ -90,6 +90,7 @@ impl Resolution {
                 dense_points: 41,
                 attractor_speeds: 5,
                 ic_per_axis: 3,
+                ..MunroOptions::default()
             },
             kubo: KuboOptions { dense_points: 61 },
         }

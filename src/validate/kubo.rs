@@ -15,7 +15,9 @@ use super::curve_metrics::{jump_location, rms};
 use super::linear::load_factor_max;
 use crate::data::{KuboData, KuboPoint};
 use crate::error::{GearError, Result};
-use crate::fit::{fit, profile_interval, FitOptions, FitResult, Residuals};
+use crate::fit::{
+    estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
+};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan};
@@ -77,7 +79,7 @@ impl Default for KuboOptions {
 #[derive(Clone, Debug, Serialize)]
 pub struct KuboValidation {
     /// The fit, when zeta and omega_n were not given in rig.toml.
-    pub fit: Option<FitResult>,
+    pub fit: Option<Estimate>,
     pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
     /// "fitted to the contact part of the curve" or "given in rig.toml".
     pub parameter_source: String,
@@ -110,29 +112,68 @@ struct ContactFit<'a> {
     ste_um: Option<f64>,
 }
 
-impl Residuals for ContactFit<'_> {
-    fn names(&self) -> Vec<String> {
-        let mut n = vec!["zeta".to_string(), "omega_n_hz".to_string()];
-        if self.ste_um.is_none() {
-            n.push("ste_um".into());
-        }
-        n
-    }
-    fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
-        let e = ste_of(self.ste_um, p);
-        let fah = self.dim.ste_amplitude(e);
+impl ContactFit<'_> {
+    /// The model's D_L at each point for (zeta, omega_n[, STE]).
+    fn curve(&self, p: &[f64]) -> Result<Vec<f64>> {
+        let fah = self.dim.ste_amplitude(ste_of(self.ste_um, p));
         Ok(self
             .points
             .iter()
+            .map(|k| load_factor_max(self.fm, fah, p[0], self.dim.omega(k.speed_rpm, p[1])))
+            .collect())
+    }
+
+    fn midline(&self) -> Vec<f64> {
+        self.points
+            .iter()
+            .map(|k| 0.5 * (k.dynamic_factor_min + k.dynamic_factor_max))
+            .collect()
+    }
+
+    /// The scatter between tooth pairs grows with D_L: the envelope half-width is each point's
+    /// relative scale, their common factor is estimated by the fit.
+    fn half_widths(&self) -> Vec<f64> {
+        self.points
+            .iter()
             .map(|k| {
                 let mid = 0.5 * (k.dynamic_factor_min + k.dynamic_factor_max);
-                // The scatter between tooth pairs grows with D_L: weight by the envelope
-                // half-width (its common scale is estimated by the fit).
-                let half = (0.5 * (k.dynamic_factor_max - k.dynamic_factor_min)).max(1e-3 * mid);
-                (mid - load_factor_max(self.fm, fah, p[0], self.dim.omega(k.speed_rpm, p[1])))
-                    / half
+                (0.5 * (k.dynamic_factor_max - k.dynamic_factor_min)).max(1e-3 * mid)
             })
-            .collect())
+            .collect()
+    }
+
+    fn params(&self) -> Vec<Param> {
+        let mut p = vec![
+            Param::positive("zeta", 0.1),
+            Param::positive("omega_n_hz", 1000.0),
+        ];
+        if self.ste_um.is_none() {
+            p.push(Param::positive("ste_um", 1.0));
+        }
+        p
+    }
+
+    fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {
+        let model = |p: &[f64]| self.curve(p);
+        estimate(
+            &model,
+            &self.midline(),
+            &self.params(),
+            &EstimateOptions {
+                noise: NoiseSetting::Proportional(self.half_widths()),
+                robust: Robust::Off,
+                stop: Stop::converged(100).central(),
+                starts: starts.to_vec(),
+            },
+        )
+    }
+
+    fn profile(&self, est: &Estimate) -> Result<Vec<(Option<f64>, Option<f64>)>> {
+        let model = |p: &[f64]| self.curve(p);
+        let y = self.midline();
+        (0..est.params.len())
+            .map(|i| profile_interval(&model, &y, est, i, Stop::converged(100).central()))
+            .collect()
     }
 }
 
@@ -206,22 +247,14 @@ pub fn validate_kubo(
                     starts.push(s);
                 }
             }
-            let fit_opts = FitOptions {
-                starts,
-                sigma: None,
-                max_iters: 3000,
-            };
-            let first = fit(
-                &ContactFit {
-                    dim: &dim,
-                    fm,
-                    points: below.clone(),
-                    ste_um: ste_given,
-                },
-                &fit_opts,
-            )?;
+            let first = ContactFit {
+                dim: &dim,
+                fm,
+                points: below.clone(),
+                ste_um: ste_given,
+            }
+            .fit(&starts)?;
             let all: Vec<&KuboPoint> = data.points.iter().collect();
-            let mut refit_opts = fit_opts.clone();
             let mut r = first;
             let mut selected: Vec<f64> = Vec::new();
             let mut problem = None;
@@ -246,8 +279,8 @@ pub fn validate_kubo(
                     points: used,
                     ste_um: ste_given,
                 };
-                refit_opts.starts.push(r.params.clone());
-                r = fit(&pr, &refit_opts)?;
+                starts.push(r.params.clone());
+                r = pr.fit(&starts)?;
                 problem = Some(pr);
             }
             let problem = problem.unwrap_or(ContactFit {
@@ -256,9 +289,7 @@ pub fn validate_kubo(
                 points: below,
                 ste_um: ste_given,
             });
-            let prof = (0..r.params.len())
-                .map(|i| profile_interval(&problem, &r, i))
-                .collect::<Result<Vec<_>>>()?;
+            let prof = problem.profile(&r)?;
             let e = ste_of(ste_given, &r.params);
             let (z, w) = (r.params[0], r.params[1]);
             used_count = problem.points.len();

@@ -2,19 +2,30 @@
 //! DTE) and Kubo (dynamic factor) pipelines, and the comparison metrics.
 
 mod curve_metrics;
+mod design_fit;
 mod kubo;
 mod linear;
 mod munro;
 mod noise;
+mod study;
 mod synth;
 
 pub use curve_metrics::{jump_location, min_max, rms};
+pub use design_fit::{fit_design_load, DesignLoadFit, LOW_SPEED_OMEGA};
 pub use kubo::{validate_kubo, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT};
 pub use linear::{dte_gain, dte_pp_um, load_factor_max, stays_in_contact};
-pub use munro::{validate_munro, LoadResult, ModelPoint, MunroOptions, MunroValidation, SteSource};
+pub use munro::{
+    fit_munro_design_load, validate_munro, LoadResult, ModelPoint, MunroOptions, MunroValidation,
+    SteSource,
+};
 pub use noise::Rng;
+pub use study::{
+    run_validate_study, Covered, ParameterCoverage, SpeedGrid, ValidateSeed, ValidateStudyOptions,
+    ValidateStudySummary,
+};
 pub(crate) use synth::flow_with_rtol;
 pub use synth::{
-    munro_rig, simulate_dte_curve, simulate_up_sweep, synth_kubo, synth_munro, HiddenEffects,
-    KuboTruth, MunroTruth,
+    clean_munro_curves, munro_rig, simulate_dte_curve, simulate_up_sweep, synth_kubo, synth_munro,
+    write_munro_set, CleanCurves, HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise,
+    FAMILY_QUANTUM_UM, FAMILY_RELATIVE, FAMILY_T_DOF,
 };

@@ -4,10 +4,11 @@
 //! down, all attractors), and compare with the measurements.
 
 use super::curve_metrics::{jump_location, min_max, rms};
-use super::linear::{dte_pp_um, stays_in_contact};
+use super::design_fit::{fit_design_load, DesignLoadFit};
+use super::linear::stays_in_contact;
 use crate::data::{MunroData, MunroPoint};
 use crate::error::{GearError, Result};
-use crate::fit::{fit, profile_interval, FitOptions, FitResult, Residuals};
+use crate::fit::{NoiseFreedom, NoiseSetting, Robust};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{find_attractors, sweep, Branch, ExactFlow, IcGrid, SteadyOptions, SweepPlan};
@@ -23,6 +24,8 @@ pub struct MunroOptions {
     pub attractor_speeds: usize,
     /// Initial conditions per axis of that search.
     pub ic_per_axis: usize,
+    /// Student-t errors for the design-load fit: off, on, or when the residuals say so.
+    pub robust: Robust,
 }
 
 impl Default for MunroOptions {
@@ -31,6 +34,7 @@ impl Default for MunroOptions {
             dense_points: 121,
             attractor_speeds: 25,
             ic_per_axis: 7,
+            robust: Robust::Auto,
         }
     }
 }
@@ -43,8 +47,11 @@ pub enum SteSource {
     RigToml,
     /// Fitted with zeta and omega_n at the design load.
     Fitted,
+    /// Fitted to the curve's low-speed part (Omega <= 0.6 in contact), with the model's
+    /// quasi-static gain, jointly with the design-load fit and its noise model.
+    LowSpeedFit,
     /// Half the pp DTE at the curve's lowest speed (quasi-static DTE equals STE), corrected by
-    /// the fitted linear gain there.
+    /// the fitted linear gain there: only when fewer than 3 low-speed points are in contact.
     LowSpeedEnd,
 }
 
@@ -66,6 +73,8 @@ pub struct LoadResult {
     pub load_n: f64,
     pub mean_force: f64,
     pub ste_um: f64,
+    /// 95% interval of the STE amplitude (fitted sources only).
+    pub ste_ci95_um: Option<(f64, f64)>,
     pub ste_amplitude: f64,
     pub ste_source: SteSource,
     pub force_ratio: f64,
@@ -101,9 +110,9 @@ pub struct LoadResult {
 /// Everything `validate munro` computed.
 #[derive(Clone, Debug, Serialize)]
 pub struct MunroValidation {
-    pub fit: FitResult,
-    /// Profile-likelihood 95% intervals per fitted parameter (None: not bounded within x10).
-    pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
+    /// The design-load fit: parameters zeta, omega_n_hz (and ste_um when rig.toml gives none),
+    /// the noise model, Fisher, sandwich and profile intervals.
+    pub fit: DesignLoadFit,
     pub zeta: f64,
     pub omega_n_hz: f64,
     pub half_backlash_um: f64,
@@ -112,33 +121,6 @@ pub struct MunroValidation {
     /// The fitted linear model keeps the teeth in contact at the design load at every measured speed.
     pub design_load_in_contact: bool,
     pub loads: Vec<LoadResult>,
-}
-
-struct DesignFit<'a> {
-    dim: &'a Dimensional,
-    points: Vec<&'a MunroPoint>,
-    ste_um: Option<f64>,
-}
-
-impl Residuals for DesignFit<'_> {
-    fn names(&self) -> Vec<String> {
-        let mut n = vec!["zeta".to_string(), "omega_n_hz".to_string()];
-        if self.ste_um.is_none() {
-            n.push("ste_um".into());
-        }
-        n
-    }
-    fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
-        let (zeta, wn) = (p[0], p[1]);
-        let e = self
-            .ste_um
-            .unwrap_or_else(|| p.get(2).copied().unwrap_or(f64::NAN));
-        Ok(self
-            .points
-            .iter()
-            .map(|pt| pt.dte_pp_um - dte_pp_um(e, zeta, self.dim.omega(pt.speed_rpm, wn)))
-            .collect())
-    }
 }
 
 /// STE amplitude at a load from rig.toml, if listed.
@@ -151,6 +133,47 @@ fn ste_from_rig(data: &MunroData, load: f64) -> Option<f64> {
         .map(|(_, a)| *a)
 }
 
+/// The design-load fit of `validate munro` on a loaded set (its curve, the rig's STE when
+/// given, the set's noise setting), and the STE the rig gives, if any. Errors when the design
+/// load has fewer than 5 points.
+pub fn fit_munro_design_load(
+    data: &MunroData,
+    robust: Robust,
+) -> Result<(DesignLoadFit, Option<f64>)> {
+    let rig = &data.rig.rig;
+    let dim = Dimensional::from_rig(rig)?;
+    let design = rig.design_load_n;
+    let curve = data.curve(design);
+    if curve.len() < 5 {
+        return Err(GearError::Data {
+            file: data.dir.join("rig.toml"),
+            line: 0,
+            field: "design_load_n".into(),
+            message: format!(
+                "the fit needs the design-load curve ({design} N) with at least 5 points; found {}",
+                curve.len()
+            ),
+        });
+    }
+    let ste_given = ste_from_rig(data, design);
+    // The other loads whose STE is not given: their low-speed parts join the fit.
+    let others: Vec<(f64, Vec<&MunroPoint>)> = data
+        .loads()
+        .into_iter()
+        .filter(|l| !crate::data::same_load(*l, design) && ste_from_rig(data, *l).is_none())
+        .map(|l| (l, data.curve(l)))
+        .collect();
+    let fit = fit_design_load(
+        &dim,
+        &curve,
+        &others,
+        ste_given,
+        noise_setting(data, &curve),
+        robust,
+    )?;
+    Ok((fit, ste_given))
+}
+
 /// Run the Munro validation on a loaded data set.
 pub fn validate_munro(
     data: &MunroData,
@@ -161,56 +184,14 @@ pub fn validate_munro(
     let dim = Dimensional::from_rig(rig)?;
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
-    if design_curve.len() < 5 {
-        return Err(GearError::Data {
-            file: data.dir.join("rig.toml"),
-            line: 0,
-            field: "design_load_n".into(),
-            message: format!(
-                "the fit needs the design-load curve ({design} N) with at least 5 points; found {}",
-                design_curve.len()
-            ),
-        });
-    }
-    let ste_design = ste_from_rig(data, design);
-    let problem = DesignFit {
-        dim: &dim,
-        points: design_curve.clone(),
-        ste_um: ste_design,
+    let (fit, ste_given) = fit_munro_design_load(data, opts.robust)?;
+    let (zeta, wn, ste_design) = fit.values(ste_given);
+    let design_source = if ste_given.is_some() {
+        SteSource::RigToml
+    } else {
+        SteSource::Fitted
     };
-    // Starts: resonance at the measured peak; damping light to heavy; STE from the low-speed end.
-    let peak = design_curve
-        .iter()
-        .max_by(|a, b| a.dte_pp_um.total_cmp(&b.dte_pp_um))
-        .map(|p| dim.mesh_frequency_hz(p.speed_rpm))
-        .unwrap_or(1000.0);
-    let e0 = (design_curve[0].dte_pp_um / 2.0).max(1e-3);
-    let mut starts = Vec::new();
-    for z in [0.01, 0.03, 0.08] {
-        for f in [0.9, 1.0, 1.1] {
-            let mut s = vec![z, peak * f];
-            if ste_design.is_none() {
-                s.push(e0);
-            }
-            starts.push(s);
-        }
-    }
-    let fit_result = fit(
-        &problem,
-        &FitOptions {
-            starts,
-            sigma: None,
-            max_iters: 3000,
-        },
-    )?;
-    let ci95_profile = (0..fit_result.params.len())
-        .map(|i| profile_interval(&problem, &fit_result, i))
-        .collect::<Result<Vec<_>>>()?;
-    let (zeta, wn) = (fit_result.params[0], fit_result.params[1]);
-    let (ste_design, design_source) = match ste_design {
-        Some(e) => (e, SteSource::RigToml),
-        None => (fit_result.params[2], SteSource::Fitted),
-    };
+    let design_ste_ci = ste_given.is_none().then(|| fit.estimate.ci95[2]);
     let design_in_contact = design_curve.iter().all(|p| {
         stays_in_contact(
             dim.mean_force(design),
@@ -226,23 +207,38 @@ pub fn validate_munro(
         .map(|&load| {
             let curve = data.curve(load);
             let fitted = (load - design).abs() <= 1e-6 * design;
-            let (ste, source) = if fitted {
-                (ste_design, design_source)
+            let ste = if fitted {
+                Ok((ste_design, design_ste_ci, design_source))
             } else if let Some(e) = ste_from_rig(data, load) {
-                (e, SteSource::RigToml)
+                Ok((e, None, SteSource::RigToml))
             } else {
-                let p0 = curve[0];
-                let gain = super::linear::dte_gain(zeta, dim.omega(p0.speed_rpm, wn));
-                (p0.dte_pp_um / (2.0 * gain), SteSource::LowSpeedEnd)
+                Ok(match fit.other_ste(load) {
+                    Some((e, ci)) => (e, Some(ci), SteSource::LowSpeedFit),
+                    None => {
+                        let p0 = curve[0];
+                        let gain = super::linear::dte_gain(zeta, dim.omega(p0.speed_rpm, wn));
+                        (p0.dte_pp_um / (2.0 * gain), None, SteSource::LowSpeedEnd)
+                    }
+                })
             };
-            let r = predict_load(&dim, load, ste, source, fitted, &curve, zeta, wn, opts);
+            let r = ste.and_then(|(ste, ci, source)| {
+                predict_load(
+                    &dim,
+                    load,
+                    (ste, ci, source),
+                    fitted,
+                    &curve,
+                    zeta,
+                    wn,
+                    opts,
+                )
+            });
             progress.advance(1);
             r
         })
         .collect();
     progress.finish();
     Ok(MunroValidation {
-        ci95_profile,
         zeta,
         omega_n_hz: wn,
         half_backlash_um: dim.half_backlash_m * 1e6,
@@ -250,7 +246,15 @@ pub fn validate_munro(
         stiffness_source: format!("{:?}", dim.stiffness_source),
         design_load_in_contact: design_in_contact,
         loads: results.into_iter().collect::<Result<Vec<_>>>()?,
-        fit: fit_result,
+        fit,
+    })
+}
+
+/// The noise setting of the design-load fit: estimated jointly (floor plus relative part).
+fn noise_setting(_data: &MunroData, _curve: &[&MunroPoint]) -> NoiseSetting {
+    NoiseSetting::Estimate(NoiseFreedom {
+        floor_min: 0.0,
+        relative: true,
     })
 }
 
@@ -258,8 +262,7 @@ pub fn validate_munro(
 fn predict_load(
     dim: &Dimensional,
     load: f64,
-    ste_um: f64,
-    ste_source: SteSource,
+    (ste_um, ste_ci95_um, ste_source): (f64, Option<(f64, f64)>, SteSource),
     fitted: bool,
     curve: &[&MunroPoint],
     zeta: f64,
@@ -364,6 +367,7 @@ fn predict_load(
         load_n: load,
         mean_force: fm,
         ste_um,
+        ste_ci95_um,
         ste_amplitude: fah,
         ste_source,
         force_ratio: fm / fah,

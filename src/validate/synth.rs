@@ -5,6 +5,7 @@
 use super::noise::Rng;
 use crate::data::{write_rig, DataKind, Rig, RigFile, Source, SteTable};
 use crate::error::{GearError, Result};
+use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
 use crate::sim::{
@@ -139,8 +140,10 @@ pub struct MunroTruth {
     pub ste_um: Vec<(f64, f64)>,
     /// Speeds: start, stop, step in rpm.
     pub speeds_rpm: (f64, f64, f64),
-    /// Standard deviation of the additive measurement noise, um.
-    pub noise_um: f64,
+    /// Speeds in rpm, ascending, in place of `speeds_rpm` (a non-uniform grid).
+    pub speed_list: Option<Vec<f64>>,
+    /// The measurement noise added to the simulated curves.
+    pub noise: SynthNoise,
     /// Seed of the noise.
     pub seed: u64,
     /// Write the STE amplitudes into rig.toml (else the pipeline estimates them from the curves).
@@ -152,6 +155,153 @@ pub struct MunroTruth {
     /// chaotic ones are a different window of the attractor, as in data the fitting solver
     /// did not make (measurements, or sets made by an older build).
     pub dop853_rtol: Option<f64>,
+}
+
+/// The measurement noise of a synthetic set: errors drawn from a [`NoiseModel`] (the same
+/// type the fits estimate) at the true level of the curve, then optionally read to a grid.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SynthNoise {
+    pub family: NoiseFamily,
+    pub model: NoiseModel,
+    /// Values read to this grid (um), as off a digitized figure; None: written to 1e-5 um.
+    pub quantum_um: Option<f64>,
+}
+
+impl SynthNoise {
+    /// A noisy reading of the true value `y` (never negative: a pp value).
+    pub fn read(&self, y: f64, rng: &mut Rng) -> f64 {
+        let v = (y + self.model.draw(y, rng)).max(0.0);
+        match self.quantum_um {
+            Some(q) if q > 0.0 => (v / q).round() * q,
+            _ => v,
+        }
+    }
+
+    /// Its parameters, for the truth recorded in rig.toml.
+    fn record(&self, t: &mut toml::Table) {
+        t.insert("noise_family".into(), self.family.name().into());
+        t.insert("noise_um".into(), self.model.floor.into());
+        t.insert("noise_relative".into(), self.model.relative.into());
+        if let Distribution::StudentT { dof } = self.model.distribution {
+            t.insert("noise_student_t_dof".into(), dof.into());
+        }
+        if let Some(q) = self.quantum_um {
+            t.insert("noise_quantum_um".into(), q.into());
+        }
+    }
+}
+
+/// The noise families of the studies: what real measurements and digitized figures look like
+/// besides geardyn's own constant Gaussian noise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum NoiseFamily {
+    /// Gaussian, one standard deviation everywhere.
+    Constant,
+    /// Gaussian with a floor plus 3% of the level (scatter grows near resonance).
+    Relative,
+    /// Student-t with 3 degrees of freedom, floor plus 3% of the level (heavy-tailed scatter,
+    /// the odd outlier).
+    StudentT,
+    /// Floor plus 3% of the level, read to a 0.25 um grid (a digitized figure: about a pixel
+    /// of a 60 um axis 240 pixels high).
+    Quantized,
+}
+
+/// Relative part of the level-dependent families.
+pub const FAMILY_RELATIVE: f64 = 0.03;
+/// Degrees of freedom of the Student-t family.
+pub const FAMILY_T_DOF: f64 = 3.0;
+/// Reading grid of the quantized family, um.
+pub const FAMILY_QUANTUM_UM: f64 = 0.25;
+
+impl NoiseFamily {
+    /// All families, in the order of the studies' tables.
+    pub const ALL: [NoiseFamily; 4] = [
+        NoiseFamily::Constant,
+        NoiseFamily::Relative,
+        NoiseFamily::StudentT,
+        NoiseFamily::Quantized,
+    ];
+
+    /// Name on the command line and in rig.toml.
+    pub fn name(self) -> &'static str {
+        match self {
+            NoiseFamily::Constant => "constant",
+            NoiseFamily::Relative => "relative",
+            NoiseFamily::StudentT => "student-t",
+            NoiseFamily::Quantized => "quantized",
+        }
+    }
+
+    /// The family of a name.
+    pub fn parse(s: &str) -> Option<NoiseFamily> {
+        NoiseFamily::ALL.into_iter().find(|f| f.name() == s)
+    }
+
+    /// The family's noise with floor `floor_um`.
+    pub fn noise(self, floor_um: f64) -> SynthNoise {
+        let (relative, distribution, quantum_um) = match self {
+            NoiseFamily::Constant => (0.0, Distribution::Gaussian, None),
+            NoiseFamily::Relative => (FAMILY_RELATIVE, Distribution::Gaussian, None),
+            NoiseFamily::StudentT => (
+                FAMILY_RELATIVE,
+                Distribution::StudentT { dof: FAMILY_T_DOF },
+                None,
+            ),
+            NoiseFamily::Quantized => (
+                FAMILY_RELATIVE,
+                Distribution::Gaussian,
+                Some(FAMILY_QUANTUM_UM),
+            ),
+        };
+        SynthNoise {
+            family: self,
+            model: NoiseModel {
+                floor: floor_um,
+                relative,
+                distribution,
+            },
+            quantum_um,
+        }
+    }
+}
+
+/// Check a synthetic noise: finite, non-negative, a reading grid > 0, dof > 2 (finite variance).
+fn check_noise(n: &SynthNoise) -> Result<()> {
+    let m = &n.model;
+    if !(m.floor >= 0.0 && m.floor.is_finite() && m.floor < 1e3) {
+        return Err(GearError::param(
+            "noise_um",
+            m.floor,
+            "the noise floor must be in [0, 1000) um",
+        ));
+    }
+    if !(m.relative >= 0.0 && m.relative < 1.0) {
+        return Err(GearError::param(
+            "noise_relative",
+            m.relative,
+            "the relative noise must be in [0, 1)",
+        ));
+    }
+    if let Distribution::StudentT { dof } = m.distribution {
+        if !(dof > 2.0 && dof <= 1e3) {
+            return Err(GearError::param(
+                "noise_dof",
+                dof,
+                "Student-t noise needs 2 < dof <= 1000 (a finite variance)",
+            ));
+        }
+    }
+    if let Some(q) = n.quantum_um {
+        if !(q > 0.0 && q < 1e3) {
+            return Err(GearError::param(
+                "noise_quantum_um",
+                q,
+                "the reading grid must be in (0, 1000) um",
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Munro's rig as stated in Sec. 7: 32/32 teeth, diametral pitch 4 /in (module 6.35 mm), face
@@ -186,7 +336,8 @@ impl MunroTruth {
             omega_n_hz: 1600.0,
             ste_um: vec![(d, 0.3), (0.75 * d, 1.5), (0.5 * d, 2.5), (0.25 * d, 3.5)],
             speeds_rpm: (1000.0, 5000.0, 50.0),
-            noise_um: 0.15,
+            speed_list: None,
+            noise: NoiseFamily::Constant.noise(0.15),
             seed: 1,
             publish_ste: false,
             hidden: HiddenEffects::default(),
@@ -308,16 +459,42 @@ fn check_loads(ste_um: &[(f64, f64)]) -> Result<()> {
     Ok(())
 }
 
-/// Write a synthetic Munro-style data set (rig.toml with its truth, dte.csv) into `dir`.
-pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
+/// The noise-free curves of a synthetic Munro-style set: (load, speeds, pp DTE in um) per
+/// load, simulated up-sweeps with the hidden effects (before the sensor's gain).
+pub struct CleanCurves {
+    pub curves: Vec<(f64, Vec<f64>, Vec<f64>)>,
+}
+
+/// The speeds of a truth: its list, or its range.
+fn speeds_of(truth: &MunroTruth) -> Result<Vec<f64>> {
+    match &truth.speed_list {
+        Some(list) => {
+            let ok = !list.is_empty()
+                && list.iter().all(|s| *s > 0.0 && s.is_finite())
+                && list.windows(2).all(|w| w[1] > w[0]);
+            if !ok {
+                return Err(GearError::param(
+                    "speeds_rpm",
+                    list.first().copied().unwrap_or(0.0),
+                    "a speed list must be positive, finite and increasing",
+                ));
+            }
+            Ok(list.clone())
+        }
+        None => speed_grid(truth.speeds_rpm),
+    }
+}
+
+/// Simulate the noise-free curves of `truth` (the expensive part of [`synth_munro`], shared by
+/// studies that draw many noise seeds on one truth).
+pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result<CleanCurves> {
     let dim = Dimensional::from_rig(&truth.rig)?;
-    let speeds = speed_grid(truth.speeds_rpm)?;
+    let speeds = speeds_of(truth)?;
     check_loads(&truth.ste_um)?;
-    let mut rng = Rng::new(truth.seed);
-    let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
     // Hidden backlash: the data come from the true b; rig.toml states the nominal one.
     let true_dim = truth.hidden.true_dimensional(&dim);
     let design_fm = true_dim.mean_force(truth.rig.design_load_n);
+    let mut curves = Vec::new();
     for &(load, ste) in &truth.ste_um {
         let model = GearPair::paper(
             true_dim.mean_force(load),
@@ -345,9 +522,29 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
         .iter()
         .map(|p| true_dim.dte_um(p.steady.dte_pp))
         .collect();
-        for (s, y) in speeds.iter().zip(clean) {
+        curves.push((load, speeds.clone(), clean));
+    }
+    Ok(CleanCurves { curves })
+}
+
+/// Write a synthetic Munro-style data set (rig.toml with its truth, dte.csv) into `dir`.
+pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
+    check_noise(&truth.noise)?;
+    let clean = clean_munro_curves(truth, progress)?;
+    write_munro_set(truth, &clean, dir)
+}
+
+/// Write the set of `truth` from its noise-free curves: the sensor's gain, then the noise of
+/// `truth.noise` drawn with `truth.seed`.
+pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> Result<()> {
+    check_noise(&truth.noise)?;
+    let dim = Dimensional::from_rig(&truth.rig)?;
+    let mut rng = Rng::new(truth.seed);
+    let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
+    for (load, speeds, ys) in &clean.curves {
+        for (s, y) in speeds.iter().zip(ys) {
             let y = y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s));
-            let noisy = (y + truth.noise_um * rng.normal()).max(0.0);
+            let noisy = truth.noise.read(y, &mut rng);
             rows.push_str(&format!("{load},{s},{noisy:.5}\n"));
         }
     }
@@ -372,7 +569,7 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
             .collect::<Vec<_>>()
             .into(),
     );
-    t.insert("noise_um".into(), truth.noise_um.into());
+    truth.noise.record(&mut t);
     t.insert("seed".into(), (truth.seed as i64).into());
     t.insert(
         "integrator".into(),
@@ -381,6 +578,9 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
             Some(rtol) => format!("DOP853 (rtol {rtol:e}) throughout").into(),
         },
     );
+    if truth.speed_list.is_some() {
+        t.insert("speed_grid".into(), "non-uniform list (see dte.csv)".into());
+    }
     t.insert(
         "branch".into(),
         "up (speed increasing, state carried)".into(),

@@ -1,0 +1,675 @@
+//! Maximum-likelihood fit of a model's curve to data with a noise model: generalized least
+//! squares with the variance function estimated from the residuals (Carroll & Ruppert 1988,
+//! Sec. 2.3, iterated to convergence), and for heavy-tailed data the Student-t likelihood by
+//! iteratively reweighted least squares (Lange, Little & Taylor 1989), chosen automatically by
+//! a likelihood-ratio test against the Gaussian one.
+//!
+//! Intervals: Wald from the inverse Fisher information under the fitted noise model, formed on
+//! the parameters' internal coordinates and mapped back; the sandwich (Huber-White, with the
+//! n / (n - p) correction) form beside it for a misspecified noise model; a t quantile with the
+//! residual degrees of freedom for both (the noise model is estimated from the same data).
+
+use super::lm::{least_squares, LmFit, Stop};
+use super::noise::{
+    estimate_noise, log_likelihood, noise_intervals, robust_weight, variance_components,
+    Distribution, NoiseData, NoiseFreedom, NoiseModel,
+};
+use super::params::Param;
+use crate::error::{GearError, Result};
+use nalgebra::DMatrix;
+use serde::Serialize;
+use statrs::distribution::{ContinuousCDF, Normal, StudentsT};
+
+/// What is known of the noise before the fit.
+#[derive(Clone, Debug)]
+pub enum NoiseSetting {
+    /// Estimate the noise model jointly with the fit.
+    Estimate(NoiseFreedom),
+    /// A stated noise model (rig.toml `[noise]`).
+    Stated(NoiseModel),
+    /// A stated standard deviation of each point (a per-point column).
+    PerPoint(Vec<f64>),
+    /// Known relative scales c_i: sigma_i = s c_i with s estimated (e.g. the half-width of an
+    /// envelope of tooth pairs, whose scatter grows with the level).
+    Proportional(Vec<f64>),
+}
+
+/// Whether the Student-t likelihood is used.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Robust {
+    /// Gaussian errors.
+    Off,
+    /// Student-t errors, degrees of freedom estimated.
+    On,
+    /// Student-t when the likelihood-ratio test against Gaussian errors rejects at 5%.
+    Auto,
+}
+
+/// Settings of [`estimate`].
+#[derive(Clone, Debug)]
+pub struct EstimateOptions {
+    pub noise: NoiseSetting,
+    pub robust: Robust,
+    /// Stop rule of each weighted least-squares fit.
+    pub stop: Stop,
+    /// Starting values, each a full parameter vector; the first fit runs from each and keeps
+    /// the best (the parameters' own `start` when empty).
+    pub starts: Vec<Vec<f64>>,
+}
+
+/// Where the noise model came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NoiseSource {
+    Estimated,
+    Stated,
+    PerPoint,
+    Proportional,
+}
+
+/// The noise part of a fit.
+#[derive(Clone, Debug, Serialize)]
+pub struct NoiseFit {
+    pub source: NoiseSource,
+    /// The fitted (or stated) model; for per-point and proportional noise, its floor is the
+    /// common scale s (1 for per-point) and its relative part 0.
+    pub model: NoiseModel,
+    /// 95% intervals of the floor and the relative part (estimated models only).
+    pub floor_ci95: Option<(f64, f64)>,
+    pub relative_ci95: Option<(f64, f64)>,
+    /// 2 (log L Student-t - log L Gaussian) at the fit, when both were fitted.
+    pub robust_lr: Option<f64>,
+    /// Points whose standardized residual exceeds the Bonferroni bound at 5% over all points
+    /// for Gaussian errors (|z| > Phi^-1(1 - 0.025 / n)): not explained by noise of the fitted
+    /// scale; with Student-t errors they are down-weighted, with Gaussian errors they pull.
+    pub outliers: Vec<usize>,
+    /// Scale sigma_i of every point.
+    pub scales: Vec<f64>,
+}
+
+/// Result of [`estimate`].
+#[derive(Clone, Debug, Serialize)]
+pub struct Estimate {
+    pub names: Vec<String>,
+    pub params: Vec<f64>,
+    /// Standard errors from the inverse Fisher information (delta method).
+    pub std_errors: Vec<f64>,
+    /// 95% Wald intervals from the inverse Fisher information.
+    pub ci95: Vec<(f64, f64)>,
+    /// Standard errors and 95% intervals from the sandwich covariance.
+    pub std_errors_sandwich: Vec<f64>,
+    pub ci95_sandwich: Vec<(f64, f64)>,
+    /// Per parameter, the 97.5% quantile of the intervals: Student-t with the Satterthwaite
+    /// degrees of freedom of its variance estimate (`dof`), normal for a stated noise.
+    pub quantile: Vec<f64>,
+    pub dof: Vec<f64>,
+    /// Residual degrees of freedom: points minus parameters minus noise parameters.
+    pub residual_dof: usize,
+    pub n: usize,
+    /// Sum of squared standardized residuals (r_i / sigma_i)^2.
+    pub chi_square: f64,
+    pub log_likelihood: f64,
+    /// Data minus model at each point, and the model's value there.
+    pub residuals: Vec<f64>,
+    pub levels: Vec<f64>,
+    /// Weight of each point in the final least-squares fit (robust weight / sigma_i^2).
+    pub weights: Vec<f64>,
+    pub noise: NoiseFit,
+    /// Weighted residual sum of squares reached from each start in the first fit.
+    pub start_costs: Vec<f64>,
+    /// Outer (reweighting) iterations used, and whether the parameters and the noise model
+    /// settled within [`MAX_REWEIGHTS`] of them.
+    pub iterations: usize,
+    pub settled: bool,
+    /// Jacobian of the model values with respect to the parameters (n x p) at the fit.
+    #[serde(skip)]
+    pub model_jacobian: DMatrix<f64>,
+    /// The parameter definitions (transforms) of the fit.
+    #[serde(skip)]
+    pub param_defs: Vec<Param>,
+}
+
+/// Reweighting iterations at most: the weights converge in 3-6 on every set tried.
+const MAX_REWEIGHTS: usize = 40;
+/// Degrees of freedom tried for the Student-t likelihood (profiled on this grid: the
+/// likelihood in dof is flat, and an exact optimum moves nothing that is reported).
+const T_DOF_GRID: [f64; 9] = [1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 10.0, 20.0, 50.0];
+/// 5% critical value of the likelihood-ratio test of Gaussian against Student-t errors: the
+/// Gaussian is the boundary dof -> infinity, so the statistic is a 50:50 mixture of chi^2_0 and
+/// chi^2_1 (Self & Liang 1987), whose 95% point is chi^2_1's 90% point.
+const ROBUST_LR_CRITICAL: f64 = 2.705_543_454_095_404;
+
+/// Hat-matrix diagonal of the weighted fit: H = J (J'J)^+ J' for the weighted Jacobian J
+/// (its zero columns, parameters held still, dropped).
+fn leverages(jw: &DMatrix<f64>) -> Vec<f64> {
+    let svd = jw.clone().svd(true, false);
+    let Some(u) = svd.u else {
+        return vec![0.0; jw.nrows()];
+    };
+    let smax = svd.singular_values.iter().fold(0.0f64, |a, b| a.max(*b));
+    let keep: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&k| svd.singular_values[k] > 1e-10 * smax)
+        .collect();
+    (0..jw.nrows())
+        .map(|i| keep.iter().map(|&k| u[(i, k)] * u[(i, k)]).sum())
+        .collect()
+}
+
+/// Pseudo-inverse of a symmetric positive semi-definite matrix (zero rows and columns, the
+/// parameters held still, give zero variance).
+fn pinv_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+    let n = a.nrows();
+    let keep: Vec<usize> = (0..n).filter(|&i| a[(i, i)] > 0.0).collect();
+    let sub = DMatrix::from_fn(keep.len(), keep.len(), |i, j| a[(keep[i], keep[j])]);
+    let inv = sub.try_inverse()?;
+    let mut out = DMatrix::zeros(n, n);
+    for (i, &ki) in keep.iter().enumerate() {
+        for (j, &kj) in keep.iter().enumerate() {
+            out[(ki, kj)] = inv[(i, j)];
+        }
+    }
+    Some(out)
+}
+
+struct Weighted<'a, M> {
+    model: &'a M,
+    y: &'a [f64],
+}
+
+impl<M> Weighted<'_, M>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    fn fit(&self, params: &[Param], weights: &[f64], stop: Stop) -> Result<LmFit> {
+        let f = |p: &[f64]| -> Result<Vec<f64>> {
+            let m = (self.model)(p)?;
+            if m.len() != self.y.len() {
+                return Err(GearError::Numerical(
+                    "the model's curve has another length than the data".into(),
+                ));
+            }
+            Ok(self
+                .y
+                .iter()
+                .zip(&m)
+                .zip(weights)
+                .map(|((y, f), w)| (y - f) * w.sqrt())
+                .collect())
+        };
+        least_squares(&f, params, stop)
+    }
+}
+
+/// One noise model fitted to the residuals at the current fit (Gaussian or Student-t with the
+/// best dof of the grid), with its negative log-likelihood.
+fn noise_at(
+    setting: &NoiseSetting,
+    data: &NoiseData,
+    dist: Distribution,
+) -> Result<(NoiseModel, Vec<f64>, f64)> {
+    let pick = |dist: Distribution| -> Result<(NoiseModel, f64)> {
+        match setting {
+            NoiseSetting::Estimate(freedom) => estimate_noise(data, *freedom, dist),
+            NoiseSetting::Stated(m) => {
+                let m = NoiseModel {
+                    distribution: dist,
+                    ..*m
+                };
+                let scales: Vec<f64> = data.levels.iter().map(|l| m.scale(*l)).collect();
+                Ok((m, -log_likelihood(dist, data.residuals, &scales)))
+            }
+            NoiseSetting::PerPoint(sd) | NoiseSetting::Proportional(sd) => {
+                // Residuals in units of the stated scales: a floor-only model of them is the
+                // common factor s (held at 1 for per-point noise).
+                let r: Vec<f64> = data.residuals.iter().zip(sd).map(|(r, c)| r / c).collect();
+                let zero = vec![0.0; r.len()];
+                let scaled = NoiseData {
+                    residuals: &r,
+                    levels: &zero,
+                    leverages: data.leverages,
+                };
+                let s = if matches!(setting, NoiseSetting::PerPoint(_)) {
+                    NoiseModel {
+                        distribution: dist,
+                        ..NoiseModel::constant(1.0)
+                    }
+                } else {
+                    let freedom = NoiseFreedom {
+                        floor_min: 0.0,
+                        relative: false,
+                    };
+                    estimate_noise(&scaled, freedom, dist)?.0
+                };
+                let ones = vec![s.floor; r.len()];
+                let ll = log_likelihood(dist, &r, &ones) - sd.iter().map(|c| c.ln()).sum::<f64>();
+                Ok((s, -ll))
+            }
+        }
+    };
+    let (m, nll) = match dist {
+        Distribution::Gaussian => pick(dist)?,
+        Distribution::StudentT { .. } => {
+            let mut best: Option<(NoiseModel, f64)> = None;
+            for dof in T_DOF_GRID {
+                let c = pick(Distribution::StudentT { dof })?;
+                if best.as_ref().is_none_or(|b| c.1 < b.1) {
+                    best = Some(c);
+                }
+            }
+            best.ok_or_else(|| GearError::Numerical("no Student-t noise model".into()))?
+        }
+    };
+    let scales = scales_of(setting, &m, data.levels);
+    Ok((m, scales, nll))
+}
+
+fn scales_of(setting: &NoiseSetting, m: &NoiseModel, levels: &[f64]) -> Vec<f64> {
+    match setting {
+        NoiseSetting::PerPoint(sd) | NoiseSetting::Proportional(sd) => {
+            sd.iter().map(|c| m.floor * c).collect()
+        }
+        _ => levels.iter().map(|l| m.scale(*l)).collect(),
+    }
+}
+
+/// A converged fit under one error distribution.
+struct Converged {
+    lm: LmFit,
+    noise: NoiseModel,
+    scales: Vec<f64>,
+    weights: Vec<f64>,
+    levels: Vec<f64>,
+    residuals: Vec<f64>,
+    leverages: Vec<f64>,
+    nll: f64,
+    iterations: usize,
+}
+
+fn converge<M>(
+    w: &Weighted<M>,
+    params: &[Param],
+    start: &[f64],
+    (setting, stop): (&NoiseSetting, Stop),
+    dist: Distribution,
+) -> Result<Converged>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    let with_start = |p: &[f64]| -> Vec<Param> {
+        params
+            .iter()
+            .zip(p)
+            .map(|(d, v)| Param {
+                start: *v,
+                ..d.clone()
+            })
+            .collect()
+    };
+    let mut weights = initial_weights(setting, w.y);
+    let mut lm = w.fit(&with_start(start), &weights, stop)?;
+    let mut previous: Option<(Vec<f64>, NoiseModel)> = None;
+    for it in 0..MAX_REWEIGHTS {
+        let levels = (w.model)(&lm.params)?;
+        let residuals: Vec<f64> = w.y.iter().zip(&levels).map(|(y, f)| y - f).collect();
+        let leverages = leverages(&lm.jacobian);
+        let data = NoiseData {
+            residuals: &residuals,
+            levels: &levels,
+            leverages: &leverages,
+        };
+        let (noise, scales, nll) = noise_at(setting, &data, dist)?;
+        let settled = previous.as_ref().is_some_and(|(p, m)| {
+            p.iter()
+                .zip(&lm.params)
+                .all(|(a, b)| (a - b).abs() <= 1e-7 * a.abs().max(1e-300))
+                && (m.floor - noise.floor).abs() <= 1e-5 * m.floor
+                && (m.relative - noise.relative).abs() <= 1e-5 * m.relative.max(1e-6)
+        });
+        if settled || it + 1 == MAX_REWEIGHTS {
+            return Ok(Converged {
+                lm,
+                noise,
+                scales,
+                weights,
+                levels,
+                residuals,
+                leverages,
+                nll,
+                iterations: it + 1,
+            });
+        }
+        weights = residuals
+            .iter()
+            .zip(&scales)
+            .map(|(r, s)| robust_weight(noise.distribution, r / s) / (s * s))
+            .collect();
+        previous = Some((lm.params.clone(), noise));
+        lm = w.fit(&with_start(&lm.params), &weights, stop)?;
+    }
+    Err(GearError::Numerical(
+        "the reweighted fit did not settle".into(),
+    ))
+}
+
+/// Weights of the first fit: the stated noise where there is one (at the data's own level),
+/// else equal.
+fn initial_weights(setting: &NoiseSetting, y: &[f64]) -> Vec<f64> {
+    match setting {
+        NoiseSetting::Estimate(_) => vec![1.0; y.len()],
+        NoiseSetting::Stated(m) => y.iter().map(|v| m.scale(*v).powi(-2)).collect(),
+        NoiseSetting::PerPoint(sd) | NoiseSetting::Proportional(sd) => {
+            sd.iter().map(|c| c.powi(-2)).collect()
+        }
+    }
+}
+
+/// Fit the model's curve (`model(p)`: its value at every data point) to `y`: the parameters
+/// by weighted least squares, the noise model by maximum likelihood, alternately until both
+/// settle; with [`Robust::Auto`] under both error distributions, keeping Student-t errors
+/// when the likelihood-ratio test rejects Gaussian ones.
+pub fn estimate<M>(
+    model: &M,
+    y: &[f64],
+    params: &[Param],
+    opts: &EstimateOptions,
+) -> Result<Estimate>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    let p = params.len();
+    let n = y.len();
+    let noise_params = match &opts.noise {
+        NoiseSetting::Estimate(f) => 1 + usize::from(f.relative),
+        NoiseSetting::Proportional(_) => 1,
+        _ => 0,
+    };
+    if n <= p + noise_params + 1 {
+        return Err(GearError::Numerical(format!(
+            "{n} data points cannot determine {p} parameters and {noise_params} noise parameters"
+        )));
+    }
+    let w = Weighted { model, y };
+    // First fit from every start, under the initial weights.
+    let starts: Vec<Vec<f64>> = if opts.starts.is_empty() {
+        vec![params.iter().map(|d| d.start).collect()]
+    } else {
+        opts.starts.clone()
+    };
+    let weights0 = initial_weights(&opts.noise, y);
+    let mut best: Option<LmFit> = None;
+    let mut start_costs = Vec::new();
+    for s in &starts {
+        let defs: Vec<Param> = params
+            .iter()
+            .zip(s)
+            .map(|(d, v)| Param {
+                start: *v,
+                ..d.clone()
+            })
+            .collect();
+        match w.fit(&defs, &weights0, opts.stop) {
+            Ok(f) => {
+                start_costs.push(f.rss);
+                if best.as_ref().is_none_or(|b| f.rss < b.rss) {
+                    best = Some(f);
+                }
+            }
+            Err(_) => start_costs.push(f64::INFINITY),
+        }
+    }
+    let first = best.ok_or_else(|| GearError::Numerical("no start of the fit converged".into()))?;
+    let run = |setting: &NoiseSetting, dist: Distribution| {
+        converge(&w, params, &first.params, (setting, opts.stop), dist)
+    };
+    let setting = opts.noise.clone();
+    let g = run(&setting, Distribution::Gaussian)?;
+    let student = || run(&setting, Distribution::StudentT { dof: 4.0 });
+    let (c, robust_lr) = match opts.robust {
+        Robust::Off => (g, None),
+        Robust::On => {
+            let t = student()?;
+            let lr = 2.0 * (g.nll - t.nll);
+            (t, Some(lr))
+        }
+        Robust::Auto => {
+            let t = student()?;
+            let lr = 2.0 * (g.nll - t.nll);
+            (if lr > ROBUST_LR_CRITICAL { t } else { g }, Some(lr))
+        }
+    };
+    let noise_params = match &setting {
+        NoiseSetting::Estimate(f) => 1 + usize::from(f.relative),
+        NoiseSetting::Proportional(_) => 1,
+        _ => 0,
+    };
+    summarise(c, params, &setting, robust_lr, start_costs, noise_params)
+}
+
+/// Degrees of freedom of each parameter's variance estimate by Satterthwaite's approximation
+/// (Satterthwaite 1946; as in Kenward & Roger 1997 for estimated variance parameters):
+/// v_j = [cov]_jj is a function of the variance components (floor^2, relative^2), and with
+/// their covariance S,
+/// dof_j = 2 v_j^2 / (grad v_j' S grad v_j). Where the noise is known only from a few points
+/// (a resonance peak whose handful of samples set both zeta and the relative noise), the
+/// variance estimate is itself uncertain and the t quantile widens accordingly. A stated noise
+/// gives infinite dof (normal quantile); a common scale of stated relative scales the residual
+/// dof (the exact t of a weighted linear fit).
+fn satterthwaite_dof(
+    setting: &NoiseSetting,
+    c: &Converged,
+    cov: &DMatrix<f64>,
+    inverse_fisher: &dyn Fn(&NoiseModel) -> Option<DMatrix<f64>>,
+    residual_dof: usize,
+) -> Vec<f64> {
+    let p = cov.nrows();
+    let freedom = match setting {
+        NoiseSetting::Estimate(f) => *f,
+        NoiseSetting::Proportional(_) => return vec![residual_dof as f64; p],
+        NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_) => return vec![f64::INFINITY; p],
+    };
+    let data = NoiseData {
+        residuals: &c.residuals,
+        levels: &c.levels,
+        leverages: &c.leverages,
+    };
+    let vc = variance_components(&data, freedom, &c.noise);
+    let s = vc.covariance;
+    let [a, t] = vc.value;
+    let [ha, ht] = vc.step;
+    let at = |a: f64, t: f64| {
+        inverse_fisher(&NoiseModel {
+            floor: a.max(0.0).sqrt(),
+            relative: t.max(0.0).sqrt(),
+            ..c.noise
+        })
+    };
+    let (df_lo, df_hi) = (at(a - ha, t), at(a + ha, t));
+    // One-sided in relative^2 at zero, its admissible side.
+    let (t_lo, t_hi) = if t > ht {
+        (t - ht, t + ht)
+    } else {
+        (t, t + ht)
+    };
+    let (dr_lo, dr_hi) = if freedom.relative {
+        (at(a, t_lo), at(a, t_hi))
+    } else {
+        (None, None)
+    };
+    let cap = residual_dof as f64;
+    (0..p)
+        .map(|j| {
+            let v = cov[(j, j)];
+            let grad_f = match (&df_lo, &df_hi) {
+                (Some(lo), Some(hi)) => (hi[(j, j)] - lo[(j, j)]) / (2.0 * ha),
+                _ => return cap,
+            };
+            let grad_r = match (&dr_lo, &dr_hi) {
+                (Some(lo), Some(hi)) => (hi[(j, j)] - lo[(j, j)]) / (t_hi - t_lo),
+                _ => 0.0,
+            };
+            let var_v = grad_f * grad_f * s[0][0]
+                + 2.0 * grad_f * grad_r * s[0][1]
+                + grad_r * grad_r * s[1][1];
+            if !(v > 0.0 && var_v.is_finite()) {
+                return if var_v.is_finite() { cap } else { 1.0 };
+            }
+            if var_v <= 0.0 {
+                return cap;
+            }
+            (2.0 * v * v / var_v).clamp(1.0, cap)
+        })
+        .collect()
+}
+
+fn summarise(
+    c: Converged,
+    params: &[Param],
+    setting: &NoiseSetting,
+    robust_lr: Option<f64>,
+    start_costs: Vec<f64>,
+    noise_params: usize,
+) -> Result<Estimate> {
+    let n = c.residuals.len();
+    let p = params.len();
+    // Jacobian of the model values: the weighted residuals' Jacobian is -sqrt(w_i) df_i/dp.
+    let mut jf = c.lm.jacobian.clone();
+    for i in 0..n {
+        let s = -1.0 / c.weights[i].sqrt();
+        jf.row_mut(i).scale_mut(s);
+    }
+    let z: Vec<f64> = c
+        .residuals
+        .iter()
+        .zip(&c.scales)
+        .map(|(r, s)| r / s)
+        .collect();
+    let info_factor = match c.noise.distribution {
+        Distribution::Gaussian => 1.0,
+        Distribution::StudentT { dof } => (dof + 1.0) / (dof + 3.0),
+    };
+    // Inverse Fisher information under a noise model, the levels and Jacobian held.
+    let inverse_fisher = |m: &NoiseModel| -> Option<DMatrix<f64>> {
+        let scales = scales_of(setting, m, &c.levels);
+        let mut g = jf.clone();
+        for i in 0..n {
+            g.row_mut(i).scale_mut(1.0 / scales[i]);
+        }
+        pinv_sym(&(g.transpose() * &g * info_factor))
+    };
+    let cov = inverse_fisher(&c.noise).ok_or_else(|| {
+        GearError::Numerical(
+            "singular information matrix: the parameters are not identifiable from these data"
+                .into(),
+        )
+    })?;
+    // g_i = df_i/dp / sigma_i, the score's direction at point i.
+    let mut g = jf.clone();
+    for i in 0..n {
+        g.row_mut(i).scale_mut(1.0 / c.scales[i]);
+    }
+    let psi = |z: f64| match c.noise.distribution {
+        Distribution::Gaussian => z,
+        Distribution::StudentT { dof } => (dof + 1.0) * z / (dof + z * z),
+    };
+    let mut meat = DMatrix::zeros(p, p);
+    for i in 0..n {
+        let gi = g.row(i);
+        meat += gi.transpose() * gi * psi(z[i]).powi(2);
+    }
+    let residual_dof = n.saturating_sub(p + noise_params).max(1);
+    meat *= n as f64 / residual_dof as f64;
+    let sandwich = &cov * meat * &cov;
+    let dof = satterthwaite_dof(setting, &c, &cov, &inverse_fisher, residual_dof);
+    let quantile: Vec<f64> = dof
+        .iter()
+        .map(|d| {
+            if d.is_finite() {
+                StudentsT::new(0.0, 1.0, *d)
+                    .map(|t| t.inverse_cdf(0.975))
+                    .unwrap_or(1.96)
+            } else {
+                1.959_963_984_540_054
+            }
+        })
+        .collect();
+    let wald = |cv: &DMatrix<f64>| -> (Vec<f64>, Vec<(f64, f64)>) {
+        params
+            .iter()
+            .enumerate()
+            .map(|(j, d)| {
+                let v = c.lm.params[j];
+                let se = cv[(j, j)].max(0.0).sqrt();
+                let u = d.transform.internal(v).unwrap_or(v);
+                let su = se / d.transform.derivative(u).abs().max(1e-300);
+                (
+                    se,
+                    (
+                        d.transform.value(u - quantile[j] * su),
+                        d.transform.value(u + quantile[j] * su),
+                    ),
+                )
+            })
+            .unzip()
+    };
+    let (std_errors, ci95) = wald(&cov);
+    let (std_errors_sandwich, ci95_sandwich) = wald(&sandwich);
+    let bonferroni = Normal::new(0.0, 1.0)
+        .map(|d| d.inverse_cdf(1.0 - 0.025 / n as f64))
+        .unwrap_or(4.0);
+    let outliers: Vec<usize> = z
+        .iter()
+        .enumerate()
+        .filter(|(_, z)| z.abs() > bonferroni)
+        .map(|(i, _)| i)
+        .collect();
+    let (floor_ci95, relative_ci95) = match setting {
+        NoiseSetting::Estimate(freedom) => {
+            let data = NoiseData {
+                residuals: &c.residuals,
+                levels: &c.levels,
+                leverages: &c.leverages,
+            };
+            let (f, r) = noise_intervals(&data, *freedom, &c.noise);
+            (Some(f), r)
+        }
+        _ => (None, None),
+    };
+    let source = match setting {
+        NoiseSetting::Estimate(_) => NoiseSource::Estimated,
+        NoiseSetting::Stated(_) => NoiseSource::Stated,
+        NoiseSetting::PerPoint(_) => NoiseSource::PerPoint,
+        NoiseSetting::Proportional(_) => NoiseSource::Proportional,
+    };
+    Ok(Estimate {
+        names: params.iter().map(|d| d.name.clone()).collect(),
+        params: c.lm.params.clone(),
+        std_errors,
+        ci95,
+        std_errors_sandwich,
+        ci95_sandwich,
+        quantile,
+        dof,
+        residual_dof,
+        n,
+        chi_square: z.iter().map(|z| z * z).sum(),
+        log_likelihood: -c.nll,
+        residuals: c.residuals,
+        levels: c.levels,
+        weights: c.weights,
+        noise: NoiseFit {
+            source,
+            model: c.noise,
+            floor_ci95,
+            relative_ci95,
+            robust_lr,
+            outliers,
+            scales: c.scales,
+        },
+        start_costs,
+        iterations: c.iterations,
+        settled: c.iterations < MAX_REWEIGHTS,
+        model_jacobian: jf,
+        param_defs: params.to_vec(),
+    })
+}

@@ -1,0 +1,230 @@
+//! The fits of `validate munro`, on the estimation engine of [`crate::fit`]: zeta, omega_n (and
+//! the STE amplitude when rig.toml gives none) at the design load, where the teeth stay in
+//! contact and eq. 13 is exact, with the noise model estimated jointly; and the STE amplitude
+//! of another load from the low-speed part of its curve, with the model's own quasi-static
+//! amplification and the design load's noise model.
+
+use super::linear::{dte_pp_um, stays_in_contact};
+use crate::data::MunroPoint;
+use crate::error::{GearError, Result};
+use crate::fit::{
+    estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
+};
+use crate::model::Dimensional;
+use serde::Serialize;
+
+/// Jacobians at most in each weighted fit (eq. 13 is smooth: 10-20 suffice).
+const FIT_JACOBIANS: usize = 100;
+
+/// The design-load fit with its profile-likelihood intervals.
+#[derive(Clone, Debug, Serialize)]
+pub struct DesignLoadFit {
+    /// Parameters: zeta, omega_n_hz, ste_um (design load, unless given), then one STE
+    /// amplitude per other load in `other_loads`.
+    pub estimate: Estimate,
+    /// Profile-likelihood 95% intervals of zeta, omega_n_hz and the design-load STE (None: not
+    /// bounded on that side).
+    pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
+    /// Loads whose low-speed part joined the fit, and the points each gave.
+    pub other_loads: Vec<(f64, usize)>,
+    /// Points of the design-load curve (the first rows of the fit).
+    pub design_points: usize,
+}
+
+impl DesignLoadFit {
+    /// zeta, omega_n (Hz) and the design-load STE amplitude (um): fitted, or `given`.
+    pub fn values(&self, given_ste: Option<f64>) -> (f64, f64, f64) {
+        let p = &self.estimate.params;
+        (p[0], p[1], given_ste.unwrap_or_else(|| p[2]))
+    }
+
+    /// The STE amplitude fitted to the low-speed part of `load_n`, with its 95% interval.
+    pub fn other_ste(&self, load_n: f64) -> Option<(f64, (f64, f64))> {
+        let first = self.estimate.params.len() - self.other_loads.len();
+        self.other_loads
+            .iter()
+            .position(|(l, _)| crate::data::same_load(*l, load_n))
+            .map(|k| {
+                (
+                    self.estimate.params[first + k],
+                    self.estimate.ci95[first + k],
+                )
+            })
+    }
+}
+
+/// pp DTE of eq. 13 at each point for (zeta, omega_n, STE).
+fn linear_curve(dim: &Dimensional, points: &[&MunroPoint], zeta: f64, wn: f64, e: f64) -> Vec<f64> {
+    points
+        .iter()
+        .map(|pt| dte_pp_um(e, zeta, dim.omega(pt.speed_rpm, wn)))
+        .collect()
+}
+
+/// Omega up to which a curve's points count as its low-speed part: well below the resonance
+/// (|H_x| < 1.6 for any damping), where the pp DTE is the STE times the quasi-static gain.
+pub const LOW_SPEED_OMEGA: f64 = 0.6;
+
+/// The low-speed part of a curve at (zeta, omega_n): points with Omega <= [`LOW_SPEED_OMEGA`]
+/// where the linear model with the STE read off its first point keeps the teeth in contact (an
+/// STE that separates the teeth makes the curve nonlinear there). Empty with fewer than 3.
+fn low_speed_part<'a>(
+    dim: &Dimensional,
+    points: &[&'a MunroPoint],
+    load_n: f64,
+    zeta: f64,
+    wn: f64,
+) -> Vec<&'a MunroPoint> {
+    let fm = dim.mean_force(load_n);
+    let Some(first) = points.first() else {
+        return Vec::new();
+    };
+    let e0 = (first.dte_pp_um / 2.0).max(1e-3);
+    let part: Vec<&MunroPoint> = points
+        .iter()
+        .copied()
+        .filter(|p| {
+            let om = dim.omega(p.speed_rpm, wn);
+            om <= LOW_SPEED_OMEGA && stays_in_contact(fm, dim.ste_amplitude(e0), zeta, om)
+        })
+        .collect();
+    if part.len() < 3 {
+        Vec::new()
+    } else {
+        part
+    }
+}
+
+/// The curves of a fit: the design load's, and the low-speed parts of the others.
+struct Curves<'a> {
+    dim: &'a Dimensional,
+    design: &'a [&'a MunroPoint],
+    others: Vec<Vec<&'a MunroPoint>>,
+    given_ste: Option<f64>,
+}
+
+impl Curves<'_> {
+    fn model(&self, p: &[f64]) -> Vec<f64> {
+        let (zeta, wn) = (p[0], p[1]);
+        let first = 2 + usize::from(self.given_ste.is_none());
+        let mut v = linear_curve(
+            self.dim,
+            self.design,
+            zeta,
+            wn,
+            self.given_ste.unwrap_or_else(|| p[2]),
+        );
+        for (k, pts) in self.others.iter().enumerate() {
+            v.extend(linear_curve(self.dim, pts, zeta, wn, p[first + k]));
+        }
+        v
+    }
+
+    fn data(&self) -> Vec<f64> {
+        self.design
+            .iter()
+            .chain(self.others.iter().flatten())
+            .map(|p| p.dte_pp_um)
+            .collect()
+    }
+}
+
+/// Fit zeta, omega_n and (unless `given_ste`) the STE amplitude to the design-load curve
+/// `design`, where the teeth stay in contact and eq. 13 is exact. The low-speed parts of the
+/// curves at `others` (load, points) join the fit with an STE amplitude each: the same
+/// instrument measured them, and their levels (several um, where the design load's curve is
+/// near its floor everywhere but at a resonance of a handful of points) are what determines the
+/// relative part of the noise. Their selection (Omega <= [`LOW_SPEED_OMEGA`], in contact)
+/// uses a first fit of the design load alone. Starts: resonance at the measured peak and 10%
+/// either side, damping light to heavy; STE from each curve's low-speed end.
+pub fn fit_design_load(
+    dim: &Dimensional,
+    design: &[&MunroPoint],
+    others: &[(f64, Vec<&MunroPoint>)],
+    given_ste: Option<f64>,
+    noise: NoiseSetting,
+    robust: Robust,
+) -> Result<DesignLoadFit> {
+    let peak = design
+        .iter()
+        .max_by(|a, b| a.dte_pp_um.total_cmp(&b.dte_pp_um))
+        .map(|p| dim.mesh_frequency_hz(p.speed_rpm))
+        .ok_or_else(|| GearError::Numerical("the design-load curve has no points".into()))?;
+    let e0 = (design[0].dte_pp_um / 2.0).max(1e-3);
+    let mut params = vec![
+        Param::positive("zeta", 0.03),
+        Param::positive("omega_n_hz", peak),
+    ];
+    if given_ste.is_none() {
+        params.push(Param::positive("ste_um", e0));
+    }
+    let mut starts = Vec::new();
+    for z in [0.01, 0.03, 0.08] {
+        for f in [0.9, 1.0, 1.1] {
+            let mut s = vec![z, peak * f];
+            if given_ste.is_none() {
+                s.push(e0);
+            }
+            starts.push(s);
+        }
+    }
+    let stop = Stop::converged(FIT_JACOBIANS).central();
+    let alone = Curves {
+        dim,
+        design,
+        others: Vec::new(),
+        given_ste,
+    };
+    let run = |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>| {
+        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(c.model(p)) };
+        estimate(
+            &model,
+            &c.data(),
+            params,
+            &EstimateOptions {
+                noise: noise.clone(),
+                robust,
+                stop,
+                starts,
+            },
+        )
+    };
+    let first = run(&alone, &params, starts)?;
+    let (zeta, wn) = (first.params[0], first.params[1]);
+    let mut joined = Curves {
+        dim,
+        design,
+        others: Vec::new(),
+        given_ste,
+    };
+    let mut other_loads = Vec::new();
+    let mut start = first.params.clone();
+    for (load, pts) in others {
+        let part = low_speed_part(dim, pts, *load, zeta, wn);
+        if part.is_empty() {
+            continue;
+        }
+        let e = (part[0].dte_pp_um / 2.0).max(1e-3);
+        params.push(Param::positive(&format!("ste_um at {load} N"), e));
+        start.push(e);
+        other_loads.push((*load, part.len()));
+        joined.others.push(part);
+    }
+    let estimate = if other_loads.is_empty() {
+        first
+    } else {
+        run(&joined, &params, vec![start])?
+    };
+    let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(joined.model(p)) };
+    let y = joined.data();
+    let reported = 2 + usize::from(given_ste.is_none());
+    let ci95_profile = (0..reported)
+        .map(|i| profile_interval(&model, &y, &estimate, i, stop))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(DesignLoadFit {
+        estimate,
+        ci95_profile,
+        other_loads,
+        design_points: design.len(),
+    })
+}
