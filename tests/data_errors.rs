@@ -693,3 +693,51 @@ fn error_on_the_last_of_200k_rows_is_located() {
         "error on the last of 200k rows",
     );
 }
+
+/// The ```toml and ```csv examples of docs/data-format.md load: each rig.toml alone, each CSV
+/// (Munro if its header has `load_n`, else Kubo) with the first example rig.
+#[test]
+fn documented_examples_load() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/data-format.md"))
+        .expect("docs/data-format.md");
+    let blocks = |lang: &str| -> Vec<String> {
+        let fence = format!("```{lang}\n");
+        doc.split(&fence)
+            .skip(1)
+            .map(|b| b.split("```").next().unwrap_or_default().to_string())
+            .collect()
+    };
+    let rigs = blocks("toml");
+    let csvs = blocks("csv");
+    assert_eq!((rigs.len(), csvs.len()), (2, 2), "examples in the doc");
+    for rig in &rigs {
+        let d = dataset(Some(rig), &[]);
+        geardyn::data::load_rig(&d.path().join("rig.toml")).expect("documented rig.toml");
+    }
+    let kinds: Vec<DataKind> = rigs
+        .iter()
+        .map(|r| {
+            let d = dataset(Some(r), &[]);
+            geardyn::data::load_rig(&d.path().join("rig.toml"))
+                .expect("rig")
+                .source
+                .kind
+        })
+        .collect();
+    assert_eq!(kinds, vec![DataKind::Measured, DataKind::Digitized]);
+    // "Numbers may be written as integers or floats".
+    let integers = rigs[0].replace("= 3780.0\n", "= 3780\n");
+    assert_ne!(integers, rigs[0]);
+    let d = dataset(Some(&integers), &[]);
+    let r = geardyn::data::load_rig(&d.path().join("rig.toml")).expect("integer load");
+    assert_eq!(r.rig.design_load_n, 3780.0);
+    for csv in &csvs {
+        let d = dataset(Some(&rigs[0]), &[("c.csv", csv)]);
+        if csv.starts_with("load_n") {
+            let m = load_munro(d.path()).expect("documented Munro CSV");
+            assert!(m.points.iter().all(|p| p.sd_um.is_some()));
+        } else {
+            load_kubo(d.path()).expect("documented Kubo CSV");
+        }
+    }
+}
