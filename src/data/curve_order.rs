@@ -29,7 +29,12 @@ pub(crate) struct LoadGroups {
 /// Keys of every load `same_load` with `load` lie in this range (a little wider than needed:
 /// |a - b| <= 1e-9 max(a, b) bounds b within a (1 -+ 1e-9)^(-+1)).
 fn near(load: f64) -> std::ops::RangeInclusive<u64> {
-    (load * (1.0 - 2e-9)).to_bits()..=(load * (1.0 + 2e-9)).to_bits()
+    let (a, b) = (
+        (load * (1.0 - 2e-9)).to_bits(),
+        (load * (1.0 + 2e-9)).to_bits(),
+    );
+    // Ordered either way, so that no input can make `BTreeMap::range` panic on a reversed range.
+    a.min(b)..=a.max(b)
 }
 
 impl LoadGroups {
@@ -104,6 +109,9 @@ pub(crate) struct CurveOrder {
     files: Vec<PathBuf>,
     /// Speeds (increasing) and points of each curve in the current file, indexed by curve.
     current: Vec<Vec<(f64, Seen)>>,
+    /// The curves with points in the current file (so that starting a file costs the points
+    /// of the last one, not the number of curves).
+    touched: Vec<usize>,
     /// Whether the current file's points must be remembered for the files that follow.
     keep: bool,
     /// Where each (curve, speed bits) pair was first seen in the earlier files.
@@ -114,7 +122,10 @@ impl CurveOrder {
     /// Start checking the rows of `file` (speeds are sorted within each file); `more_follow`
     /// tells whether other files of the data set are checked after it.
     pub(crate) fn start_file(&mut self, file: &Path, more_follow: bool) {
-        for (curve, points) in self.current.iter_mut().enumerate() {
+        for curve in self.touched.drain(..) {
+            let Some(points) = self.current.get_mut(curve) else {
+                continue;
+            };
             if self.keep {
                 for (speed, seen) in points.iter() {
                     self.earlier
@@ -185,6 +196,9 @@ impl CurveOrder {
                     ),
                 ));
             }
+        }
+        if points.is_empty() {
+            self.touched.push(curve);
         }
         points.push((
             speed_rpm,
