@@ -159,3 +159,42 @@ fn missing_parameter_and_unknown_flag() {
         "bogus",
     );
 }
+
+/// A data set whose CSV uses ';' fails before any output, naming file and line, with the hint.
+#[test]
+fn semicolon_csv_in_a_data_set() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let data = dir.path().join("data");
+    std::fs::create_dir(&data).expect("mkdir");
+    std::fs::write(
+        data.join("rig.toml"),
+        "[rig]\nname = \"r\"\npinion_teeth = 32\ngear_teeth = 32\nmodule_mm = 6.35\n\
+         pressure_angle_deg = 20.0\nface_width_mm = 12.7\ndesign_load_n = 3780.0\n\
+         backlash_mm = 0.1\n[source]\nkind = \"measured\"\ncitation = \"lab report\"\n\
+         instrument = \"encoders\"\ndate = 2024-05-17\nuncertainty = \"+-0.1 um\"\n",
+    )
+    .expect("write rig");
+    std::fs::write(
+        data.join("dte.csv"),
+        "load_n;speed_rpm;dte_pp_um\n3780;1000;1,5\n",
+    )
+    .expect("write csv");
+    let fits = dir.path().join("fits");
+    let reports = dir.path().join("reports");
+    let args = [
+        "validate",
+        "munro",
+        "--data",
+        data.to_str().expect("utf-8 path"),
+        "--fits",
+        fits.to_str().expect("utf-8 path"),
+        "--reports",
+        reports.to_str().expect("utf-8 path"),
+    ];
+    fails_cleanly(&args, "dte.csv:1");
+    fails_cleanly(&args, "comma-separated");
+    assert!(
+        !fits.exists() && !reports.exists(),
+        "partial output written"
+    );
+}

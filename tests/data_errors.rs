@@ -1,7 +1,7 @@
 //! Bad data sets give one located error (file, line, field); good ones load, with mesh
 //! frequencies converted to shaft speed. Uses only the public API, as the pipelines do.
 
-use geardyn::data::{load_kubo, load_munro, DataKind, WHOLE_FILE};
+use geardyn::data::{load_kubo, load_munro, same_load, DataKind, StatedNoise, WHOLE_FILE};
 use geardyn::GearError;
 use std::path::Path;
 
@@ -248,10 +248,16 @@ fn munro_rig_errors_are_located() {
         ),
         (no_source, 0, "source", "missing [source]"),
         (
-            r.replace("\"synthetic\"", "\"measured\""),
+            r.replace("\"synthetic\"", "\"observed\""),
             16,
             "source.kind",
             "bad kind",
+        ),
+        (
+            r.replace("\"synthetic\"", "\"measured\""),
+            15,
+            "source.instrument",
+            "measured without instrument",
         ),
         (no_truth, 15, "source.truth", "synthetic without truth"),
         (
@@ -461,4 +467,277 @@ fn good_kubo_set_loads() {
         load_kubo(d.path()).expect("rpm set").points[1].speed_rpm,
         2000.0
     );
+}
+
+/// A valid measured Munro-like rig.toml with a `[noise]` table; line numbers below refer to it.
+const MEASURED_RIG: &str = r#"[rig]
+name = "Four-square test rig"
+pinion_teeth = 32
+gear_teeth = 32
+module_mm = 6.35
+pressure_angle_deg = 20.0
+face_width_mm = 12.7
+design_load_n = 3780.0
+backlash_mm = 0.1
+
+[noise]
+floor_um = 0.1
+relative = 0.02
+reading_um = 0.05
+
+[source]
+kind = "measured"
+citation = "Gear lab test report TR-12 (2024)"
+instrument = "two optical encoders, 5000 lines/rev, DTE from the angle difference"
+date = "2024-05-17"
+uncertainty = "+-0.1 um"
+"#;
+
+#[test]
+fn new_csv_errors_are_located() {
+    let h = "load_n,speed_rpm,dte_pp_um\n";
+    let cases: Vec<(String, usize, &str, &str)> = vec![
+        (
+            format!("{h}3780,1000,1\n3780,1100,1,2\n"),
+            3,
+            "(row)",
+            "more fields than the header",
+        ),
+        (
+            "load_n;speed_rpm;dte_pp_um\n3780;1000;1\n".into(),
+            1,
+            "(header)",
+            "semicolon separator",
+        ),
+        (
+            "load_n\tspeed_rpm\tdte_pp_um\n3780\t1000\t1\n".into(),
+            1,
+            "(header)",
+            "tab separator",
+        ),
+        (
+            format!("{h}3780,1000,1\n2835,1000,1\n3780.0000001,1000,2\n"),
+            4,
+            "speed_rpm",
+            "near-duplicate loads at one speed",
+        ),
+        (
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1,0.1\n3780,1100,1,0\n".into(),
+            3,
+            "dte_pp_sd_um",
+            "zero stated sd",
+        ),
+        (
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1,-0.1\n".into(),
+            2,
+            "dte_pp_sd_um",
+            "negative stated sd",
+        ),
+        (
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1,NaN\n".into(),
+            2,
+            "dte_pp_sd_um",
+            "NaN stated sd",
+        ),
+        (
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1,0.1\n3780,1100,1,\n".into(),
+            3,
+            "dte_pp_sd_um",
+            "stated sd missing on one row",
+        ),
+    ];
+    for (csv, line, field, case) in &cases {
+        munro_csv_error(csv, *line, field, case);
+    }
+    let d = dataset(Some(MUNRO_RIG), &[("c.csv", &cases[0].0)]);
+    let msg = load_munro(d.path()).expect_err("extra field").to_string();
+    assert!(msg.contains("row has 4 fields, header has 3"), "{msg}");
+    let d = dataset(Some(MUNRO_RIG), &[("c.csv", &cases[1].0)]);
+    let msg = load_munro(d.path()).expect_err("semicolons").to_string();
+    assert!(msg.contains("comma-separated"), "{msg}");
+    assert!(same_load(3780.0, 3780.0 + 1e-7));
+}
+
+#[test]
+fn noise_and_measured_rig_errors_are_located() {
+    let r = MEASURED_RIG;
+    let without = |key: &str| -> String {
+        r.lines()
+            .filter(|l| !l.starts_with(key))
+            .map(|l| format!("{l}\n"))
+            .collect()
+    };
+    let cases: Vec<(String, usize, &str, &str)> = vec![
+        (
+            r.replace("floor_um = 0.1", "floor_um = -0.1"),
+            12,
+            "noise.floor_um",
+            "negative floor",
+        ),
+        (
+            r.replace("floor_um = 0.1", "floor_um = nan"),
+            12,
+            "noise.floor_um",
+            "NaN floor",
+        ),
+        (
+            r.replace("floor_um = 0.1", "floor_um = 5000.0"),
+            12,
+            "noise.floor_um",
+            "implausible floor",
+        ),
+        (
+            r.replace("relative = 0.02", "relative = 1.5"),
+            13,
+            "noise.relative",
+            "relative >= 1",
+        ),
+        (
+            r.replace("relative = 0.02", "relative = -0.02"),
+            13,
+            "noise.relative",
+            "negative relative",
+        ),
+        (
+            r.replace("reading_um = 0.05", "reading_um = -0.05"),
+            14,
+            "noise.reading_um",
+            "negative reading",
+        ),
+        (
+            r.replace("reading_um = 0.05", "reading_um = inf"),
+            14,
+            "noise.reading_um",
+            "infinite reading",
+        ),
+        (
+            r.replace("floor_um = 0.1", "floor = 0.1"),
+            12,
+            "noise.floor",
+            "noise key without unit",
+        ),
+        (
+            without("instrument"),
+            16,
+            "source.instrument",
+            "measured without instrument",
+        ),
+        (without("date"), 16, "source.date", "measured without date"),
+        (
+            without("uncertainty"),
+            16,
+            "source.uncertainty",
+            "measured without uncertainty",
+        ),
+        (
+            r.replace("\"+-0.1 um\"", "\"\""),
+            21,
+            "source.uncertainty",
+            "measured with empty uncertainty",
+        ),
+    ];
+    for (rig, line, field, case) in &cases {
+        munro_rig_error(rig, *line, field, case);
+    }
+}
+
+#[test]
+fn good_measured_set_with_stated_noise_loads() {
+    let csv = "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.0,0.12\n3780,1100,1.2,0.13\n\
+               2835,1000,2.0,0.2\n";
+    let d = dataset(Some(MEASURED_RIG), &[("c.csv", csv)]);
+    let m = load_munro(d.path()).expect("good measured set");
+    assert_eq!(m.rig.source.kind, DataKind::Measured);
+    assert_eq!(m.rig.source.kind.name(), "measured");
+    assert_eq!(
+        m.rig.source.instrument.as_deref(),
+        Some("two optical encoders, 5000 lines/rev, DTE from the angle difference")
+    );
+    assert_eq!(m.rig.source.date.as_deref(), Some("2024-05-17"));
+    assert_eq!(
+        m.rig.noise,
+        Some(StatedNoise {
+            floor_um: Some(0.1),
+            relative: Some(0.02),
+            reading_um: Some(0.05),
+        })
+    );
+    assert_eq!(m.loads(), vec![3780.0, 2835.0]);
+    let sds: Vec<Option<f64>> = m.curve(3780.0).iter().map(|p| p.sd_um).collect();
+    assert_eq!(sds, vec![Some(0.12), Some(0.13)]);
+    assert_eq!(m.curve(2835.0)[0].sd_um, Some(0.2));
+    let banner = geardyn::report::data_kind_banner(&m.rig);
+    assert!(
+        banner.starts_with("MEASURED DATA: Gear lab test report TR-12 (2024) (two optical"),
+        "{banner}"
+    );
+    assert!(!banner.to_lowercase().contains("synthetic"), "{banner}");
+}
+
+/// A 200k-row file with an error on its last row reports that row's line (loading is linear in
+/// the number of rows; this once took minutes).
+#[test]
+fn error_on_the_last_of_200k_rows_is_located() {
+    let rows = 200_000;
+    let mut csv = String::with_capacity(rows * 24);
+    csv.push_str("# long file\nload_n,speed_rpm,dte_pp_um\n");
+    for i in 0..rows - 1 {
+        csv.push_str(&format!("3780,{},1.5\n", 1000 + i));
+    }
+    csv.push_str("3780,999999999,abc\n");
+    let last_line = 2 + rows;
+    munro_csv_error(
+        &csv,
+        last_line,
+        "dte_pp_um",
+        "error on the last of 200k rows",
+    );
+}
+
+/// The ```toml and ```csv examples of docs/data-format.md load: each rig.toml alone, each CSV
+/// (Munro if its header has `load_n`, else Kubo) with the first example rig.
+#[test]
+fn documented_examples_load() {
+    let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/data-format.md"))
+        .expect("docs/data-format.md");
+    let blocks = |lang: &str| -> Vec<String> {
+        let fence = format!("```{lang}\n");
+        doc.split(&fence)
+            .skip(1)
+            .map(|b| b.split("```").next().unwrap_or_default().to_string())
+            .collect()
+    };
+    let rigs = blocks("toml");
+    let csvs = blocks("csv");
+    assert_eq!((rigs.len(), csvs.len()), (2, 2), "examples in the doc");
+    for rig in &rigs {
+        let d = dataset(Some(rig), &[]);
+        geardyn::data::load_rig(&d.path().join("rig.toml")).expect("documented rig.toml");
+    }
+    let kinds: Vec<DataKind> = rigs
+        .iter()
+        .map(|r| {
+            let d = dataset(Some(r), &[]);
+            geardyn::data::load_rig(&d.path().join("rig.toml"))
+                .expect("rig")
+                .source
+                .kind
+        })
+        .collect();
+    assert_eq!(kinds, vec![DataKind::Measured, DataKind::Digitized]);
+    // "Numbers may be written as integers or floats".
+    let integers = rigs[0].replace("= 3780.0\n", "= 3780\n");
+    assert_ne!(integers, rigs[0]);
+    let d = dataset(Some(&integers), &[]);
+    let r = geardyn::data::load_rig(&d.path().join("rig.toml")).expect("integer load");
+    assert_eq!(r.rig.design_load_n, 3780.0);
+    for csv in &csvs {
+        let d = dataset(Some(&rigs[0]), &[("c.csv", csv)]);
+        if csv.starts_with("load_n") {
+            let m = load_munro(d.path()).expect("documented Munro CSV");
+            assert!(m.points.iter().all(|p| p.sd_um.is_some()));
+        } else {
+            load_kubo(d.path()).expect("documented Kubo CSV");
+        }
+    }
 }

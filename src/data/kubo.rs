@@ -46,12 +46,14 @@ pub fn load_kubo(dir: &Path) -> Result<KuboData> {
     let rig = load_rig(&dir.join("rig.toml"))?;
     let mut points = Vec::new();
     let mut order = CurveOrder::default();
-    for file in csv_files(dir)? {
-        let table = CsvTable::read(&file, HEADER)?;
+    let files = csv_files(dir)?;
+    for (i, file) in files.iter().enumerate() {
+        let mut table = CsvTable::read(file, HEADER)?;
         let speed = SpeedColumns::find(&table, rig.rig.pinion_teeth, HEADER)?;
         let min_col = table.require("dynamic_factor_min", HEADER)?;
         let max_col = table.require("dynamic_factor_max", HEADER)?;
-        for row in table.rows() {
+        order.start_file(file, i + 1 < files.len());
+        while let Some(row) = table.next_row()? {
             let speed_rpm = speed.speed_rpm(&row)?;
             let lo = row.non_negative(min_col, "dynamic_factor_min")?;
             let hi = row.non_negative(max_col, "dynamic_factor_max")?;
@@ -61,7 +63,7 @@ pub fn load_kubo(dir: &Path) -> Result<KuboData> {
                     format!("dynamic_factor_min {lo} exceeds dynamic_factor_max {hi}"),
                 ));
             }
-            order.check(table.file(), 0.0, "", speed_rpm, &row, speed.name())?;
+            order.check(0, None, speed_rpm, &row, speed.name())?;
             points.push(KuboPoint {
                 speed_rpm,
                 dynamic_factor_min: lo,

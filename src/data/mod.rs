@@ -1,13 +1,15 @@
 //! Loading and validating data sets (design.md section 4).
 //!
 //! A data set is a folder holding `rig.toml` (rig description with units in the key names, an
-//! optional STE table and the `[source]` provenance) and one or more CSV curve files (every
-//! `*.csv` of the folder, sorted by name) with unit-suffixed headers:
+//! optional STE table, an optional stated-noise table and the `[source]` provenance) and one or
+//! more CSV curve files (every `*.csv` of the folder, sorted by name) with unit-suffixed headers:
 //!
 //! ```text
-//! load_n,speed_rpm,dte_pp_um                          Munro (or mesh_freq_hz for speed_rpm)
+//! load_n,speed_rpm,dte_pp_um[,dte_pp_sd_um]           Munro (or mesh_freq_hz for speed_rpm)
 //! speed_rpm,dynamic_factor_min,dynamic_factor_max     Kubo  (or mesh_freq_hz for speed_rpm)
 //! ```
+//!
+//! docs/data-format.md documents every key and column with its unit and range.
 //!
 //! Every problem with the input is one [`crate::GearError::Data`] naming the file, the 1-based
 //! line as seen in an editor (0 when none applies) and the field; no input makes the loaders
@@ -25,7 +27,7 @@ mod toml_doc;
 pub use errors::WHOLE_FILE;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
 pub use munro::{load_munro, same_load, MunroData, MunroPoint};
-pub use rig::{load_rig, write_rig, Rig, RigFile, SteTable};
+pub use rig::{load_rig, write_rig, Rig, RigFile, StatedNoise, SteTable};
 pub use source::{DataKind, Source};
 
 #[cfg(test)]

@@ -2,10 +2,11 @@
 //! against speed, one curve per mean load.
 //!
 //! CSV header `load_n,speed_rpm,dte_pp_um` or `load_n,mesh_freq_hz,dte_pp_um` (mesh frequency
-//! = pinion_teeth x rpm / 60, converted to rpm on loading); extra columns are ignored.
+//! = pinion_teeth x rpm / 60, converted to rpm on loading), optionally with a `dte_pp_sd_um`
+//! column (each point's stated standard deviation); other extra columns are ignored.
 
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
-use super::curve_order::CurveOrder;
+use super::curve_order::{CurveOrder, LoadGroups};
 use super::rig::{load_rig, RigFile};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
@@ -13,6 +14,9 @@ use std::path::{Path, PathBuf};
 
 /// Header of a Munro curve file, as shown in error messages.
 const HEADER: &str = "load_n,speed_rpm,dte_pp_um";
+
+/// Optional column: the stated standard deviation of each point's `dte_pp_um`.
+const SD_COLUMN: &str = "dte_pp_sd_um";
 
 /// One measured (or synthetic) point of a Munro curve.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -23,6 +27,11 @@ pub struct MunroPoint {
     pub speed_rpm: f64,
     /// Peak-to-peak dynamic transmission error in micrometres, >= 0.
     pub dte_pp_um: f64,
+    /// Stated standard deviation of `dte_pp_um` in micrometres (> 0, finite), from the optional
+    /// `dte_pp_sd_um` column; `None` when the file has no such column (the noise is then taken
+    /// from `[noise]` in rig.toml or estimated).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sd_um: Option<f64>,
     /// 1-based line of the point in its file.
     pub line: usize,
     /// The CSV file of the point.
@@ -40,7 +49,10 @@ pub struct MunroData {
     pub points: Vec<MunroPoint>,
 }
 
-/// Whether two loads are the same (relative tolerance 1e-9).
+/// Whether two loads are the same (relative tolerance 1e-9): the one notion of "same load" of
+/// the data layer. [`MunroData::loads`] and [`MunroData::curve`] group points with it, and
+/// [`load_munro`] checks speeds for duplicates within the curves it forms (refusing loads that
+/// would make the grouping ambiguous).
 pub fn same_load(a: f64, b: f64) -> bool {
     (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
@@ -76,21 +88,29 @@ pub fn load_munro(dir: &Path) -> Result<MunroData> {
     let rig = load_rig(&dir.join("rig.toml"))?;
     let mut points = Vec::new();
     let mut order = CurveOrder::default();
-    for file in csv_files(dir)? {
-        let table = CsvTable::read(&file, HEADER)?;
+    let mut groups = LoadGroups::default();
+    let files = csv_files(dir)?;
+    for (i, file) in files.iter().enumerate() {
+        let mut table = CsvTable::read(file, HEADER)?;
         let load_col = table.require("load_n", HEADER)?;
         let speed = SpeedColumns::find(&table, rig.rig.pinion_teeth, HEADER)?;
         let dte_col = table.require("dte_pp_um", HEADER)?;
-        for row in table.rows() {
+        let sd_col = table.column(SD_COLUMN);
+        order.start_file(file, i + 1 < files.len());
+        while let Some(row) = table.next_row()? {
             let load_n = row.positive(load_col, "load_n")?;
             let speed_rpm = speed.speed_rpm(&row)?;
             let dte_pp_um = row.non_negative(dte_col, "dte_pp_um")?;
-            let label = format!(" in the curve at load {load_n} N");
-            order.check(table.file(), load_n, &label, speed_rpm, &row, speed.name())?;
+            let sd_um = sd_col.map(|c| row.positive(c, SD_COLUMN)).transpose()?;
+            let curve = groups
+                .curve_of(load_n)
+                .map_err(|message| row.error("load_n", message))?;
+            order.check(curve, Some(load_n), speed_rpm, &row, speed.name())?;
             points.push(MunroPoint {
                 load_n,
                 speed_rpm,
                 dte_pp_um,
+                sd_um,
                 line: row.line,
                 file: file.clone(),
             });

@@ -1,5 +1,6 @@
 //! The rig description `rig.toml` of a data set (design.md section 4): the `[rig]` table (units in
-//! the key names), an optional `[ste]` table and the `[source]` provenance.
+//! the key names), an optional `[ste]` table, an optional `[noise]` table and the `[source]`
+//! provenance. docs/data-format.md documents every key.
 
 use super::errors::{data_error, read_text, WHOLE_FILE};
 use super::source::Source;
@@ -210,6 +211,55 @@ impl SteTable {
     }
 }
 
+/// The optional `[noise]` table: the measurement noise of the `dte_pp_um` values as the data's
+/// provider states it. Keys left out are estimated from the data (floor plus level-dependent
+/// part); a per-point `dte_pp_sd_um` CSV column states it point by point instead.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct StatedNoise {
+    /// Noise floor: standard deviation of a reading (um) independent of its level; >= 0,
+    /// finite and below 1000 um (a larger floor is a unit mistake, not a DTE measurement).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor_um: Option<f64>,
+    /// Level-dependent part: standard deviation as a fraction of the reading; in [0, 1).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub relative: Option<f64>,
+    /// Reading uncertainty (um) of a digitized set (how finely values can be read off the
+    /// figure), used by the fit as the lower bound of the noise floor; >= 0, finite and below
+    /// 1000 um.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub reading_um: Option<f64>,
+}
+
+/// Largest plausible noise level in micrometres (a DTE noise of a millimetre is a unit mistake).
+const NOISE_MAX_UM: f64 = 1000.0;
+
+impl StatedNoise {
+    /// The first out-of-range value, if any (see each field for its range).
+    fn first_problem(&self) -> Option<RigProblem> {
+        let in_um = |key: &'static str, v: f64| {
+            require(
+                key,
+                v,
+                v.is_finite() && (0.0..NOISE_MAX_UM).contains(&v),
+                "must be a finite number of micrometres in [0, 1000)",
+            )
+        };
+        optional(self.floor_um, |v| in_um("floor_um", v))
+            .or_else(|| {
+                optional(self.relative, |v| {
+                    require(
+                        "relative",
+                        v,
+                        v.is_finite() && (0.0..1.0).contains(&v),
+                        "relative noise (fraction of the reading) must be in [0, 1)",
+                    )
+                })
+            })
+            .or_else(|| optional(self.reading_um, |v| in_um("reading_um", v)))
+    }
+}
+
 /// The contents of `rig.toml`.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -219,6 +269,9 @@ pub struct RigFile {
     /// The optional `[ste]` table.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub ste: Option<SteTable>,
+    /// The optional `[noise]` table (stated measurement noise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub noise: Option<StatedNoise>,
     /// The `[source]` table (provenance).
     pub source: Source,
 }
@@ -235,6 +288,13 @@ impl RigFile {
         }
         if let Some(ste) = &self.ste {
             ste.check(doc)?;
+        }
+        if let Some(p) = self.noise.as_ref().and_then(StatedNoise::first_problem) {
+            return Err(doc.error(
+                "noise",
+                p.key,
+                format!("{} = {}: {}", p.key, p.value, p.reason),
+            ));
         }
         self.source.check(doc)
     }

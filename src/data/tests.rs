@@ -127,8 +127,10 @@ fn source_problems() {
     let (_, field, msg) = rig_error(&no_source);
     assert_eq!(field, "source", "{msg}");
     assert!(msg.contains("[source]"), "{msg}");
-    let (line, field, msg) = rig_error(&RIG.replace("\"synthetic\"", "\"measured\""));
+    let (line, field, msg) = rig_error(&RIG.replace("\"synthetic\"", "\"observed\""));
     assert_eq!((line, field.as_str()), (16, "source.kind"), "{msg}");
+    let (line, field, msg) = rig_error(&RIG.replace("\"synthetic\"", "\"measured\""));
+    assert_eq!((line, field.as_str()), (15, "source.instrument"), "{msg}");
     let (_, field, _) = rig_error(&RIG.replace("generator = \"geardyn synth 0.1.0\"\n", ""));
     assert_eq!(field, "source.generator");
     let no_truth = RIG
@@ -386,4 +388,304 @@ fn mutated_inputs_never_panic() {
         }
         assert!(matches!(load_kubo(d.path()), Err(GearError::Data { .. })));
     }
+}
+
+/// A valid measured rig.toml with a `[noise]` table; line numbers below refer to it.
+const MEASURED_RIG: &str = r#"[rig]
+name = "Four-square rig"
+pinion_teeth = 32
+gear_teeth = 32
+module_mm = 6.35
+pressure_angle_deg = 20.0
+face_width_mm = 12.7
+design_load_n = 3780.0
+backlash_mm = 0.1
+
+[noise]
+floor_um = 0.1
+relative = 0.02
+reading_um = 0.05
+
+[source]
+kind = "measured"
+citation = "Test report TR-12, gear lab"
+instrument = "optical encoders, 5000 lines"
+date = 2024-05-17
+uncertainty = "+-0.1 um"
+"#;
+
+#[test]
+fn measured_rig_with_noise_loads_and_round_trips() {
+    let d = dataset(&[("rig.toml", MEASURED_RIG.as_bytes())]);
+    let r = load_rig(&d.path().join("rig.toml")).unwrap();
+    assert_eq!(r.source.kind, DataKind::Measured);
+    assert_eq!(r.source.date.as_deref(), Some("2024-05-17"));
+    assert_eq!(
+        r.noise,
+        Some(StatedNoise {
+            floor_um: Some(0.1),
+            relative: Some(0.02),
+            reading_um: Some(0.05),
+        })
+    );
+    let out = d.path().join("copy.toml");
+    write_rig(&out, &r).unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(written.contains("[noise]"), "{written}");
+    assert_eq!(load_rig(&out).unwrap(), r);
+    // Without [noise] nothing is written for it.
+    let mut plain = r.clone();
+    plain.noise = None;
+    write_rig(&out, &plain).unwrap();
+    let written = std::fs::read_to_string(&out).unwrap();
+    assert!(!written.contains("noise"), "{written}");
+    assert_eq!(load_rig(&out).unwrap(), plain);
+    // A string date is as good as a TOML date; a number is not a date.
+    let quoted = MEASURED_RIG.replace("2024-05-17", "\"May 2024\"");
+    let d = dataset(&[("rig.toml", quoted.as_bytes())]);
+    let r = load_rig(&d.path().join("rig.toml")).unwrap();
+    assert_eq!(r.source.date.as_deref(), Some("May 2024"));
+    let (line, field, msg) = rig_error(&MEASURED_RIG.replace("2024-05-17", "2024"));
+    assert_eq!((line, field.as_str()), (20, "source.date"), "{msg}");
+}
+
+#[test]
+fn measured_rig_must_state_instrument_date_uncertainty() {
+    for (key, line) in [("instrument", 19), ("date", 20), ("uncertainty", 21)] {
+        let text: String = MEASURED_RIG
+            .lines()
+            .filter(|l| !l.starts_with(key))
+            .map(|l| format!("{l}\n"))
+            .collect();
+        let (l, field, msg) = rig_error(&text);
+        assert_eq!(
+            (l, field.as_str()),
+            (16, format!("source.{key}").as_str()),
+            "{msg}"
+        );
+        assert!(msg.contains("measured data must state"), "{msg}");
+        let blank = MEASURED_RIG
+            .lines()
+            .map(|l| {
+                if l.starts_with(key) {
+                    format!("{key} = \"  \"\n")
+                } else {
+                    format!("{l}\n")
+                }
+            })
+            .collect::<String>();
+        let (l, field, msg) = rig_error(&blank);
+        assert_eq!(
+            (l, field.as_str()),
+            (line, format!("source.{key}").as_str()),
+            "{msg}"
+        );
+    }
+}
+
+#[test]
+fn noise_table_checks() {
+    let cases = [
+        ("floor_um = 0.1", "floor_um = -0.1", 12, "noise.floor_um"),
+        ("floor_um = 0.1", "floor_um = nan", 12, "noise.floor_um"),
+        ("floor_um = 0.1", "floor_um = 1000.0", 12, "noise.floor_um"),
+        (
+            "floor_um = 0.1",
+            "floor_um = \"small\"",
+            12,
+            "noise.floor_um",
+        ),
+        ("relative = 0.02", "relative = 1.0", 13, "noise.relative"),
+        ("relative = 0.02", "relative = -0.01", 13, "noise.relative"),
+        ("relative = 0.02", "relative = inf", 13, "noise.relative"),
+        (
+            "reading_um = 0.05",
+            "reading_um = -1e-3",
+            14,
+            "noise.reading_um",
+        ),
+        (
+            "reading_um = 0.05",
+            "reading_um = inf",
+            14,
+            "noise.reading_um",
+        ),
+        ("reading_um = 0.05", "reading = 0.05", 14, "noise.reading"),
+    ];
+    for (from, to, line, field) in cases {
+        let (l, f, msg) = rig_error(&MEASURED_RIG.replace(from, to));
+        assert_eq!((l, f.as_str()), (line, field), "{to}: {msg}");
+    }
+    // Zero noise and an empty table are allowed (nothing stated is estimated).
+    let zero = MEASURED_RIG
+        .replace("floor_um = 0.1", "floor_um = 0.0")
+        .replace("relative = 0.02", "relative = 0.0");
+    let d = dataset(&[("rig.toml", zero.as_bytes())]);
+    assert!(load_rig(&d.path().join("rig.toml")).is_ok());
+    let empty = MEASURED_RIG.replace("floor_um = 0.1\nrelative = 0.02\nreading_um = 0.05\n", "");
+    let d = dataset(&[("rig.toml", empty.as_bytes())]);
+    let r = load_rig(&d.path().join("rig.toml")).unwrap();
+    assert_eq!(r.noise.map(|n| n.floor_um), Some(None));
+}
+
+#[test]
+fn stated_point_sd_column() {
+    let body = "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.5,0.1\n3780,1100,2.5,0.2\n";
+    let m = load_munro(munro_set(&[("c.csv", body)]).path()).unwrap();
+    let sds: Vec<Option<f64>> = m.points.iter().map(|p| p.sd_um).collect();
+    assert_eq!(sds, vec![Some(0.1), Some(0.2)]);
+    let plain = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.5\n";
+    let m = load_munro(munro_set(&[("c.csv", plain)]).path()).unwrap();
+    assert_eq!(m.points[0].sd_um, None);
+    // Points serialized before the column existed still read.
+    let json = r#"{"load_n":1.0,"speed_rpm":2.0,"dte_pp_um":3.0,"line":2,"file":"c.csv"}"#;
+    let p: MunroPoint = serde_json::from_str(json).unwrap();
+    assert_eq!(p.sd_um, None);
+    for bad in ["0", "-0.1", "nan", "inf", "", "x"] {
+        let body = format!(
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.5,0.1\n3780,1100,2.5,{bad}\n"
+        );
+        let (_, line, field, msg) = located(load_munro(munro_set(&[("c.csv", &body)]).path()));
+        assert_eq!(
+            (line, field.as_str()),
+            (3, "dte_pp_sd_um"),
+            "{bad:?}: {msg}"
+        );
+    }
+}
+
+#[test]
+fn row_with_more_fields_than_header() {
+    let body = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.5\n3780,1100,2,5\n";
+    let (f, line, field, msg) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+    assert_eq!(
+        (f.as_str(), line, field.as_str()),
+        ("c.csv", 3, "(row)"),
+        "{msg}"
+    );
+    assert!(msg.contains("row has 4 fields, header has 3"), "{msg}");
+    // The same on the first data row, after comments and CRLF, and in a Kubo file.
+    let body = "# note\r\nload_n,speed_rpm,dte_pp_um\r\n# more\r\n\r\n3780,1000,1.5,1\r\n";
+    let (_, line, field, _) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+    assert_eq!((line, field.as_str()), (5, "(row)"));
+    // A row of empty cells is blank, however many.
+    let body = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.5\n,,,,,\n";
+    assert!(load_munro(munro_set(&[("c.csv", body)]).path()).is_ok());
+}
+
+#[test]
+fn semicolon_and_tab_headers_get_a_hint() {
+    for (sep, body) in [
+        ("';'", "load_n;speed_rpm;dte_pp_um\n3780;1000;1,5\n"),
+        (
+            "tabs",
+            "# exported\nload_n\tspeed_rpm\tdte_pp_um\n3780\t1000\t1.5\n",
+        ),
+    ] {
+        let (f, line, field, msg) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+        let header_line = if sep == "tabs" { 2 } else { 1 };
+        assert_eq!(
+            (f.as_str(), line, field.as_str()),
+            ("c.csv", header_line, "(header)")
+        );
+        assert!(
+            msg.contains(sep) && msg.contains("comma-separated"),
+            "{msg}"
+        );
+    }
+    // A header with commas is read as CSV even if a name holds a ';'.
+    let body = "load_n,speed_rpm,dte_pp_um,note;x\n3780,1000,1.5,a\n";
+    assert!(load_munro(munro_set(&[("c.csv", body)]).path()).is_ok());
+}
+
+#[test]
+fn near_equal_loads_are_one_curve_for_the_duplicate_check() {
+    // 1e-7 N apart: same_load groups them, so the second point repeats the first's speed.
+    let body = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.5\n3780.0000001,1000,1.6\n";
+    assert!(same_load(3780.0, 3780.0 + 1e-7));
+    let (_, line, field, msg) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+    assert_eq!((line, field.as_str()), (3, "speed_rpm"), "{msg}");
+    assert!(
+        msg.contains("duplicate speed") && msg.contains("line 2"),
+        "{msg}"
+    );
+    // At different speeds they form one curve, with one load and the order checked across it.
+    let body = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.5\n3780.0000001,1100,1.6\n";
+    let m = load_munro(munro_set(&[("c.csv", body)]).path()).unwrap();
+    assert_eq!(m.loads().len(), 1);
+    assert_eq!(m.curve(m.loads()[0]).len(), 2);
+    let body = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.5\n3780.0000001,900,1.6\n";
+    let (_, line, _, msg) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+    assert!(msg.contains("not sorted") && line == 3, "{msg}");
+    // A load the same as two curves' loads would make the grouping ambiguous.
+    let body =
+        "load_n,speed_rpm,dte_pp_um\n1000,1000,1\n1000.0000015,1000,1\n1000.00000075,1100,1\n";
+    let (_, line, field, msg) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+    assert_eq!((line, field.as_str()), (4, "load_n"), "{msg}");
+}
+
+/// Line numbers stay right deep into a long file with comments, blank lines and CRLF (they are
+/// kept by a running count, not recounted per row).
+#[test]
+fn line_numbers_in_a_long_file() {
+    let mut body = String::from("# long\r\nload_n,speed_rpm,dte_pp_um\r\n");
+    let mut line = 2;
+    for i in 0..5000 {
+        body.push_str(&format!("3780,{},1.0\r\n", 1000 + i));
+        line += 1;
+        if i % 7 == 0 {
+            body.push_str("# c\r\n\r\n  \r\n");
+            line += 3;
+        }
+    }
+    body.push_str("3780,99999,-1\r\n");
+    line += 1;
+    let (_, l, field, _) = located(load_munro(munro_set(&[("c.csv", &body)]).path()));
+    assert_eq!((l, field.as_str()), (line, "dte_pp_um"));
+}
+
+#[test]
+fn duplicates_within_and_across_files() {
+    // A repeated speed further back in the same curve is a duplicate, not just out of order.
+    let body = "load_n,speed_rpm,dte_pp_um\n3780,1000,1\n3780,1100,1\n3780,1200,1\n3780,1100,2\n";
+    let (_, line, field, msg) = located(load_munro(munro_set(&[("c.csv", body)]).path()));
+    assert_eq!((line, field.as_str()), (5, "speed_rpm"), "{msg}");
+    assert!(
+        msg.contains("duplicate speed 1100") && msg.contains("line 3"),
+        "{msg}"
+    );
+    // Across three files: the last repeats a point of the first; curves and files interleave.
+    let d = munro_set(&[
+        (
+            "a.csv",
+            "load_n,speed_rpm,dte_pp_um\n3780,1000,1\n2835,1000,1\n",
+        ),
+        (
+            "b.csv",
+            "load_n,speed_rpm,dte_pp_um\n3780,900,1\n2835,1100,1\n",
+        ),
+        (
+            "c.csv",
+            "load_n,speed_rpm,dte_pp_um\n3780,800,1\n2835.0000001,1000,1\n",
+        ),
+    ]);
+    let (f, line, field, msg) = located(load_munro(d.path()));
+    assert_eq!(
+        (f.as_str(), line, field.as_str()),
+        ("c.csv", 3, "speed_rpm"),
+        "{msg}"
+    );
+    assert!(
+        msg.contains("a.csv:3") && msg.contains("load 2835 N"),
+        "{msg}"
+    );
+    // Kubo: one curve, duplicates across files too.
+    let k = "speed_rpm,dynamic_factor_min,dynamic_factor_max\n";
+    let d = dataset(&[
+        ("rig.toml", RIG.as_bytes()),
+        ("a.csv", format!("{k}1000,1,1.1\n").as_bytes()),
+        ("b.csv", format!("{k}900,1,1.1\n1000,1,1.2\n").as_bytes()),
+    ]);
+    let (f, line, _, msg) = located(load_kubo(d.path()));
+    assert_eq!((f.as_str(), line), ("b.csv", 3), "{msg}");
 }

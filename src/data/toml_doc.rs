@@ -146,7 +146,7 @@ impl<'a> TomlDoc<'a> {
             format!("{message} (keys carry their unit, e.g. backlash_mm, design_load_n)")
         } else if field == "source" && message.starts_with("missing field") {
             "missing [source] table: every data set states its provenance (kind = \
-             \"digitized\" or \"synthetic\", citation, ...)"
+             \"measured\", \"digitized\" or \"synthetic\", citation, ...)"
                 .to_string()
         } else if field == "rig" && message.starts_with("missing field") {
             "missing [rig] table (name, pinion_teeth, gear_teeth, module_mm, ...)".to_string()

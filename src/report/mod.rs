@@ -18,6 +18,12 @@ use crate::data::{DataKind, RigFile};
 pub fn data_kind_banner(rig: &RigFile) -> String {
     match rig.source.kind {
         DataKind::Synthetic => "SYNTHETIC DATA: these curves were simulated by geardyn synth from stated truth parameters; they are NOT measurements.".to_string(),
+        DataKind::Measured => format!(
+            "MEASURED DATA: {} ({}, {})",
+            rig.source.citation,
+            rig.source.instrument.as_deref().unwrap_or("instrument not stated"),
+            rig.source.date.as_deref().unwrap_or("date not stated")
+        ),
         DataKind::Digitized => format!(
             "DIGITIZED DATA from {} ({})",
             rig.source.citation,

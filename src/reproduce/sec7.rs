@@ -57,18 +57,19 @@ pub(crate) fn build(
     Ok((claims, artifacts))
 }
 
-/// The verdict of a comparison with measurements: only digitized data can test it.
+/// The verdict of a comparison with measurements: only measured or digitized data can test it.
 fn measured(kind: DataKind, ok: bool) -> Verdict {
     match kind {
         DataKind::Synthetic => Verdict::NotTestableSynthetic,
-        DataKind::Digitized if ok => Verdict::Agree,
-        DataKind::Digitized => Verdict::Differ,
+        DataKind::Measured | DataKind::Digitized if ok => Verdict::Agree,
+        DataKind::Measured | DataKind::Digitized => Verdict::Differ,
     }
 }
 
 fn kind_text(kind: DataKind) -> &'static str {
     match kind {
         DataKind::Synthetic => "SYNTHETIC data (geardyn synth, not measurements)",
+        DataKind::Measured => "measured data",
         DataKind::Digitized => "digitized data",
     }
 }
@@ -80,7 +81,7 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
         DataKind::Synthetic => format!(
             "the shipped data are synthetic, so agreement with the measurements cannot be tested; {text}"
         ),
-        DataKind::Digitized => text,
+        DataKind::Measured | DataKind::Digitized => text,
     }
     };
     out.push(Claim::new(

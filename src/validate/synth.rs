@@ -593,6 +593,7 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
     let rig = RigFile {
         rig: truth.rig.clone(),
         ste,
+        noise: None,
         source: synthetic_source(
             "Synthetic stand-in for Munro (1962) as shown in Kahraman & Singh (1990) Figs 19-22: \
                        simulated from the truth below, not measured",
@@ -629,6 +630,8 @@ fn synthetic_source(citation: &str, figure: &str, truth: toml::Table) -> Source 
         figure: Some(figure.into()),
         method: None,
         uncertainty: None,
+        instrument: None,
+        date: None,
         generator: Some(format!("geardyn synth {}", env!("CARGO_PKG_VERSION"))),
         truth: Some(truth),
     }
@@ -748,6 +751,7 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
             load_n: vec![load],
             amplitude_um: vec![truth.ste_um],
         }),
+        noise: None,
         source: synthetic_source("Synthetic stand-in for Kubo's dynamic-factor envelope (Kahraman & Singh 1990 Fig. 23, \
                        from Ozguven & Houser 1988): simulated from the truth below, not measured", "layout of Fig. 23 (envelope of tooth pairs)", t),
     };
