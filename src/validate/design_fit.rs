@@ -8,7 +8,8 @@ use super::linear::{dte_pp_um, stays_in_contact};
 use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
 use crate::fit::{
-    estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
+    estimate, profile_interval, Estimate, EstimateOptions, NoiseFreedom, NoiseModel, NoiseSetting,
+    Param, Robust, Stop,
 };
 use crate::model::Dimensional;
 use serde::Serialize;
@@ -51,6 +52,17 @@ impl DesignLoadFit {
                 )
             })
     }
+}
+
+/// What the set says of its noise (see `validate::munro`'s choice of it).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MunroNoise {
+    /// Estimated jointly with the fit, the floor at least `floor_min` (a reading uncertainty).
+    Estimate { floor_min: f64 },
+    /// Stated in rig.toml.
+    Stated(NoiseModel),
+    /// Stated per point (`dte_pp_sd_um`; every point has one).
+    PerPoint,
 }
 
 /// pp DTE of eq. 13 at each point for (zeta, omega_n, STE).
@@ -120,6 +132,24 @@ impl Curves<'_> {
         v
     }
 
+    fn points(&self) -> impl Iterator<Item = &&MunroPoint> {
+        self.design.iter().chain(self.others.iter().flatten())
+    }
+
+    /// The engine's noise setting for these points.
+    fn noise(&self, noise: MunroNoise) -> NoiseSetting {
+        match noise {
+            MunroNoise::Estimate { floor_min } => NoiseSetting::Estimate(NoiseFreedom {
+                floor_min,
+                relative: true,
+            }),
+            MunroNoise::Stated(m) => NoiseSetting::Stated(m),
+            MunroNoise::PerPoint => {
+                NoiseSetting::PerPoint(self.points().map(|p| p.sd_um.unwrap_or(1.0)).collect())
+            }
+        }
+    }
+
     fn data(&self) -> Vec<f64> {
         self.design
             .iter()
@@ -142,7 +172,7 @@ pub fn fit_design_load(
     design: &[&MunroPoint],
     others: &[(f64, Vec<&MunroPoint>)],
     given_ste: Option<f64>,
-    noise: NoiseSetting,
+    noise: MunroNoise,
     robust: Robust,
 ) -> Result<DesignLoadFit> {
     let peak = design
@@ -182,7 +212,7 @@ pub fn fit_design_load(
             &c.data(),
             params,
             &EstimateOptions {
-                noise: noise.clone(),
+                noise: c.noise(noise),
                 robust,
                 stop,
                 starts,

@@ -4,11 +4,11 @@
 //! down, all attractors), and compare with the measurements.
 
 use super::curve_metrics::{jump_location, min_max, rms};
-use super::design_fit::{fit_design_load, DesignLoadFit};
+use super::design_fit::{fit_design_load, DesignLoadFit, MunroNoise};
 use super::linear::stays_in_contact;
 use crate::data::{MunroData, MunroPoint};
 use crate::error::{GearError, Result};
-use crate::fit::{NoiseFreedom, NoiseSetting, Robust};
+use crate::fit::{Distribution, NoiseModel, Robust};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{find_attractors, sweep, Branch, ExactFlow, IcGrid, SteadyOptions, SweepPlan};
@@ -168,7 +168,7 @@ pub fn fit_munro_design_load(
         &curve,
         &others,
         ste_given,
-        noise_setting(data, &curve),
+        noise_setting(data)?,
         robust,
     )?;
     Ok((fit, ste_given))
@@ -250,12 +250,33 @@ pub fn validate_munro(
     })
 }
 
-/// The noise setting of the design-load fit: estimated jointly (floor plus relative part).
-fn noise_setting(_data: &MunroData, _curve: &[&MunroPoint]) -> NoiseSetting {
-    NoiseSetting::Estimate(NoiseFreedom {
-        floor_min: 0.0,
-        relative: true,
-    })
+/// The noise setting of the design-load fit: per point when every point states its standard
+/// deviation (`dte_pp_sd_um`); the model of rig.toml's `[noise]` when it states a floor (with
+/// its relative part, 0 when not given); else estimated jointly with the fit, the floor never
+/// below a stated reading uncertainty.
+fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
+    if !data.points.is_empty() && data.points.iter().all(|p| p.sd_um.is_some()) {
+        return Ok(MunroNoise::PerPoint);
+    }
+    let stated = data.rig.noise.as_ref();
+    match stated.and_then(|n| n.floor_um) {
+        Some(floor) if floor > 0.0 => Ok(MunroNoise::Stated(NoiseModel {
+            floor,
+            relative: stated.and_then(|n| n.relative).unwrap_or(0.0),
+            distribution: Distribution::Gaussian,
+        })),
+        Some(_) | None if stated.is_some_and(|n| n.relative.is_some() || n.floor_um.is_some()) => {
+            Err(GearError::Data {
+                file: data.dir.join("rig.toml"),
+                line: 0,
+                field: "noise.floor_um".into(),
+                message: "a stated noise needs a positive floor_um (the relative part alone gives a zero scale at zero level); give floor_um, or leave [noise] to reading_um and let the fit estimate the noise".into(),
+            })
+        }
+        _ => Ok(MunroNoise::Estimate {
+            floor_min: stated.and_then(|n| n.reading_um).unwrap_or(0.0),
+        }),
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
