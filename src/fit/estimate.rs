@@ -446,6 +446,16 @@ where
     summarise(c, params, &setting, robust_lr, start_costs, noise_params)
 }
 
+/// The noise parameters whose uncertainty the intervals carry: a relative part estimated at
+/// zero is a boundary optimum (the likelihood rises away from it, so its Hessian there says
+/// nothing of its spread) and is held at zero, as a floor-only model.
+fn at_boundary(f: NoiseFreedom, m: &NoiseModel) -> NoiseFreedom {
+    NoiseFreedom {
+        relative: f.relative && m.relative > 0.0,
+        ..f
+    }
+}
+
 /// Degrees of freedom of each parameter's variance estimate by Satterthwaite's approximation
 /// (Satterthwaite 1946; as in Kenward & Roger 1997 for estimated variance parameters):
 /// v_j = [cov]_jj is a function of the variance components (floor^2, relative^2), and with
@@ -464,7 +474,7 @@ fn satterthwaite_dof(
 ) -> Vec<f64> {
     let p = cov.nrows();
     let freedom = match setting {
-        NoiseSetting::Estimate(f) => *f,
+        NoiseSetting::Estimate(f) => at_boundary(*f, &c.noise),
         NoiseSetting::Proportional(_) => return vec![residual_dof as f64; p],
         NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_) => return vec![f64::INFINITY; p],
     };
@@ -630,7 +640,7 @@ fn summarise(
                 levels: &c.levels,
                 leverages: &c.leverages,
             };
-            let (f, r) = noise_intervals(&data, *freedom, &c.noise);
+            let (f, r) = noise_intervals(&data, at_boundary(*freedom, &c.noise), &c.noise);
             (Some(f), r)
         }
         _ => (None, None),
