@@ -68,7 +68,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             bootstrap: a.bootstrap,
             ..DiscoverOptions::default()
         },
-        ..StudyOptions::default()
     };
     let parent = a.out.parent().map(PathBuf::from).unwrap_or_default();
     std::fs::create_dir_all(&parent).with_context(|| parent.display().to_string())?;

@@ -562,8 +562,8 @@ fn summarise(
     let inverse_fisher = |m: &NoiseModel| -> Option<DMatrix<f64>> {
         let scales = scales_of(setting, m, &c.levels);
         let mut g = jf.clone();
-        for i in 0..n {
-            g.row_mut(i).scale_mut(1.0 / scales[i]);
+        for (i, s) in scales.iter().enumerate() {
+            g.row_mut(i).scale_mut(1.0 / s);
         }
         pinv_sym(&(g.transpose() * &g * info_factor))
     };
@@ -583,9 +583,9 @@ fn summarise(
         Distribution::StudentT { dof } => (dof + 1.0) * z / (dof + z * z),
     };
     let mut meat = DMatrix::zeros(p, p);
-    for i in 0..n {
+    for (i, zi) in z.iter().enumerate() {
         let gi = g.row(i);
-        meat += gi.transpose() * gi * psi(z[i]).powi(2);
+        meat += gi.transpose() * gi * psi(*zi).powi(2);
     }
     let residual_dof = n.saturating_sub(p + noise_params).max(1);
     meat *= n as f64 / residual_dof as f64;
