@@ -14,7 +14,7 @@ use super::noise::{
     estimate_noise, log_likelihood, noise_intervals, robust_weight, variance_components,
     Distribution, NoiseData, NoiseFreedom, NoiseModel,
 };
-use super::params::Param;
+use super::params::{restarted, Param};
 use crate::error::{GearError, Result};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -56,6 +56,17 @@ pub struct EstimateOptions {
     /// Starting values, each a full parameter vector; the first fit runs from each and keeps
     /// the best (the parameters' own `start` when empty).
     pub starts: Vec<Vec<f64>>,
+}
+
+impl NoiseSetting {
+    /// Noise parameters estimated from the data under this setting.
+    fn estimated_parameters(&self) -> usize {
+        match self {
+            NoiseSetting::Estimate(f) => 1 + usize::from(f.relative),
+            NoiseSetting::Proportional(_) => 1,
+            NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_) => 0,
+        }
+    }
 }
 
 /// Where the noise model came from.
@@ -296,18 +307,8 @@ fn converge<M>(
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    let with_start = |p: &[f64]| -> Vec<Param> {
-        params
-            .iter()
-            .zip(p)
-            .map(|(d, v)| Param {
-                start: *v,
-                ..d.clone()
-            })
-            .collect()
-    };
     let mut weights = initial_weights(setting, w.y);
-    let mut lm = w.fit(&with_start(start), &weights, stop)?;
+    let mut lm = w.fit(&restarted(params, start), &weights, stop)?;
     let mut previous: Option<(Vec<f64>, NoiseModel)> = None;
     for it in 0..MAX_REWEIGHTS {
         let levels = (w.model)(&lm.params)?;
@@ -345,7 +346,7 @@ where
             .map(|(r, s)| robust_weight(noise.distribution, r / s) / (s * s))
             .collect();
         previous = Some((lm.params.clone(), noise));
-        lm = w.fit(&with_start(&lm.params), &weights, stop)?;
+        lm = w.fit(&restarted(params, &lm.params), &weights, stop)?;
     }
     Err(GearError::Numerical(
         "the reweighted fit did not settle".into(),
@@ -379,11 +380,7 @@ where
 {
     let p = params.len();
     let n = y.len();
-    let noise_params = match &opts.noise {
-        NoiseSetting::Estimate(f) => 1 + usize::from(f.relative),
-        NoiseSetting::Proportional(_) => 1,
-        _ => 0,
-    };
+    let noise_params = opts.noise.estimated_parameters();
     if n <= p + noise_params + 1 {
         return Err(GearError::Numerical(format!(
             "{n} data points cannot determine {p} parameters and {noise_params} noise parameters"
@@ -400,15 +397,7 @@ where
     let mut best: Option<LmFit> = None;
     let mut start_costs = Vec::new();
     for s in &starts {
-        let defs: Vec<Param> = params
-            .iter()
-            .zip(s)
-            .map(|(d, v)| Param {
-                start: *v,
-                ..d.clone()
-            })
-            .collect();
-        match w.fit(&defs, &weights0, opts.stop) {
+        match w.fit(&restarted(params, s), &weights0, opts.stop) {
             Ok(f) => {
                 start_costs.push(f.rss);
                 if best.as_ref().is_none_or(|b| f.rss < b.rss) {
@@ -419,31 +408,18 @@ where
         }
     }
     let first = best.ok_or_else(|| GearError::Numerical("no start of the fit converged".into()))?;
-    let run = |setting: &NoiseSetting, dist: Distribution| {
-        converge(&w, params, &first.params, (setting, opts.stop), dist)
+    let run =
+        |dist: Distribution| converge(&w, params, &first.params, (&opts.noise, opts.stop), dist);
+    let g = run(Distribution::Gaussian)?;
+    let (c, robust_lr) = if opts.robust == Robust::Off {
+        (g, None)
+    } else {
+        let t = run(Distribution::StudentT { dof: 4.0 })?;
+        let lr = 2.0 * (g.nll - t.nll);
+        let keep_t = opts.robust == Robust::On || lr > ROBUST_LR_CRITICAL;
+        (if keep_t { t } else { g }, Some(lr))
     };
-    let setting = opts.noise.clone();
-    let g = run(&setting, Distribution::Gaussian)?;
-    let student = || run(&setting, Distribution::StudentT { dof: 4.0 });
-    let (c, robust_lr) = match opts.robust {
-        Robust::Off => (g, None),
-        Robust::On => {
-            let t = student()?;
-            let lr = 2.0 * (g.nll - t.nll);
-            (t, Some(lr))
-        }
-        Robust::Auto => {
-            let t = student()?;
-            let lr = 2.0 * (g.nll - t.nll);
-            (if lr > ROBUST_LR_CRITICAL { t } else { g }, Some(lr))
-        }
-    };
-    let noise_params = match &setting {
-        NoiseSetting::Estimate(f) => 1 + usize::from(f.relative),
-        NoiseSetting::Proportional(_) => 1,
-        _ => 0,
-    };
-    summarise(c, params, &setting, robust_lr, start_costs, noise_params)
+    summarise(c, params, &opts.noise, robust_lr, start_costs, noise_params)
 }
 
 /// The noise parameters whose uncertainty the intervals carry: a relative part estimated at

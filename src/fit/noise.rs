@@ -1,7 +1,9 @@
 //! The measurement-noise model, part of the likelihood of every fit: the scale of the error at
 //! a point grows with the level of the curve there,
 //!
-//!     sigma_i^2 = floor^2 + (relative * mu_i)^2,
+//! ```text
+//! sigma_i^2 = floor^2 + (relative * mu_i)^2
+//! ```
 //!
 //! (a constant floor, e.g. a pixel of a digitized figure or the instrument's resolution, plus a
 //! part proportional to the response: near a resonance the scatter of measured DTE is several
@@ -349,6 +351,23 @@ pub fn noise_intervals(
 mod tests {
     use super::*;
 
+    /// The floor-plus-relative fit of residuals at levels (no leverage), and its intervals.
+    fn fitted(residuals: &[f64], levels: &[f64]) -> (NoiseModel, (f64, f64), Option<(f64, f64)>) {
+        let leverages = vec![0.0; residuals.len()];
+        let data = NoiseData {
+            residuals,
+            levels,
+            leverages: &leverages,
+        };
+        let freedom = NoiseFreedom {
+            floor_min: 0.0,
+            relative: true,
+        };
+        let (m, _) = estimate_noise(&data, freedom, Distribution::Gaussian).unwrap();
+        let (fi, ri) = noise_intervals(&data, freedom, &m);
+        (m, fi, ri)
+    }
+
     /// Residuals drawn from a known floor-plus-relative model on levels 0-50 (as a resonance
     /// curve's): the estimate is within a few standard errors of the truth, and the truth is
     /// inside both intervals.
@@ -365,18 +384,7 @@ mod tests {
             .map(|i| 50.0 * (i as f64 / n as f64).powi(3))
             .collect();
         let residuals: Vec<f64> = levels.iter().map(|l| truth.draw(*l, &mut rng)).collect();
-        let leverages = vec![0.0; n];
-        let data = NoiseData {
-            residuals: &residuals,
-            levels: &levels,
-            leverages: &leverages,
-        };
-        let freedom = NoiseFreedom {
-            floor_min: 0.0,
-            relative: true,
-        };
-        let (m, _) = estimate_noise(&data, freedom, Distribution::Gaussian).unwrap();
-        let (fi, ri) = noise_intervals(&data, freedom, &m);
+        let (m, fi, ri) = fitted(&residuals, &levels);
         let ri = ri.unwrap();
         assert!(fi.0 < 0.15 && fi.1 > 0.15, "{m:?} {fi:?}");
         assert!(ri.0 < 0.03 && ri.1 > 0.03, "{m:?} {ri:?}");
@@ -390,18 +398,7 @@ mod tests {
         let n = 1000;
         let levels: Vec<f64> = (0..n).map(|i| 40.0 * i as f64 / n as f64).collect();
         let residuals: Vec<f64> = (0..n).map(|_| 0.2 * rng.normal()).collect();
-        let leverages = vec![0.0; n];
-        let data = NoiseData {
-            residuals: &residuals,
-            levels: &levels,
-            leverages: &leverages,
-        };
-        let freedom = NoiseFreedom {
-            floor_min: 0.0,
-            relative: true,
-        };
-        let (m, _) = estimate_noise(&data, freedom, Distribution::Gaussian).unwrap();
-        let (_, ri) = noise_intervals(&data, freedom, &m);
+        let (m, _, ri) = fitted(&residuals, &levels);
         assert!((m.floor - 0.2).abs() < 0.02, "{m:?}");
         assert!(ri.unwrap().0 == 0.0 && m.relative < 0.003, "{m:?} {ri:?}");
     }

@@ -87,6 +87,18 @@ impl Param {
     }
 }
 
+/// The parameters `params` starting from `values` instead (same names, transforms, scales).
+pub fn restarted(params: &[Param], values: &[f64]) -> Vec<Param> {
+    params
+        .iter()
+        .zip(values)
+        .map(|(d, v)| Param {
+            start: *v,
+            ..d.clone()
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

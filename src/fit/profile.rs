@@ -6,7 +6,7 @@
 
 use super::estimate::Estimate;
 use super::lm::{least_squares, rss, Stop};
-use super::params::Param;
+use super::params::restarted;
 use crate::error::Result;
 
 /// Doublings of the bracketing step (from one standard error, internal coordinates) before a
@@ -40,16 +40,8 @@ where
     };
     let minimum = rss(&weighted(&est.params)?);
     let target = minimum + est.quantile[index] * est.quantile[index];
-    let others: Vec<Param> = defs
-        .iter()
-        .zip(&est.params)
-        .enumerate()
-        .filter(|(i, _)| *i != index)
-        .map(|(_, (d, v))| Param {
-            start: *v,
-            ..d.clone()
-        })
-        .collect();
+    let mut others = restarted(defs, &est.params);
+    others.remove(index);
     let t = defs[index].transform;
     let profile = |u: f64| -> Result<f64> {
         let value = t.value(u);
