@@ -7,7 +7,7 @@ use super::staging::{finish_report, Staged};
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
-use crate::validate::MunroValidation;
+use crate::validate::{MunroValidation, LOW_SPEED_OMEGA};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -64,7 +64,8 @@ pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
         "ste_design_um": ste_fitted.map(|i| e.params[i]),
         "ste_design_um_ci95": ste_fitted.map(|i| ci(r, i)),
         "noise": noise_json(r),
-        "design_points": e.n,
+        "design_points": r.fit.design_points,
+        "fit_points": e.n,
         "design_load_in_contact": r.design_load_in_contact,
         "mesh_stiffness_n_per_um": r.mesh_stiffness_n_per_um,
         "mesh_stiffness_source": r.stiffness_source,
@@ -258,30 +259,44 @@ pub fn write_munro_report(
 fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
     let e = &r.fit.estimate;
     let pair = |c: (f64, f64), d: usize| format!("[{:.d$}, {:.d$}]", c.0, c.1);
-    let units = ["", "Hz", "µm"];
-    let symbols = [
-        "ζ (damping ratio)",
-        "ωₙ (natural frequency)",
-        "STE amplitude at the design load",
-    ];
-    let digits = [5, 2, 4];
+    let design = format!(
+        "design-load curve ({} N, {} points) with the other loads' low-speed parts, {} points in all",
+        data.rig.rig.design_load_n, r.fit.design_points, e.n
+    );
+    // The other loads' STE amplitudes follow zeta, omega_n and (when fitted) the design one.
+    let first_other = e.params.len() - r.fit.other_loads.len();
     let rows: Vec<Vec<String>> = e
         .params
         .iter()
         .enumerate()
         .map(|(i, v)| {
-            let d = digits[i.min(2)];
+            let (label, unit, d, source) = match (e.names[i].as_str(), i.checked_sub(first_other)) {
+                ("zeta", _) => ("ζ (damping ratio)".to_string(), "", 5, design.clone()),
+                ("omega_n_hz", _) => ("ωₙ (natural frequency)".to_string(), "Hz", 2, design.clone()),
+                (_, Some(k)) => {
+                    let (load, points) = r.fit.other_loads[k];
+                    (
+                        format!("STE amplitude at {load} N"),
+                        "µm",
+                        4,
+                        format!("low-speed part of its curve (Ω ≤ {LOW_SPEED_OMEGA}, {points} points), in the same fit"),
+                    )
+                }
+                _ => (
+                    format!("STE amplitude at the design load ({} N)", data.rig.rig.design_load_n),
+                    "µm",
+                    4,
+                    design.clone(),
+                ),
+            };
             vec![
-                symbols[i.min(2)].to_string(),
+                label,
                 format!("{v:.d$}"),
                 pair(e.ci95[i], d),
                 pair(e.ci95_sandwich[i], d),
                 fmt_ci(r.fit.ci95_profile.get(i), d),
-                units[i.min(2)].to_string(),
-                format!(
-                    "fitted at the design load ({} N, {} points)",
-                    data.rig.rig.design_load_n, e.n
-                ),
+                unit.to_string(),
+                source,
             ]
         })
         .collect();
