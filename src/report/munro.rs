@@ -214,7 +214,7 @@ pub fn write_munro_report(
                 }
             ),
             caption: Some(format!(
-                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F̂ = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
+                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
                 l.mean_force,
                 l.ste_amplitude,
                 l.ste_um,
