@@ -529,6 +529,7 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
 
 /// Write a synthetic Munro-style data set (rig.toml with its truth, dte.csv) into `dir`.
 pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
+    // Checked again by `write_munro_set`; here so that bad noise fails before the simulation.
     check_noise(&truth.noise)?;
     let clean = clean_munro_curves(truth, progress)?;
     write_munro_set(truth, &clean, dir)
