@@ -11,6 +11,7 @@ pub mod discover;
 pub mod error;
 pub mod fit;
 pub mod hb;
+pub mod mesh;
 pub mod model;
 pub mod plot;
 pub mod progress;

@@ -18,6 +18,7 @@
 mod csv_curves;
 mod curve_order;
 mod errors;
+mod geometry;
 mod kubo;
 mod munro;
 mod rig;
@@ -25,9 +26,10 @@ mod source;
 mod toml_doc;
 
 pub use errors::WHOLE_FILE;
+pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
 pub use munro::{load_munro, same_load, MunroData, MunroPoint};
-pub use rig::{load_rig, write_rig, Rig, RigFile, StatedNoise, SteTable};
+pub use rig::{load_rig, load_rig_with_geometry, write_rig, Rig, RigFile, StatedNoise, SteTable};
 pub use source::{DataKind, Source};
 
 #[cfg(test)]

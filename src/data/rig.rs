@@ -1,8 +1,9 @@
 //! The rig description `rig.toml` of a data set (design.md section 4): the `[rig]` table (units in
-//! the key names), an optional `[ste]` table, an optional `[noise]` table and the `[source]`
-//! provenance. docs/data-format.md documents every key.
+//! the key names), an optional `[ste]` table, an optional `[noise]` table, an optional
+//! `[geometry]` table (read by [`load_rig_with_geometry`]) and the `[source]` provenance. docs/data-format.md documents every key.
 
 use super::errors::{data_error, read_text, WHOLE_FILE};
+use super::geometry::GearGeometry;
 use super::source::Source;
 use super::toml_doc::TomlDoc;
 use crate::error::{GearError, Result};
@@ -56,12 +57,17 @@ pub(crate) struct RigProblem {
 }
 
 /// `Some(problem)` unless `ok(value)`.
-fn require(key: &'static str, value: f64, ok: bool, reason: &'static str) -> Option<RigProblem> {
+pub(super) fn require(
+    key: &'static str,
+    value: f64,
+    ok: bool,
+    reason: &'static str,
+) -> Option<RigProblem> {
     (!ok).then_some(RigProblem { key, value, reason })
 }
 
 /// Positive and finite.
-fn positive(key: &'static str, value: f64) -> Option<RigProblem> {
+pub(super) fn positive(key: &'static str, value: f64) -> Option<RigProblem> {
     require(
         key,
         value,
@@ -71,7 +77,10 @@ fn positive(key: &'static str, value: f64) -> Option<RigProblem> {
 }
 
 /// An optional value, checked with `check` when present.
-fn optional(value: Option<f64>, check: impl Fn(f64) -> Option<RigProblem>) -> Option<RigProblem> {
+pub(super) fn optional(
+    value: Option<f64>,
+    check: impl Fn(f64) -> Option<RigProblem>,
+) -> Option<RigProblem> {
     value.and_then(check)
 }
 
@@ -300,14 +309,56 @@ impl RigFile {
     }
 }
 
-/// Read and validate a `rig.toml`. Every failure is one [`GearError::Data`] naming the file, the
-/// line (0 when the key is absent) and the key path (e.g. `rig.backlash_mm`).
-pub fn load_rig(path: &Path) -> Result<RigFile> {
+/// `rig.toml` as written: the tables of [`RigFile`] plus the optional `[geometry]` table, which
+/// only the tooth-contact model reads (kept out of [`RigFile`] so that code building rig files
+/// needs no change).
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RigToml {
+    rig: Rig,
+    #[serde(default)]
+    ste: Option<SteTable>,
+    #[serde(default)]
+    noise: Option<StatedNoise>,
+    #[serde(default)]
+    geometry: Option<GearGeometry>,
+    source: Source,
+}
+
+/// Read and validate every table of a `rig.toml`.
+fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
     let text = read_text(path)?;
     let doc = TomlDoc::new(path, &text);
-    let rig: RigFile = toml::from_str(&text).map_err(|e| doc.toml_error(&e))?;
+    let t: RigToml = toml::from_str(&text).map_err(|e| doc.toml_error(&e))?;
+    let rig = RigFile {
+        rig: t.rig,
+        ste: t.ste,
+        noise: t.noise,
+        source: t.source,
+    };
     rig.check(&doc)?;
-    Ok(rig)
+    let geometry = t.geometry.unwrap_or_default();
+    if let Some(p) = geometry.first_problem() {
+        return Err(doc.error(
+            "geometry",
+            p.key,
+            format!("{} = {}: {}", p.key, p.value, p.reason),
+        ));
+    }
+    Ok((rig, geometry))
+}
+
+/// Read and validate a `rig.toml`. Every failure is one [`GearError::Data`] naming the file, the
+/// line (0 when the key is absent) and the key path (e.g. `rig.backlash_mm`). An optional
+/// `[geometry]` table is validated too; [`load_rig_with_geometry`] returns it.
+pub fn load_rig(path: &Path) -> Result<RigFile> {
+    load_rig_toml(path).map(|(rig, _)| rig)
+}
+
+/// Read and validate a `rig.toml` with its `[geometry]` table (all defaults when absent), for
+/// the tooth-contact model ([`crate::mesh`]). Errors as [`load_rig`].
+pub fn load_rig_with_geometry(path: &Path) -> Result<(RigFile, GearGeometry)> {
+    load_rig_toml(path)
 }
 
 /// Validate `rig` and write it as TOML to `path` (used by `geardyn synth`). An invalid rig is
