@@ -10,6 +10,7 @@ mod digitize_parse;
 mod discover;
 mod discover_study;
 mod hbm;
+mod mesh;
 mod progress_bar;
 mod reproduce;
 mod response_plot;
@@ -41,6 +42,9 @@ enum Command {
     Basins(basins::Args),
     /// Harmonic-balance frequency response: every solution at each Omega (Sec. 4, Fig. 10).
     Hbm(hbm::Args),
+    /// STE and mesh stiffness from the gear geometry: waveforms, harmonics and the Harris map
+    /// (STE peak-to-peak against load) for a tip relief, given or sized for a design load.
+    Mesh(mesh::Args),
     /// Fit and validate against Munro's (pp DTE) or Kubo's (dynamic factor) data.
     Validate(validate::Args),
     /// Write a synthetic data set (labelled synthetic, with its truth) in the data layout.
@@ -81,6 +85,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Bench(a) => bench::run(a),
         Command::Hbm(a) => hbm::run(a),
         Command::Digitize(a) => digitize::run(a),
+        Command::Mesh(a) => mesh::run(a),
         Command::Validate(a) => validate::run(a),
         Command::Synth(a) => synth::run(a),
         Command::Compare(a) => compare::run(a),

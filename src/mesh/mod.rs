@@ -9,10 +9,12 @@
 //! - [`ste`]: loaded STE with load sharing, tip relief and contact loss over one mesh period;
 //! - [`harmonics`]: Fourier coefficients in the model's conventions (F_ahj, eps_j, phases);
 //! - [`harris`]: STE peak-to-peak against load, and relief sizing by "minimum STE at the
-//!   design load".
+//!   design load";
+//! - [`analysis`]: all of the above for a rig, as `geardyn mesh` reports it.
 //!
 //! docs/mesh-geometry.md gives the equations with their sources and the checks.
 
+pub mod analysis;
 pub mod geometry;
 pub mod harmonics;
 pub mod harris;
@@ -22,6 +24,7 @@ pub mod tooth_stiffness;
 #[cfg(test)]
 mod tests;
 
+pub use analysis::{analyse, LoadResult, MeshAnalysis, MeshOptions, ReliefChoice};
 pub use geometry::{GearBody, GearPairGeometry};
 pub use harmonics::{mesh_harmonics, MeshHarmonic};
 pub use harris::{design_relief, harris_map, HarrisPoint};

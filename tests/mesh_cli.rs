@@ -1,0 +1,142 @@
+//! `geardyn mesh` as a user runs it on Munro's rig (issue 24): the JSON contract, the files
+//! written, and bad input refused with nothing written.
+
+mod common;
+use common::{geardyn, geardyn_json};
+
+#[test]
+fn mesh_on_munro_reports_contact_ratio_stiffness_and_harris_map() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("mesh");
+    let v = geardyn_json(&[
+        "mesh",
+        "--rig",
+        "data/munro/rig.toml",
+        "--load-n",
+        "945:4725:945",
+        "--tip-relief-design-load-n",
+        "3780",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let eps = v["contact_ratio"].as_f64().unwrap();
+    assert!((eps - 1.667642).abs() < 1e-5, "{eps}");
+    let k = v["mesh_stiffness_mean_n_per_um"].as_f64().unwrap();
+    let iso = v["iso6336_mesh_stiffness_n_per_um"].as_f64().unwrap();
+    assert!(k > 0.75 * iso && k < 1.25 * iso, "{k} vs ISO {iso}");
+    let loads = v["loads"].as_array().unwrap();
+    assert_eq!(loads.len(), 5);
+    let pp: Vec<f64> = loads
+        .iter()
+        .map(|l| l["ste_pp_um"].as_f64().unwrap())
+        .collect();
+    let load: Vec<f64> = loads
+        .iter()
+        .map(|l| l["load_n"].as_f64().unwrap())
+        .collect();
+    assert_eq!(load, vec![945.0, 1890.0, 2835.0, 3780.0, 4725.0]);
+    // Relief sized for 3780 N: smallest STE there, growing toward light load.
+    assert!(pp[3] < pp[2] && pp[2] < pp[1] && pp[1] < pp[0], "{pp:?}");
+    assert!(pp[3] < pp[4]);
+    assert_eq!(v["relief"]["designed_for_load_n"].as_f64(), Some(3780.0));
+    assert!(loads[0]["harmonics"].as_array().unwrap().len() == 5);
+    for f in [
+        "mesh.json",
+        "waveforms.csv",
+        "harmonics.csv",
+        "harris.csv",
+        "pair_stiffness.csv",
+        "ste.png",
+        "ste.svg",
+        "harris.png",
+        "harris.svg",
+        "pair_stiffness.png",
+        "pair_stiffness.svg",
+    ] {
+        assert!(out.join(f).is_file(), "{f} missing");
+    }
+    let csv = std::fs::read_to_string(out.join("waveforms.csv")).unwrap();
+    assert!(csv.starts_with("load_n,mesh_position,ste_um,mesh_stiffness_n_per_um"));
+    assert_eq!(csv.lines().count(), 1 + 5 * 256);
+}
+
+#[test]
+fn mesh_refuses_bad_input_and_writes_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("mesh");
+    let rig = dir.path().join("rig.toml");
+    let munro = std::fs::read_to_string("data/munro/rig.toml").unwrap();
+    std::fs::write(
+        &rig,
+        format!("{munro}\n[geometry]\ncentre_distance_mm = 150\n"),
+    )
+    .unwrap();
+    let o = out.to_str().unwrap();
+    let cases: [(Vec<&str>, &str); 5] = [
+        (
+            vec![
+                "--rig",
+                "data/munro/rig.toml",
+                "--load-n",
+                "-5",
+                "--tip-relief-um",
+                "10",
+            ],
+            "load-n",
+        ),
+        (
+            vec!["--rig", "data/munro/rig.toml", "--load-n", "945"],
+            "tip-relief",
+        ),
+        (
+            vec![
+                "--rig",
+                "data/munro/rig.toml",
+                "--load-n",
+                "945",
+                "--tip-relief-um",
+                "5",
+                "--relief-length-mm",
+                "40",
+            ],
+            "relief_length_mm",
+        ),
+        (
+            vec![
+                "--rig",
+                rig.to_str().unwrap(),
+                "--load-n",
+                "945",
+                "--tip-relief-um",
+                "5",
+            ],
+            "centre_distance_mm",
+        ),
+        (
+            vec![
+                "--rig",
+                "no/such/rig.toml",
+                "--load-n",
+                "945",
+                "--tip-relief-um",
+                "5",
+            ],
+            "not found",
+        ),
+    ];
+    for (args, needle) in cases {
+        let mut all = vec!["mesh"];
+        all.extend(args.iter().copied());
+        all.extend(["--out", o]);
+        let r = geardyn(&all);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{all:?} should fail");
+        assert!(!err.contains("panicked"), "{err}");
+        assert!(
+            err.contains(needle),
+            "{all:?}: '{err}' should name '{needle}'"
+        );
+        assert!(!out.exists(), "{all:?} wrote {}", out.display());
+    }
+}
