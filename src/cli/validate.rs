@@ -2,10 +2,14 @@
 
 use super::common::print_text;
 use super::progress_bar::Bar;
-use clap::{Args as ClapArgs, Subcommand};
-use geardyn::data::{load_kubo, load_munro};
-use geardyn::report::{data_kind_banner, write_kubo_report, write_munro_report};
-use geardyn::validate::{validate_kubo, validate_munro, KuboOptions, MunroOptions};
+use clap::{Args as ClapArgs, Subcommand, ValueEnum};
+use geardyn::data::{load_kubo, load_munro, load_rig_with_geometry};
+use geardyn::mesh::ReliefShape;
+use geardyn::report::{data_kind_banner, interval_digits, write_kubo_report, write_munro_report};
+use geardyn::validate::{
+    validate_kubo, validate_munro, GeometryOptions, KuboOptions, LoadResult, MunroOptions,
+    ReliefRule, SteMode, StiffnessChoice,
+};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -17,7 +21,7 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 enum Which {
     /// Munro's pp dynamic transmission error at four loads (Figs 19-22).
-    Munro(Dirs),
+    Munro(MunroArgs),
     /// Kubo's dynamic factor envelope (Fig. 23).
     Kubo(Dirs),
 }
@@ -35,18 +39,140 @@ struct Dirs {
     reports: PathBuf,
 }
 
+#[derive(ClapArgs, Debug)]
+struct MunroArgs {
+    #[command(flatten)]
+    dirs: Dirs,
+    /// Where the STE at the predicted loads comes from: each curve's low-speed part, or (beside
+    /// it, both reported) the gear geometry of rig.toml with a tip relief.
+    #[arg(long, value_enum, default_value_t = Ste::Curve)]
+    ste: Ste,
+    /// Geometry path: the tip relief depth. design-rule: sized for minimum STE peak-to-peak at
+    /// the design load (Munro's gears); fit: fitted to the design-load curve with zeta, omega_n;
+    /// given: --tip-relief-um.
+    #[arg(long, value_enum, default_value_t = Relief::DesignRule)]
+    relief: Relief,
+    /// Geometry path: the relief depth in um (with --relief given).
+    #[arg(long, allow_hyphen_values = true)]
+    tip_relief_um: Option<f64>,
+    /// Geometry path: relief length along the line of action, mm (default: Harris's long
+    /// relief, (eps_alpha - 1) p_b).
+    #[arg(long, allow_hyphen_values = true)]
+    relief_length_mm: Option<f64>,
+    /// Geometry path: relief shape.
+    #[arg(long, value_enum, default_value_t = Shape::Linear)]
+    relief_shape: Shape,
+    /// Geometry path: STE harmonics in the model (1 to 5; 1 is the paper's model).
+    #[arg(long, default_value_t = 1)]
+    ste_harmonics: u32,
+    /// Geometry path: mesh stiffness of the predictions. constant: k = 1, k_h as the per-curve
+    /// path; geometry: the loaded k_h(F) and k(t) of the geometry (DOP853, ~30 s).
+    #[arg(long, value_enum, default_value_t = Stiffness::Constant)]
+    mesh_stiffness: Stiffness,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum Ste {
+    Curve,
+    Geometry,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum Relief {
+    DesignRule,
+    Fit,
+    Given,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum Shape {
+    Linear,
+    Parabolic,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum Stiffness {
+    Constant,
+    Geometry,
+}
+
+impl MunroArgs {
+    /// The STE mode; the geometry is read from `rig` (its [geometry] table).
+    fn ste_mode(&self, rig: &std::path::Path) -> anyhow::Result<SteMode> {
+        if self.ste == Ste::Curve {
+            if self.relief != Relief::DesignRule || self.tip_relief_um.is_some() {
+                anyhow::bail!("--relief and --tip-relief-um apply to --ste geometry only");
+            }
+            return Ok(SteMode::Curve);
+        }
+        let relief = match (self.relief, self.tip_relief_um) {
+            (Relief::Given, Some(a)) => ReliefRule::Given { amount_um: a },
+            (Relief::Given, None) => anyhow::bail!("--relief given needs --tip-relief-um"),
+            (_, Some(_)) => anyhow::bail!("--tip-relief-um needs --relief given"),
+            (Relief::DesignRule, None) => ReliefRule::DesignRule,
+            (Relief::Fit, None) => ReliefRule::Fit,
+        };
+        let (_, geometry) = load_rig_with_geometry(rig)?;
+        Ok(SteMode::Geometry(GeometryOptions {
+            relief,
+            relief_length_mm: self.relief_length_mm,
+            relief_shape: match self.relief_shape {
+                Shape::Linear => ReliefShape::Linear,
+                Shape::Parabolic => ReliefShape::Parabolic,
+            },
+            ste_harmonics: self.ste_harmonics,
+            stiffness: match self.mesh_stiffness {
+                Stiffness::Constant => StiffnessChoice::Constant,
+                Stiffness::Geometry => StiffnessChoice::Geometry,
+            },
+            ..GeometryOptions::design_rule(geometry)
+        }))
+    }
+}
+
+/// One load's line of the summary.
+fn load_line(l: &LoadResult) -> String {
+    format!(
+        "  {:>7.1} N {:>10}: F_hat {:6.2}, STE {:.3} um, RMS {:.3} um{}, jump error {}\n",
+        l.load_n,
+        if l.fitted { "(fit)" } else { "(predicted)" },
+        l.force_ratio,
+        l.ste_um,
+        l.rms_um,
+        match (l.not_period1_points, l.rms_period1_um) {
+            (0, _) => String::new(),
+            (n, Some(r)) => format!(
+                " ({r:.3} um where the model is period-1; {n} speeds chaotic or subharmonic)"
+            ),
+            (n, None) => format!(" ({n} speeds chaotic or subharmonic)"),
+        },
+        l.jump_error_rpm
+            .map_or("- (no jump in the data)".to_string(), |e| format!(
+                "{e:.0} rpm"
+            ))
+    )
+}
+
 pub fn run(a: Args) -> anyhow::Result<()> {
     let (written, banner, summary) = match a.which {
-        Which::Munro(d) => {
-            let data = load_munro(&d.data.unwrap_or_else(|| PathBuf::from("data/munro")))?;
-            let r = validate_munro(&data, &MunroOptions::default(), &Bar::new())?;
+        Which::Munro(m) => {
+            let dir = m
+                .dirs
+                .data
+                .clone()
+                .unwrap_or_else(|| PathBuf::from("data/munro"));
+            let data = load_munro(&dir)?;
+            let opts = MunroOptions {
+                ste: m.ste_mode(&dir.join("rig.toml"))?,
+                ..MunroOptions::default()
+            };
+            let r = validate_munro(&data, &opts, &Bar::new())?;
+            let d = m.dirs;
             let written = write_munro_report(&data, &r, &d.fits, &d.reports.join("munro"))?;
             let mut s = format!(
-                "zeta {:.5} [{}], omega_n {:.1} Hz [{}]\n",
-                r.zeta,
-                ci_text(r.fit.estimate.ci95[0], 5),
-                r.omega_n_hz,
-                ci_text(r.fit.estimate.ci95[1], 2)
+                "zeta {}, omega_n {} Hz\n",
+                value_ci(r.zeta, r.fit.estimate.ci95[0], 4),
+                value_ci(r.omega_n_hz, r.fit.estimate.ci95[1], 1)
             );
             let n = &r.fit.estimate.noise;
             s.push_str(&format!(
@@ -64,23 +190,28 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     format!(", {} outlying points", n.outliers.len())
                 }
             ));
+            if r.geometry.is_some() {
+                s.push_str("STE read from each curve:\n");
+            }
             for l in &r.loads {
+                s.push_str(&load_line(l));
+            }
+            if let Some(g) = &r.geometry {
+                let e = &g.fit.estimate;
                 s.push_str(&format!(
-                    "  {:>7.1} N {:>10}: F_hat {:6.2}, RMS {:.3} um{}, jump error {}\n",
-                    l.load_n,
-                    if l.fitted { "(fit)" } else { "(predicted)" },
-                    l.force_ratio,
-                    l.rms_um,
-                    match (l.not_period1_points, l.rms_period1_um) {
-                        (0, _) => String::new(),
-                        (n, Some(r)) => format!(
-                            " ({r:.3} um where the model is period-1; {n} speeds chaotic or subharmonic)"
-                        ),
-                        (n, None) => format!(" ({n} speeds chaotic or subharmonic)"),
+                    "STE from the geometry (relief {:.2} um, {}): zeta {}, omega_n {} Hz, fitted at the design load alone\n",
+                    g.relief.relief_um,
+                    match g.relief.relief_rule {
+                        ReliefRule::DesignRule => "design rule: minimum STE pp at the design load".to_string(),
+                        ReliefRule::Given { .. } => "given".to_string(),
+                        ReliefRule::Fit => format!("fitted, {}", ci_text(e.ci95[2], 2)),
                     },
-                    l.jump_error_rpm
-                        .map_or("-".to_string(), |e| format!("{e:.0} rpm"))
+                    value_ci(g.zeta, e.ci95[0], 4),
+                    value_ci(g.omega_n_hz, e.ci95[1], 1)
                 ));
+                for l in &g.loads {
+                    s.push_str(&load_line(l));
+                }
             }
             (written, data_kind_banner(&data.rig), s)
         }
@@ -106,6 +237,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     print_text(&text)
 }
 
-fn ci_text((a, b): (f64, f64), digits: usize) -> String {
+/// A value and its 95% interval, with the interval's digits.
+fn value_ci(v: f64, ci: (f64, f64), min_digits: usize) -> String {
+    let d = interval_digits(ci.0, ci.1, min_digits);
+    format!("{v:.d$} [{}]", ci_text(ci, d))
+}
+
+/// A 95% interval with enough digits to see whether a value lies inside it.
+fn ci_text((a, b): (f64, f64), min_digits: usize) -> String {
+    let digits = interval_digits(a, b, min_digits);
     format!("95% {a:.digits$} .. {b:.digits$}")
 }

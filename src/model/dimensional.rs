@@ -41,6 +41,30 @@ pub enum StiffnessSource {
     },
 }
 
+impl StiffnessSource {
+    /// A snake_case tag for machine-readable outputs: `rig_toml` or `iso6336_estimate`.
+    pub fn tag(&self) -> &'static str {
+        match self {
+            StiffnessSource::Given => "rig_toml",
+            StiffnessSource::Iso6336Estimate { .. } => "iso6336_estimate",
+        }
+    }
+
+    /// The source in words, with the estimate's numbers (for reports).
+    pub fn describe(&self) -> String {
+        match self {
+            StiffnessSource::Given => "given in rig.toml (mesh_stiffness_n_per_um)".into(),
+            StiffnessSource::Iso6336Estimate {
+                c_prime_n_per_mm_um,
+                c_gamma_n_per_mm_um,
+                contact_ratio,
+            } => format!(
+                "ISO 6336-1 estimate: c' = {c_prime_n_per_mm_um:.1} N/(mm um), c_gamma = c' (0.75 eps_alpha + 0.25) = {c_gamma_n_per_mm_um:.2} N/(mm um) at eps_alpha = {contact_ratio:.3}, times the face width"
+            ),
+        }
+    }
+}
+
 /// The dimensional scales of a rig: half backlash b, mesh stiffness k_h and the pinion's teeth.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Dimensional {

@@ -1,13 +1,13 @@
 //! Outputs of `validate munro`: `fits/munro.json` and `reports/munro/` (overlays per load,
 //! residuals, index.html, report.md).
 
-use super::data_kind_banner;
 use super::html::Page;
 use super::staging::{finish_report, Staged};
+use super::{data_kind_banner, interval_digits, measured_label};
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
-use crate::validate::{MunroValidation, LOW_SPEED_OMEGA};
+use crate::validate::{GeometryValidation, LoadResult, MunroValidation, LOW_SPEED_OMEGA};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -70,26 +70,11 @@ pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
         "mesh_stiffness_n_per_um": r.mesh_stiffness_n_per_um,
         "mesh_stiffness_source": r.stiffness_source,
         "half_backlash_um": r.half_backlash_um,
-        "per_load": r.loads.iter().map(|l| json!({
-            "load_n": l.load_n,
-            "fitted": l.fitted,
-            "mean_force": l.mean_force,
-            "ste_um": l.ste_um,
-            "ste_um_ci95": l.ste_ci95_um,
-            "ste_source": l.ste_source,
-            "force_ratio": l.force_ratio,
-            "rms_um": l.rms_um,
-            "rms_up_um": l.rms_up_um,
-            "rms_down_um": l.rms_down_um,
-            "rms_period1_um": l.rms_period1_um,
-            "not_period1_points": l.not_period1_points,
-            "not_period1_measured_um": l.not_period1_measured_um,
-            "not_period1_model_um": l.not_period1_model_um,
-            "jump_measured_rpm": l.jump_measured_rpm,
-            "jump_up_rpm": l.jump_up_rpm,
-            "jump_down_rpm": l.jump_down_rpm,
-            "jump_error_rpm": l.jump_error_rpm,
-        })).collect::<Vec<_>>(),
+        "mesh_stiffness_source_text": r.stiffness_source_text,
+        "per_load": r.loads.iter().map(load_json).collect::<Vec<_>>(),
+        "ste_mode": if r.geometry.is_some() { "geometry" } else { "curve" },
+        "ste_geometry": r.geometry.as_ref().map(geometry_json),
+        "ste_paths": r.geometry.as_ref().map(|g| paths_json(r, g)),
         "provenance": {
             "geardyn": env!("CARGO_PKG_VERSION"),
             "data_dir": data.dir.display().to_string(),
@@ -102,6 +87,195 @@ pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
             "truth_recorded_in_rig_toml": src.truth.as_ref().map(|t| toml::to_string(t).unwrap_or_default()),
         },
     })
+}
+
+/// The errors of one load's prediction (either STE path).
+fn load_json(l: &LoadResult) -> serde_json::Value {
+    json!({
+        "load_n": l.load_n,
+        "fitted": l.fitted,
+        "mean_force": l.mean_force,
+        "ste_um": l.ste_um,
+        "ste_um_ci95": l.ste_ci95_um,
+        "ste_source": l.ste_source,
+        "force_ratio": l.force_ratio,
+        "rms_um": l.rms_um,
+        "rms_up_um": l.rms_up_um,
+        "rms_down_um": l.rms_down_um,
+        "rms_period1_um": l.rms_period1_um,
+        "not_period1_points": l.not_period1_points,
+        "not_period1_measured_um": l.not_period1_measured_um,
+        "not_period1_model_um": l.not_period1_model_um,
+        "jump_measured_rpm": l.jump_measured_rpm,
+        "jump_up_rpm": l.jump_up_rpm,
+        "jump_down_rpm": l.jump_down_rpm,
+        "jump_error_rpm": l.jump_error_rpm,
+    })
+}
+
+/// The geometry path: its fit, relief, and per load the geometry's excitation and the errors.
+fn geometry_json(g: &GeometryValidation) -> serde_json::Value {
+    let e = &g.fit.estimate;
+    let param = |i: usize| {
+        json!({
+            "name": e.names[i],
+            "value": e.params[i],
+            "std_error": e.std_errors[i],
+            "ci95": {
+                "covariance": e.ci95[i],
+                "sandwich": e.ci95_sandwich[i],
+                "profile": g.fit.ci95_profile.get(i),
+            },
+        })
+    };
+    json!({
+        "zeta": g.zeta,
+        "omega_n_hz": g.omega_n_hz,
+        "parameters": (0..e.params.len()).map(param).collect::<Vec<_>>(),
+        "fit_points": e.n,
+        "noise_floor_um": e.noise.model.floor,
+        "noise_relative": e.noise.model.relative,
+        "relief": g.relief,
+        "design_load_in_contact": g.design_load_in_contact,
+        "per_load": g.loads.iter().zip(&g.excitation).map(|(l, x)| {
+            let mut v = load_json(l);
+            v["geometry"] = json!(x);
+            v
+        }).collect::<Vec<_>>(),
+    })
+}
+
+/// Both STE paths per load: the STE amplitude each used and their prediction errors.
+fn paths_json(r: &MunroValidation, g: &GeometryValidation) -> serde_json::Value {
+    let side = |l: &LoadResult| {
+        json!({
+            "ste_um": l.ste_um,
+            "ste_source": l.ste_source,
+            "rms_um": l.rms_um,
+            "rms_period1_um": l.rms_period1_um,
+            "not_period1_points": l.not_period1_points,
+            "jump_error_rpm": l.jump_error_rpm,
+        })
+    };
+    r.loads
+        .iter()
+        .filter_map(|c| {
+            let geo = g
+                .loads
+                .iter()
+                .find(|l| crate::data::same_load(l.load_n, c.load_n))?;
+            Some(json!({
+                "load_n": c.load_n,
+                "design_load": c.fitted,
+                "curve": side(c),
+                "geometry": side(geo),
+            }))
+        })
+        .collect()
+}
+
+/// A value and its interval with enough digits to tell whether a number lies inside.
+fn with_ci(v: f64, ci: Option<(f64, f64)>, min: usize) -> String {
+    match ci {
+        Some((lo, hi)) => {
+            let d = interval_digits(lo, hi, min);
+            format!("{v:.d$} [{lo:.d$}, {hi:.d$}]")
+        }
+        None => format!("{v:.min$}"),
+    }
+}
+
+/// The side-by-side section of `--ste geometry`: relief, the design-load fit, and both paths'
+/// errors per load.
+fn geometry_section(
+    page: &mut Page,
+    data: &MunroData,
+    r: &MunroValidation,
+    g: &GeometryValidation,
+) {
+    use crate::validate::ReliefRule;
+    let e = &g.fit.estimate;
+    let rl = &g.relief;
+    page.heading("STE from the gear geometry (--ste geometry) beside the STE read from each curve");
+    page.paragraph(&format!(
+        "Geometry path: the tooth-contact model of rig.toml's geometry (geardyn mesh) with a {} tip relief {:.2} µm deep over {:.2} mm of the line of action ({}). ζ and ωₙ{} were fitted to the design-load curve ({} N, {} points) alone, with the geometry's STE there; every other load is predicted with the geometry's STE ({}) and {}. STE amplitudes below are first-harmonic amplitudes e₁ (the model's F_ah = e₁/b), not half the peak-to-peak.",
+        rl.relief_shape.name(),
+        rl.relief_um,
+        rl.relief_length_mm,
+        match rl.relief_rule {
+            ReliefRule::DesignRule => format!("sized for minimum STE peak-to-peak at the design load {} N, the paper's statement on Munro's gears", data.rig.rig.design_load_n),
+            ReliefRule::Given { .. } => "given".to_string(),
+            ReliefRule::Fit => format!("fitted to the design-load curve{}", rl.mirror_relief_um.map_or(String::new(), |m| format!("; a depth of {m:.2} µm on the other side of the STE minimum gives the same design-load e₁ and fits equally"))),
+        },
+        if rl.relief_rule == ReliefRule::Fit { " and the relief depth" } else { "" },
+        data.rig.rig.design_load_n,
+        e.n,
+        if rl.ste_harmonics == 1 { "first harmonic, as the paper's model".to_string() } else { format!("harmonics 1-{}", rl.ste_harmonics) },
+        match rl.stiffness {
+            crate::validate::StiffnessChoice::Constant => "constant mesh stiffness (k = 1, k_h as the per-curve path)",
+            crate::validate::StiffnessChoice::Geometry => "the geometry's loaded mesh stiffness k_h(F) and k(t) (ωₙ scaled by √(k_h(F)/k_h(design)))",
+        },
+    ));
+    let rows: Vec<Vec<String>> = (0..e.params.len())
+        .map(|i| {
+            let min = match e.names[i].as_str() {
+                "zeta" => 4,
+                "omega_n_hz" => 1,
+                _ => 2,
+            };
+            vec![
+                e.names[i].clone(),
+                with_ci(e.params[i], Some(e.ci95[i]), min),
+                fmt_ci(g.fit.ci95_profile.get(i), min),
+            ]
+        })
+        .collect();
+    page.table(
+        &[
+            "parameter (geometry path)",
+            "estimate [95% Fisher]",
+            "95% profile",
+        ],
+        &rows,
+    );
+    let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
+    let p1 = |l: &LoadResult| l.rms_period1_um.map_or("-".into(), |v| format!("{v:.3}"));
+    let rows: Vec<Vec<String>> = r
+        .loads
+        .iter()
+        .filter_map(|c| {
+            let k = g
+                .loads
+                .iter()
+                .position(|l| crate::data::same_load(l.load_n, c.load_n))?;
+            let (l, x) = (&g.loads[k], &g.excitation[k]);
+            Some(vec![
+                format!("{}{}", c.load_n, if c.fitted { " (design)" } else { "" }),
+                with_ci(c.ste_um, c.ste_ci95_um, 3),
+                format!("{:.3} (pp {:.2})", x.ste_first_harmonic_um, x.ste_pp_um),
+                format!("{:.3}", c.rms_um),
+                format!("{:.3}", l.rms_um),
+                p1(c),
+                p1(l),
+                opt(c.jump_error_rpm),
+                opt(l.jump_error_rpm),
+            ])
+        })
+        .collect();
+    page.table(
+        &[
+            "load (N)",
+            "STE e₁ read from the curve (µm)",
+            "STE e₁ from geometry (µm)",
+            "RMS, curve STE (µm)",
+            "RMS, geometry STE (µm)",
+            "RMS period-1, curve (µm)",
+            "RMS period-1, geometry (µm)",
+            "jump error, curve (rpm)",
+            "jump error, geometry (rpm)",
+        ],
+        &rows,
+    );
 }
 
 /// Write fits/munro.json and the report folder; returns the files written.
@@ -131,10 +305,8 @@ pub fn write_munro_report(
                 if l.fitted { "fit" } else { "prediction" }.to_string(),
                 format!("{:.2}", l.force_ratio),
                 format!(
-                    "{:.3}{} ({})",
-                    l.ste_um,
-                    l.ste_ci95_um
-                        .map_or(String::new(), |c| format!(" [{:.3}, {:.3}]", c.0, c.1)),
+                    "{} ({})",
+                    with_ci(l.ste_um, l.ste_ci95_um, 3),
                     ste_source_text(l.ste_source)
                 ),
                 format!("{:.3}", l.rms_um),
@@ -172,6 +344,9 @@ pub fn write_munro_report(
         ],
         &rows,
     );
+    if let Some(g) = &r.geometry {
+        geometry_section(&mut page, data, r, g);
+    }
     if let Some(t) = &data.rig.source.truth {
         page.heading("Truth of the synthetic data (recorded in rig.toml, never read by the fit)");
         page.preformatted(&toml::to_string(t).unwrap_or_default());
@@ -179,7 +354,7 @@ pub fn write_munro_report(
     for l in &r.loads {
         let stem = format!("load_{:.0}", l.load_n);
         let mut series = vec![
-            Series::markers(format!("measured ({kind})"), l.measured.clone())
+            Series::markers(measured_label(data.rig.source.kind), l.measured.clone())
                 .with_color(0)
                 .with_marker(Marker::Square),
             Series::line(
@@ -193,6 +368,27 @@ pub fn write_munro_report(
             )
             .with_color(2),
         ];
+        let geo = r.geometry.as_ref().and_then(|g| {
+            g.loads
+                .iter()
+                .find(|x| crate::data::same_load(x.load_n, l.load_n))
+        });
+        if let Some(gl) = geo {
+            series.push(
+                Series::line(
+                    "geometry STE, speed up",
+                    gl.up.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+                )
+                .with_color(4),
+            );
+            series.push(
+                Series::dashed(
+                    "geometry STE, speed down",
+                    gl.down.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+                )
+                .with_color(5),
+            );
+        }
         if !l.all.is_empty() {
             series.push(
                 Series::markers(
@@ -214,14 +410,18 @@ pub fn write_munro_report(
                 }
             ),
             caption: Some(format!(
-                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
+                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz{}",
                 l.mean_force,
                 l.ste_amplitude,
                 l.ste_um,
                 ste_source_text(l.ste_source),
                 l.force_ratio,
                 r.zeta,
-                r.omega_n_hz
+                r.omega_n_hz,
+                geo.map_or(String::new(), |gl| format!(
+                    "; geometry: STE {:.2} µm, F_hat = {:.2}",
+                    gl.ste_um, gl.force_ratio
+                ))
             )),
             x_label: "speed (rpm)".into(),
             y_label: "pp dynamic transmission error (um)".into(),
@@ -231,7 +431,10 @@ pub fn write_munro_report(
         write_xy(&plot, &stage.path(&stem))?;
         let res = XyPlot {
             title: format!("Residuals at {} N ({kind} data)", l.load_n),
-            caption: Some("measured minus the nearer model branch (up or down)".into()),
+            caption: Some(format!(
+                "{} minus the nearer model branch (up or down)",
+                measured_label(data.rig.source.kind)
+            )),
             x_label: "speed (rpm)".into(),
             y_label: "residual (um)".into(),
             series: vec![Series::markers("residual", l.residuals.clone())],
@@ -258,7 +461,10 @@ pub fn write_munro_report(
 /// source; then the noise model and the fit's setting.
 fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
     let e = &r.fit.estimate;
-    let pair = |c: (f64, f64), d: usize| format!("[{:.d$}, {:.d$}]", c.0, c.1);
+    let pair = |c: (f64, f64), d: usize| {
+        let d = interval_digits(c.0, c.1, d);
+        format!("[{:.d$}, {:.d$}]", c.0, c.1)
+    };
     let design = format!(
         "design-load curve ({} N, {} points) with the other loads' low-speed parts, {} points in all",
         data.rig.rig.design_load_n, r.fit.design_points, e.n
@@ -289,6 +495,7 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
                     design.clone(),
                 ),
             };
+            let d = interval_digits(e.ci95[i].0, e.ci95[i].1, d);
             vec![
                 label,
                 format!("{v:.d$}"),
@@ -350,18 +557,24 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         if n.outliers.is_empty() { "none".to_string() } else { n.outliers.len().to_string() },
         if r.design_load_in_contact { "stay" } else { "do NOT stay (the linear fit model is then approximate)" },
         r.mesh_stiffness_n_per_um,
-        r.stiffness_source,
+        r.stiffness_source_text,
         r.half_backlash_um
     ));
 }
 
 fn fmt_ci(c: Option<&(Option<f64>, Option<f64>)>, digits: usize) -> String {
     match c {
-        Some((a, b)) => format!(
-            "[{}, {}]",
-            a.map_or("unbounded".to_string(), |v| format!("{v:.digits$}")),
-            b.map_or("unbounded".to_string(), |v| format!("{v:.digits$}"))
-        ),
+        Some((a, b)) => {
+            let digits = match (a, b) {
+                (Some(lo), Some(hi)) => interval_digits(*lo, *hi, digits),
+                _ => digits,
+            };
+            format!(
+                "[{}, {}]",
+                a.map_or("unbounded".to_string(), |v| format!("{v:.digits$}")),
+                b.map_or("unbounded".to_string(), |v| format!("{v:.digits$}"))
+            )
+        }
         None => "-".into(),
     }
 }
@@ -374,5 +587,6 @@ fn ste_source_text(s: crate::validate::SteSource) -> &'static str {
         SteSource::Fitted => "fitted with ζ and ωₙ",
         SteSource::LowSpeedFit => "fitted to the curve's low-speed part",
         SteSource::LowSpeedEnd => "from the lowest-speed point",
+        SteSource::Geometry => "first harmonic of the geometry's loaded STE",
     }
 }

@@ -4,7 +4,7 @@
 //! of another load from the low-speed part of its curve, with the model's own quasi-static
 //! amplification and the design load's noise model.
 
-use super::linear::{dte_pp_um, stays_in_contact};
+use super::linear::{dte_pp_um, dte_pp_um_harmonics, stays_in_contact};
 use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
 use crate::fit::{
@@ -255,6 +255,92 @@ pub fn fit_design_load(
         estimate,
         ci95_profile,
         other_loads,
+        design_points: design.len(),
+    })
+}
+
+/// The design-load fit of the geometry path (`validate munro --ste geometry`): zeta, omega_n
+/// and, when `relief.1` is true, the relief depth (um, started at `relief.0`) fitted to the
+/// design-load curve alone, its STE harmonics (order, e_j um, phi_j) given by `ste_at(depth)`
+/// (the tooth-contact model) and the pp DTE by the multi-harmonic form of eq. 13
+/// ([`dte_pp_um_harmonics`]). With `relief.1` false the depth is `relief.0` (the design rule's,
+/// or given) and only zeta and omega_n are fitted. Same engine, noise setting and starts as
+/// [`fit_design_load`] (three depths, 0.7, 1 and 1.4 times the start, when it is fitted).
+pub fn fit_design_geometry(
+    dim: &Dimensional,
+    design: &[&MunroPoint],
+    ste_at: &(dyn Fn(f64) -> Result<Vec<(u32, f64, f64)>> + Sync),
+    relief: (f64, bool),
+    noise: MunroNoise,
+    robust: Robust,
+) -> Result<DesignLoadFit> {
+    let peak = design
+        .iter()
+        .max_by(|a, b| a.dte_pp_um.total_cmp(&b.dte_pp_um))
+        .map(|p| dim.mesh_frequency_hz(p.speed_rpm))
+        .ok_or_else(|| GearError::Numerical("the design-load curve has no points".into()))?;
+    let (depth, fit_depth) = relief;
+    let mut params = vec![
+        Param::positive("zeta", 0.03),
+        Param::positive("omega_n_hz", peak),
+    ];
+    if fit_depth {
+        params.push(Param::positive("tip_relief_um", depth.max(1e-3)));
+    }
+    let mut starts = Vec::new();
+    let depths: &[f64] = if fit_depth { &[0.7, 1.0, 1.4] } else { &[1.0] };
+    for z in [0.01, 0.03, 0.08] {
+        for f in [0.9, 1.0, 1.1] {
+            for d in depths {
+                let mut s = vec![z, peak * f];
+                if fit_depth {
+                    s.push((depth * d).max(1e-3));
+                }
+                starts.push(s);
+            }
+        }
+    }
+    let fixed = if fit_depth {
+        None
+    } else {
+        Some(ste_at(depth)?)
+    };
+    let model = |p: &[f64]| -> Result<Vec<f64>> {
+        let ste = match &fixed {
+            Some(s) => s.clone(),
+            None => ste_at(p[2])?,
+        };
+        Ok(design
+            .iter()
+            .map(|pt| dte_pp_um_harmonics(&ste, p[0], dim.omega(pt.speed_rpm, p[1])))
+            .collect())
+    };
+    let curves = Curves {
+        dim,
+        design,
+        others: Vec::new(),
+        given_ste: None,
+    };
+    let y = curves.data();
+    let stop = Stop::converged(FIT_JACOBIANS).central();
+    let estimate = estimate(
+        &model,
+        &y,
+        &params,
+        &EstimateOptions {
+            noise: curves.noise(noise),
+            robust,
+            stop,
+            starts,
+        },
+    )?;
+    let ci95_profile = (0..params.len())
+        .map(|i| profile_interval(&model, &y, &estimate, i, stop))
+        .collect::<Result<Vec<_>>>()?;
+    Ok(DesignLoadFit {
+        estimate,
+        ci95_profile,
+        other_loads: Vec::new(),
         design_points: design.len(),
     })
 }

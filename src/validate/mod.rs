@@ -3,6 +3,7 @@
 
 mod curve_metrics;
 mod design_fit;
+mod geometry_ste;
 mod kubo;
 mod linear;
 mod munro;
@@ -12,11 +13,17 @@ mod synth;
 
 pub use curve_metrics::{jump_location, min_max, rms};
 pub use design_fit::{fit_design_load, DesignLoadFit, LOW_SPEED_OMEGA};
+pub use geometry_ste::{
+    GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
+};
 pub use kubo::{validate_kubo, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT};
-pub use linear::{dte_gain, dte_pp_um, load_factor_max, stays_in_contact};
+pub use linear::{
+    dte_gain, dte_pp_um, dte_pp_um_harmonics, load_factor_max, stays_in_contact,
+    stays_in_contact_harmonics,
+};
 pub use munro::{
-    fit_munro_design_load, validate_munro, LoadResult, ModelPoint, MunroOptions, MunroValidation,
-    SteSource,
+    fit_munro_design_load, validate_munro, GeometryValidation, LoadResult, ModelPoint,
+    MunroOptions, MunroValidation, SteMode, SteSource,
 };
 pub use noise::Rng;
 pub use study::{

@@ -2,16 +2,26 @@
 //! given) to the design-load pp DTE curve, where the teeth stay in contact and eq. 13 is exact,
 //! then predict pp DTE at the other loads by simulation with every branch (carried up, carried
 //! down, all attractors), and compare with the measurements.
+//!
+//! Two sources of the STE at the predicted loads ([`SteMode`]): read from each curve (its
+//! low-speed part, fitted jointly with the design load; the default), and, with
+//! `--ste geometry`, from the gear geometry and a tip relief ([`super::geometry_ste`]), with
+//! zeta, omega_n (and the relief depth when asked) fitted to the design-load curve alone. The
+//! geometry path is run beside the per-curve one, so that both are reported side by side.
 
 use super::curve_metrics::{jump_location, min_max, rms};
-use super::design_fit::{fit_design_load, DesignLoadFit, MunroNoise};
-use super::linear::stays_in_contact;
+use super::design_fit::{fit_design_geometry, fit_design_load, DesignLoadFit, MunroNoise};
+use super::geometry_ste::{
+    GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
+};
+use super::linear::{stays_in_contact, stays_in_contact_harmonics};
+use super::synth::flow_with_rtol;
 use crate::data::{MunroData, MunroPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel, Robust};
-use crate::model::{Dimensional, GearPair};
+use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
-use crate::sim::{find_attractors, sweep, Branch, ExactFlow, IcGrid, SteadyOptions, SweepPlan};
+use crate::sim::{find_attractors, sweep, Branch, IcGrid, SteadyOptions, SweepPlan};
 use rayon::prelude::*;
 use serde::Serialize;
 
@@ -26,7 +36,23 @@ pub struct MunroOptions {
     pub ic_per_axis: usize,
     /// Student-t errors for the design-load fit: off, on, or when the residuals say so.
     pub robust: Robust,
+    /// Where the STE at the predicted loads comes from.
+    pub ste: SteMode,
 }
+
+/// Where the STE at the predicted loads comes from.
+#[derive(Clone, Debug, PartialEq)]
+pub enum SteMode {
+    /// Read from each curve (its low-speed part, fitted jointly with the design load).
+    Curve,
+    /// As `Curve`, and beside it the geometry path: zeta, omega_n (and the relief when asked)
+    /// fitted at the design load alone, every other load predicted with the STE (and k(t) when
+    /// asked) of the tooth-contact model.
+    Geometry(GeometryOptions),
+}
+
+/// Relative tolerance of DOP853 when the geometry's k(t) varies (the exact solver otherwise).
+const RK_RTOL: f64 = 1e-8;
 
 impl Default for MunroOptions {
     fn default() -> Self {
@@ -35,6 +61,7 @@ impl Default for MunroOptions {
             attractor_speeds: 25,
             ic_per_axis: 7,
             robust: Robust::Auto,
+            ste: SteMode::Curve,
         }
     }
 }
@@ -53,6 +80,9 @@ pub enum SteSource {
     /// Half the pp DTE at the curve's lowest speed (quasi-static DTE equals STE), corrected by
     /// the fitted linear gain there: only when fewer than 3 low-speed points are in contact.
     LowSpeedEnd,
+    /// First harmonic of the loaded STE of the gear geometry with its tip relief
+    /// (`--ste geometry`).
+    Geometry,
 }
 
 /// A model curve point: speed, pp DTE in um, impact case (1, 2, 3).
@@ -117,9 +147,33 @@ pub struct MunroValidation {
     pub omega_n_hz: f64,
     pub half_backlash_um: f64,
     pub mesh_stiffness_n_per_um: f64,
-    pub stiffness_source: String,
+    /// Where k_h came from: a snake_case tag (`rig_toml`, `iso6336_estimate`).
+    pub stiffness_source: &'static str,
+    /// The same in words, with the estimate's numbers.
+    pub stiffness_source_text: String,
     /// The fitted linear model keeps the teeth in contact at the design load at every measured speed.
     pub design_load_in_contact: bool,
+    pub loads: Vec<LoadResult>,
+    /// The geometry path (`--ste geometry`), beside the per-curve one.
+    pub geometry: Option<GeometryValidation>,
+}
+
+/// The geometry path of `validate munro --ste geometry`: the design-load fit with the STE from
+/// the geometry, and every load predicted with the geometry's excitation.
+#[derive(Clone, Debug, Serialize)]
+pub struct GeometryValidation {
+    /// The engine's fit at the design load alone: zeta, omega_n_hz (and tip_relief_um).
+    pub fit: DesignLoadFit,
+    /// The relief used and how it was chosen; the model's harmonics and stiffness.
+    pub relief: GeometryFit,
+    pub zeta: f64,
+    pub omega_n_hz: f64,
+    /// The fitted model keeps the design load's teeth in contact at every measured speed
+    /// (triangle-inequality bound over the STE harmonics).
+    pub design_load_in_contact: bool,
+    /// The geometry's STE and stiffness per load, in the order of `loads`.
+    pub excitation: Vec<GeometryExcitation>,
+    /// Predictions and errors per load (the design load's is the fitted curve).
     pub loads: Vec<LoadResult>,
 }
 
@@ -222,32 +276,220 @@ pub fn validate_munro(
                 })
             };
             let r = ste.and_then(|(ste, ci, source)| {
-                predict_load(
-                    &dim,
-                    load,
-                    (ste, ci, source),
-                    fitted,
-                    &curve,
-                    zeta,
-                    wn,
-                    opts,
-                )
+                let exc = LoadExcitation {
+                    model: GearPair::paper(
+                        dim.mean_force(load),
+                        dim.ste_amplitude(ste),
+                        zeta,
+                        1.0,
+                    )?,
+                    omega_n_hz: wn,
+                    ste_um: ste,
+                    ste_ci95_um: ci,
+                    ste_source: source,
+                };
+                predict_load(&dim, load, &exc, fitted, &curve, opts)
             });
             progress.advance(1);
             r
         })
         .collect();
     progress.finish();
+    let loads = results.into_iter().collect::<Result<Vec<_>>>()?;
+    let geometry = match &opts.ste {
+        SteMode::Curve => None,
+        SteMode::Geometry(g) => Some(validate_geometry(data, g, opts, progress)?),
+    };
     Ok(MunroValidation {
         zeta,
         omega_n_hz: wn,
         half_backlash_um: dim.half_backlash_m * 1e6,
         mesh_stiffness_n_per_um: dim.mesh_stiffness_n_per_m * 1e-6,
-        stiffness_source: format!("{:?}", dim.stiffness_source),
+        stiffness_source: dim.stiffness_source.tag(),
+        stiffness_source_text: dim.stiffness_source.describe(),
         design_load_in_contact: design_in_contact,
+        loads,
+        geometry,
+        fit,
+    })
+}
+
+/// The geometry path: relief by `g.relief`, zeta and omega_n (and the depth) fitted to the
+/// design-load curve alone with the geometry's STE there, then every load predicted with the
+/// geometry's STE harmonics and, with [`StiffnessChoice::Geometry`], its k_h(F) and k(t)
+/// (see [`super::geometry_ste`] for the conventions).
+fn validate_geometry(
+    data: &MunroData,
+    g: &GeometryOptions,
+    opts: &MunroOptions,
+    progress: &dyn Progress,
+) -> Result<GeometryValidation> {
+    let rig = &data.rig.rig;
+    let dim = Dimensional::from_rig(rig)?;
+    let design = rig.design_load_n;
+    let curve = data.curve(design);
+    if curve.len() < 5 {
+        return Err(GearError::Data {
+            file: data.dir.join("rig.toml"),
+            line: 0,
+            field: "design_load_n".into(),
+            message: format!(
+                "the fit needs the design-load curve ({design} N) with at least 5 points; found {}",
+                curve.len()
+            ),
+        });
+    }
+    let mesh = GearMesh::new(rig, g)?;
+    let (start_um, fit_depth) = match g.relief {
+        ReliefRule::DesignRule => (mesh.design_rule_um(design)?, false),
+        ReliefRule::Given { amount_um } => (amount_um, false),
+        ReliefRule::Fit => (mesh.design_rule_um(design)?, true),
+    };
+    let harmonics = g.ste_harmonics;
+    let ste_at = |a: f64| -> Result<Vec<(u32, f64, f64)>> {
+        Ok(mesh.excitation(design, a)?.ste_terms_um(harmonics))
+    };
+    let fit = fit_design_geometry(
+        &dim,
+        &curve,
+        &ste_at,
+        (start_um, fit_depth),
+        noise_setting(data)?,
+        opts.robust,
+    )?;
+    let p = &fit.estimate.params;
+    let (zeta, wn) = (p[0], p[1]);
+    let relief_um = if fit_depth { p[2] } else { start_um };
+    let loads = data.loads();
+    let excitation = loads
+        .iter()
+        .map(|&l| mesh.excitation(l, relief_um))
+        .collect::<Result<Vec<_>>>()?;
+    let k_design = mesh
+        .excitation(design, relief_um)?
+        .mesh_stiffness_mean_n_per_um;
+    let design_exc = &excitation[loads
+        .iter()
+        .position(|l| crate::data::same_load(*l, design))
+        .unwrap_or(0)];
+    let design_terms: Vec<(u32, f64)> = design_exc
+        .ste_terms_um(harmonics)
+        .iter()
+        .map(|t| (t.0, dim.ste_amplitude(t.1)))
+        .collect();
+    let design_load_in_contact = curve.iter().all(|pt| {
+        stays_in_contact_harmonics(
+            dim.mean_force(design),
+            &design_terms,
+            zeta,
+            dim.omega(pt.speed_rpm, wn),
+        )
+    });
+    progress.start(loads.len() as u64, "loads (geometry)");
+    let results: Vec<Result<LoadResult>> = loads
+        .par_iter()
+        .zip(&excitation)
+        .map(|(&load, exc)| {
+            let fitted = crate::data::same_load(load, design);
+            let r = geometry_excitation(&dim, exc, g, zeta, wn, k_design)
+                .and_then(|e| predict_load(&dim, load, &e, fitted, &data.curve(load), opts));
+            progress.advance(1);
+            r
+        })
+        .collect();
+    progress.finish();
+    let mirror_relief_um = if fit_depth {
+        mesh.mirror_relief_um(design, relief_um)?
+    } else {
+        None
+    };
+    Ok(GeometryValidation {
+        relief: GeometryFit {
+            relief_rule: g.relief,
+            relief_um,
+            relief_um_ci95: fit_depth.then(|| fit.estimate.ci95[2]),
+            mirror_relief_um,
+            relief_length_mm: mesh.relief_length_mm(),
+            relief_shape: g.relief_shape,
+            ste_harmonics: harmonics,
+            stiffness: g.stiffness,
+        },
+        zeta,
+        omega_n_hz: wn,
+        design_load_in_contact,
+        excitation,
         loads: results.into_iter().collect::<Result<Vec<_>>>()?,
         fit,
     })
+}
+
+/// The model at one load from the geometry: F_ahj = e_j / b with phases phi_j; with the
+/// geometry's stiffness, F_m = F / (b k_h(F)), k(t) = 1 + sum eps_j cos(j W t + psi_j) and
+/// omega_n(F) = omega_n sqrt(k_h(F) / k_h(F_design)); else F_m = F / (b k_h) of the rig, k = 1.
+fn geometry_excitation(
+    dim: &Dimensional,
+    exc: &GeometryExcitation,
+    g: &GeometryOptions,
+    zeta: f64,
+    wn: f64,
+    k_design_n_per_um: f64,
+) -> Result<LoadExcitation> {
+    let n = g.ste_harmonics as usize;
+    let ste: Vec<Term> = exc
+        .harmonics
+        .iter()
+        .take(n)
+        .map(|h| Term {
+            order: h.order,
+            amplitude: dim.ste_amplitude(h.ste_amplitude_um),
+            phase: h.ste_phase_rad,
+        })
+        .collect();
+    let (mean_force, stiffness, omega_n_hz) = match g.stiffness {
+        StiffnessChoice::Constant => (dim.mean_force(exc.load_n), Vec::new(), wn),
+        StiffnessChoice::Geometry => {
+            let k = exc.mesh_stiffness_mean_n_per_um;
+            (
+                exc.load_n / (dim.half_backlash_m * k * 1e6),
+                exc.harmonics
+                    .iter()
+                    .take(n)
+                    .map(|h| Term {
+                        order: h.order,
+                        amplitude: h.stiffness_eps,
+                        phase: h.stiffness_phase_rad,
+                    })
+                    .collect(),
+                wn * (k / k_design_n_per_um).sqrt(),
+            )
+        }
+    };
+    let model = GearPair {
+        zeta,
+        mean_force,
+        omega: 1.0,
+        ste,
+        torque: Vec::new(),
+        stiffness,
+    }
+    .validated()?;
+    Ok(LoadExcitation {
+        model,
+        omega_n_hz,
+        ste_um: exc.ste_first_harmonic_um,
+        ste_ci95_um: None,
+        ste_source: SteSource::Geometry,
+    })
+}
+
+/// The model of one predicted load (at Omega = 1; the sweeps set Omega), its natural frequency,
+/// and the STE amplitude reported with it.
+struct LoadExcitation {
+    model: GearPair,
+    omega_n_hz: f64,
+    ste_um: f64,
+    ste_ci95_um: Option<(f64, f64)>,
+    ste_source: SteSource,
 }
 
 /// The noise setting of the design-load fit: per point when every point states its standard
@@ -279,20 +521,18 @@ fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
     }
 }
 
-#[allow(clippy::too_many_arguments)]
 fn predict_load(
     dim: &Dimensional,
     load: f64,
-    (ste_um, ste_ci95_um, ste_source): (f64, Option<(f64, f64)>, SteSource),
+    exc: &LoadExcitation,
     fitted: bool,
     curve: &[&MunroPoint],
-    zeta: f64,
-    wn: f64,
     opts: &MunroOptions,
 ) -> Result<LoadResult> {
-    let fm = dim.mean_force(load);
-    let fah = dim.ste_amplitude(ste_um);
-    let model = GearPair::paper(fm, fah, zeta, 1.0)?;
+    let model = &exc.model;
+    let (fm, wn) = (model.mean_force, exc.omega_n_hz);
+    let fah = model.ste.first().map_or(0.0, |t| t.amplitude);
+    let (ste_um, ste_ci95_um, ste_source) = (exc.ste_um, exc.ste_ci95_um, exc.ste_source);
     let measured: Vec<(f64, f64)> = curve.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect();
     let (lo, hi) = (measured[0].0, measured[measured.len() - 1].0);
     let n = opts.dense_points.max(2);
@@ -303,9 +543,7 @@ fn predict_load(
     speeds.sort_by(f64::total_cmp);
     speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
     let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, wn)).collect();
-    let factory = |m: &GearPair| -> Result<Box<dyn crate::sim::PeriodFlow>> {
-        Ok(Box::new(ExactFlow::new(m)?))
-    };
+    let factory = |m: &GearPair| flow_with_rtol(m, RK_RTOL);
     let opts_ss = SteadyOptions::default();
     let carried = |branch: Branch| -> Result<Vec<ModelPoint>> {
         let plan = SweepPlan {
@@ -315,18 +553,16 @@ fn predict_load(
             grid: IcGrid::new(-2.0, 2.0, 1)?,
             opts: opts_ss.clone(),
         };
-        Ok(
-            sweep(&factory, &model, &plan, &crate::progress::NoProgress)?
-                .iter()
-                .map(|p| ModelPoint {
-                    speed_rpm: dim.speed_rpm(p.omega, wn),
-                    dte_pp_um: dim.dte_um(p.steady.dte_pp),
-                    case: p.steady.impact.case(),
-                    period: p.steady.period,
-                    basin_fraction: None,
-                })
-                .collect(),
-        )
+        Ok(sweep(&factory, model, &plan, &crate::progress::NoProgress)?
+            .iter()
+            .map(|p| ModelPoint {
+                speed_rpm: dim.speed_rpm(p.omega, wn),
+                dte_pp_um: dim.dte_um(p.steady.dte_pp),
+                case: p.steady.impact.case(),
+                period: p.steady.period,
+                basin_fraction: None,
+            })
+            .collect())
     };
     let up = carried(Branch::Up)?;
     let down = carried(Branch::Down)?;
@@ -336,8 +572,8 @@ fn predict_load(
     for i in 0..k {
         let s = lo + (hi - lo) * i as f64 / (k - 1) as f64;
         let om = dim.omega(s, wn);
-        let flow = ExactFlow::new(&model.at_omega(om)?)?;
-        let map = find_attractors(&flow, &grid, &opts_ss, &crate::progress::NoProgress)?;
+        let flow = flow_with_rtol(&model.at_omega(om)?, RK_RTOL)?;
+        let map = find_attractors(flow.as_ref(), &grid, &opts_ss, &crate::progress::NoProgress)?;
         all.extend(map.attractors.iter().map(|a| ModelPoint {
             speed_rpm: s,
             dte_pp_um: dim.dte_um(a.steady.dte_pp),

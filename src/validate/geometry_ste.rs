@@ -1,0 +1,263 @@
+//! The excitation of `validate munro --ste geometry` (issue 24 item 5): the STE (and, when
+//! asked, the mesh stiffness k(t)) at every load from the gear geometry and a tip relief, by the
+//! tooth-contact model of [`crate::mesh`], in the model's terms.
+//!
+//! Amplitude convention: the model's F_ahj is the amplitude of the j-th harmonic of the STE
+//! over b (design.md section 1, eq. 20): e(t) - mean = sum_j e_j sin(j Omega_h t + phi_j),
+//! F_ahj = e_j / b, with e_j and phi_j from [`crate::mesh::mesh_harmonics`]. It is *not* half
+//! the STE peak-to-peak (`ste_half_pp_um` of `geardyn mesh`): for a non-sinusoidal STE the two
+//! differ (at Munro's design load with the designed relief, e_1 = 0.17 um while pp / 2 = 0.71
+//! um, the second harmonic being the larger). The per-curve path's `ste_um` is the same e_1
+//! (the amplitude of the one harmonic the paper's model has), so the two paths compare like
+//! with like.
+//!
+//! k(t) from the geometry: the loaded (tangent) mesh stiffness at each load gives k_h(F) (its
+//! mean over a mesh period) and k(t) / k_h(F) = 1 + sum_j eps_j cos(j Omega_h t + psi_j). Then
+//! F_m = F / (b k_h(F)) and omega_n(F) = omega_n sqrt(k_h(F) / k_h(F_design)), omega_n being
+//! the one fitted at the design load (the same mass, a different stiffness).
+
+use crate::data::{GearGeometry, Rig};
+use crate::error::{GearError, Result};
+use crate::mesh::{
+    design_relief, mesh_harmonics, GearPairGeometry, MeshHarmonic, MeshModel, ReliefShape,
+    TipRelief,
+};
+use serde::Serialize;
+
+/// How the tip relief of the geometry path is chosen.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum ReliefRule {
+    /// Sized for minimum STE peak-to-peak at the rig's design load (Harris's rule; Munro's gears
+    /// were modified "to minimise the STE at the design load", Kahraman & Singh 1990 Sec. 7),
+    /// by [`crate::mesh::design_relief`]. Not fitted.
+    DesignRule,
+    /// A given depth, um.
+    Given {
+        /// Relief depth at the tip along the line of action, um.
+        amount_um: f64,
+    },
+    /// Fitted to the design-load curve with zeta and omega_n, started at the design rule's
+    /// depth (its first-harmonic STE is what the curve sees; the STE has a minimum in the depth,
+    /// so a depth on the other side of it can fit equally: see [`GeometryFit::mirror_relief_um`]).
+    Fit,
+}
+
+/// Mesh stiffness of the geometry path's predictions.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum StiffnessChoice {
+    /// k(t) = 1 and k_h from rig.toml or ISO 6336-1, as the per-curve path (exact solver).
+    Constant,
+    /// k_h(F) and k(t) of the loaded geometry at each load (DOP853: slower, ~30 s).
+    Geometry,
+}
+
+/// Settings of the geometry path.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GeometryOptions {
+    /// The `[geometry]` table of rig.toml (defaults when absent).
+    pub geometry: GearGeometry,
+    /// How the relief depth is chosen.
+    pub relief: ReliefRule,
+    /// Relief length along the line of action, mm (None: Harris's long relief (eps_alpha - 1) p_b).
+    pub relief_length_mm: Option<f64>,
+    /// Linear or parabolic relief.
+    pub relief_shape: ReliefShape,
+    /// STE harmonics in the model (1: the paper's one-harmonic model, F_ah = e_1 / b).
+    pub ste_harmonics: u32,
+    /// Mesh stiffness of the predictions.
+    pub stiffness: StiffnessChoice,
+}
+
+impl GeometryOptions {
+    /// The default rule on a geometry: relief by the design rule, Harris's long linear relief,
+    /// one STE harmonic, constant stiffness.
+    pub fn design_rule(geometry: GearGeometry) -> Self {
+        GeometryOptions {
+            geometry,
+            relief: ReliefRule::DesignRule,
+            relief_length_mm: None,
+            relief_shape: ReliefShape::Linear,
+            ste_harmonics: 1,
+            stiffness: StiffnessChoice::Constant,
+        }
+    }
+}
+
+/// Mesh positions per period, and harmonic orders reported (those in the model are the first
+/// `ste_harmonics` of them).
+const SAMPLES: usize = 256;
+const REPORTED_ORDERS: u32 = 5;
+
+/// What the geometry gives at one load.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct GeometryExcitation {
+    /// Load, N.
+    pub load_n: f64,
+    /// STE peak-to-peak over a mesh period, um.
+    pub ste_pp_um: f64,
+    /// First-harmonic STE amplitude e_1, um (F_ah = e_1 / b).
+    pub ste_first_harmonic_um: f64,
+    /// Mean loaded mesh stiffness k_h(F), N/um.
+    pub mesh_stiffness_mean_n_per_um: f64,
+    /// Share of mesh positions where a pair within the path of contact carries no load.
+    pub contact_loss_fraction: f64,
+    /// STE and stiffness harmonics (model conventions), orders 1-5.
+    pub harmonics: Vec<MeshHarmonic>,
+}
+
+impl GeometryExcitation {
+    /// The first `n` STE harmonics as (order, e_j um, phi_j).
+    pub fn ste_terms_um(&self, n: u32) -> Vec<(u32, f64, f64)> {
+        self.harmonics
+            .iter()
+            .take(n as usize)
+            .map(|h| (h.order, h.ste_amplitude_um, h.ste_phase_rad))
+            .collect()
+    }
+}
+
+/// The tooth-contact model of a rig, with the relief's length and shape.
+#[derive(Clone, Debug)]
+pub struct GearMesh {
+    model: MeshModel,
+    template: TipRelief,
+}
+
+impl GearMesh {
+    /// The model of `rig` + `geometry` with the relief length and shape of `opts`.
+    pub fn new(rig: &Rig, opts: &GeometryOptions) -> Result<Self> {
+        let geo = GearPairGeometry::from_rig(rig, &opts.geometry)?;
+        let template = TipRelief {
+            amount_m: 0.0,
+            length_m: opts
+                .relief_length_mm
+                .map_or(TipRelief::long_length(&geo), |mm| mm * 1e-3),
+            shape: opts.relief_shape,
+        };
+        // A zero depth skips the length check; probe it with a non-zero one.
+        TipRelief {
+            amount_m: 1e-6,
+            ..template
+        }
+        .validate(&geo)?;
+        if !(1..=REPORTED_ORDERS).contains(&opts.ste_harmonics) {
+            return Err(GearError::param(
+                "ste_harmonics",
+                opts.ste_harmonics as f64,
+                "the geometry path takes 1 to 5 STE harmonics",
+            ));
+        }
+        Ok(GearMesh {
+            model: MeshModel::new(geo),
+            template,
+        })
+    }
+
+    /// The relief with depth `amount_um`.
+    pub fn relief(&self, amount_um: f64) -> TipRelief {
+        TipRelief {
+            amount_m: amount_um * 1e-6,
+            ..self.template
+        }
+    }
+
+    /// Relief length along the line of action, mm.
+    pub fn relief_length_mm(&self) -> f64 {
+        self.template.length_m * 1e3
+    }
+
+    /// The depth (um) with minimum STE peak-to-peak at `load_n` (Harris's rule).
+    pub fn design_rule_um(&self, load_n: f64) -> Result<f64> {
+        Ok(design_relief(&self.model, &self.template, load_n, SAMPLES)?
+            .0
+            .amount_m
+            * 1e6)
+    }
+
+    /// The STE and stiffness at `load_n` with a relief of depth `amount_um`.
+    pub fn excitation(&self, load_n: f64, amount_um: f64) -> Result<GeometryExcitation> {
+        let w = self
+            .model
+            .waveform(load_n, &self.relief(amount_um), SAMPLES)?;
+        let harmonics = mesh_harmonics(&w, REPORTED_ORDERS)?;
+        let lost = w
+            .pairs
+            .iter()
+            .filter(|p| p.iter().any(|q| q.load_n == 0.0))
+            .count();
+        Ok(GeometryExcitation {
+            load_n,
+            ste_pp_um: w.ste_pp_um(),
+            ste_first_harmonic_um: harmonics[0].ste_amplitude_um,
+            mesh_stiffness_mean_n_per_um: w.mean_stiffness_n_per_um(),
+            contact_loss_fraction: lost as f64 / w.pairs.len() as f64,
+            harmonics,
+        })
+    }
+
+    /// The depth on the other side of the minimum of e_1 at `load_n` that gives the same e_1 as
+    /// `amount_um` (None when there is none within 0 .. 3x the design rule's depth): a fitted
+    /// depth is determined only up to this mirror image.
+    pub fn mirror_relief_um(&self, load_n: f64, amount_um: f64) -> Result<Option<f64>> {
+        let e1 = |a: f64| -> Result<f64> { Ok(self.excitation(load_n, a)?.ste_first_harmonic_um) };
+        let target = e1(amount_um)?;
+        let top = 3.0 * self.design_rule_um(load_n)?.max(amount_um);
+        // The minimum of e_1 on a grid, then the crossing of `target` on the far side of it.
+        let grid: Vec<f64> = (0..=120).map(|i| top * i as f64 / 120.0).collect();
+        let vals = grid.iter().map(|&a| e1(a)).collect::<Result<Vec<_>>>()?;
+        let imin = (0..vals.len())
+            .min_by(|&i, &j| vals[i].total_cmp(&vals[j]))
+            .unwrap_or(0);
+        let far: Vec<usize> = if amount_um <= grid[imin] {
+            (imin..grid.len() - 1).collect()
+        } else {
+            (0..imin).rev().collect()
+        };
+        for i in far {
+            let (a, b) = if amount_um <= grid[imin] {
+                (i, i + 1)
+            } else {
+                (i + 1, i)
+            };
+            // Walking away from the minimum: a is the inner point, b the outer one.
+            if (vals[a] - target) * (vals[b] - target) <= 0.0 {
+                let (mut lo, mut hi) = (grid[a], grid[b]);
+                let f_lo = vals[a] - target;
+                for _ in 0..60 {
+                    let mid = 0.5 * (lo + hi);
+                    if (e1(mid)? - target) * f_lo > 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                return Ok(Some(0.5 * (lo + hi)));
+            }
+        }
+        Ok(None)
+    }
+}
+
+/// The fit of the geometry path at the design load, and the relief it implies.
+#[derive(Clone, Debug, Serialize)]
+pub struct GeometryFit {
+    /// How the relief was chosen.
+    pub relief_rule: ReliefRule,
+    /// The relief depth used, um.
+    pub relief_um: f64,
+    /// Its 95% interval when fitted (Fisher, on the log depth).
+    pub relief_um_ci95: Option<(f64, f64)>,
+    /// The depth on the other side of the STE minimum with the same design-load e_1 (fitted
+    /// relief only).
+    pub mirror_relief_um: Option<f64>,
+    /// Relief length along the line of action, mm.
+    pub relief_length_mm: f64,
+    /// Linear or parabolic.
+    pub relief_shape: ReliefShape,
+    /// STE harmonics in the model.
+    pub ste_harmonics: u32,
+    /// Mesh stiffness of the predictions.
+    pub stiffness: StiffnessChoice,
+}
