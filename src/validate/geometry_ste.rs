@@ -261,3 +261,93 @@ pub struct GeometryFit {
     /// Mesh stiffness of the predictions.
     pub stiffness: StiffnessChoice,
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::validate::munro_rig;
+
+    fn munro_mesh() -> GearMesh {
+        GearMesh::new(
+            &munro_rig(),
+            &GeometryOptions::design_rule(GearGeometry::default()),
+        )
+        .unwrap()
+    }
+
+    /// The model's F_ah is the first-harmonic amplitude e_1 of the loaded STE, found here
+    /// independently of `mesh_harmonics` by least squares of c + a sin(theta) + b cos(theta)
+    /// on the waveform (orthogonal on the uniform grid, so the normal equations are diagonal);
+    /// and it is not half the peak-to-peak: at the design load with the designed relief the
+    /// two differ by a factor of four (the second harmonic dominates), at 945 N by 12%.
+    #[test]
+    fn ste_amplitude_is_the_first_harmonic_not_half_the_peak_to_peak() {
+        let mesh = munro_mesh();
+        let relief = mesh.design_rule_um(3780.0).unwrap();
+        // Harris's rule on Munro's gears: 24.4 um (docs/mesh-geometry.md).
+        assert!((relief - 24.41).abs() < 0.05, "{relief}");
+        for (load, ratio_lo, ratio_hi) in [(3780.0, 3.0, 6.0), (945.0, 0.8, 0.95)] {
+            let exc = mesh.excitation(load, relief).unwrap();
+            let w = mesh
+                .model
+                .waveform(load, &mesh.relief(relief), SAMPLES)
+                .unwrap();
+            let n = w.ste_um.len() as f64;
+            let (mut s, mut c) = (0.0, 0.0);
+            for (i, e) in w.ste_um.iter().enumerate() {
+                let th = 2.0 * std::f64::consts::PI * i as f64 / n;
+                s += e * th.sin();
+                c += e * th.cos();
+            }
+            let e1 = (2.0 * s / n).hypot(2.0 * c / n);
+            assert!(
+                (exc.ste_first_harmonic_um - e1).abs() < 1e-9 * e1.max(1.0),
+                "{load} N: {} vs {e1}",
+                exc.ste_first_harmonic_um
+            );
+            let half_pp = exc.ste_pp_um / 2.0;
+            let r = half_pp / e1;
+            assert!(
+                (ratio_lo..ratio_hi).contains(&r),
+                "{load} N: pp/2 {half_pp} um over e_1 {e1} um = {r}"
+            );
+        }
+    }
+
+    /// With all five harmonics the quasi-static pp DTE of the model (Omega -> 0, where DTE =
+    /// STE) approaches the geometry's STE pp (the rest is the truncation at 5 harmonics); with
+    /// one harmonic it is 2 e_1.
+    #[test]
+    fn quasi_static_dte_of_the_harmonics_rebuilds_the_ste() {
+        use crate::validate::dte_pp_um_harmonics;
+        let mesh = munro_mesh();
+        let relief = mesh.design_rule_um(3780.0).unwrap();
+        for load in [945.0, 1890.0, 2835.0] {
+            let exc = mesh.excitation(load, relief).unwrap();
+            let all = dte_pp_um_harmonics(&exc.ste_terms_um(5), 0.02, 1e-4);
+            assert!(
+                (all - exc.ste_pp_um).abs() < 0.1 * exc.ste_pp_um,
+                "{load} N: 5 harmonics {all} um, STE pp {} um",
+                exc.ste_pp_um
+            );
+            let one = dte_pp_um_harmonics(&exc.ste_terms_um(1), 0.02, 1e-4);
+            assert!((one - 2.0 * exc.ste_first_harmonic_um).abs() < 1e-6);
+        }
+    }
+
+    /// A fitted depth has a mirror image across the minimum of e_1 with the same e_1.
+    #[test]
+    fn mirror_relief_gives_the_same_first_harmonic() {
+        let mesh = munro_mesh();
+        let a = 26.0;
+        let m = mesh.mirror_relief_um(3780.0, a).unwrap().unwrap();
+        assert!(m < a, "{m}");
+        let e = |x: f64| mesh.excitation(3780.0, x).unwrap().ste_first_harmonic_um;
+        assert!(
+            (e(m) - e(a)).abs() < 1e-6 * e(a).max(1e-3),
+            "{} {}",
+            e(m),
+            e(a)
+        );
+    }
+}
