@@ -24,7 +24,9 @@ fn geometry_options() -> MunroOptions {
     MunroOptions {
         attractor_speeds: 3,
         ic_per_axis: 3,
-        ste: SteMode::Geometry(GeometryOptions::design_rule(GearGeometry::default())),
+        ste: SteMode::Geometry(Box::new(GeometryOptions::design_rule(
+            GearGeometry::default(),
+        ))),
         ..MunroOptions::default()
     }
 }

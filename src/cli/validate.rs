@@ -113,7 +113,7 @@ impl MunroArgs {
             (Relief::Fit, None) => ReliefRule::Fit,
         };
         let (_, geometry) = load_rig_with_geometry(rig)?;
-        Ok(SteMode::Geometry(GeometryOptions {
+        Ok(SteMode::Geometry(Box::new(GeometryOptions {
             relief,
             relief_length_mm: self.relief_length_mm,
             relief_shape: match self.relief_shape {
@@ -126,7 +126,7 @@ impl MunroArgs {
                 Stiffness::Geometry => StiffnessChoice::Geometry,
             },
             ..GeometryOptions::design_rule(geometry)
-        }))
+        })))
     }
 }
 

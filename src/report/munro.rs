@@ -409,20 +409,23 @@ pub fn write_munro_report(
                     ", predicted"
                 }
             ),
-            caption: Some(format!(
-                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz{}",
-                l.mean_force,
-                l.ste_amplitude,
-                l.ste_um,
-                ste_source_text(l.ste_source),
-                l.force_ratio,
-                r.zeta,
-                r.omega_n_hz,
-                geo.map_or(String::new(), |gl| format!(
-                    "; geometry: STE {:.2} µm, F_hat = {:.2}",
-                    gl.ste_um, gl.force_ratio
-                ))
-            )),
+            caption: Some(match (geo, r.geometry.as_ref()) {
+                (Some(gl), Some(g)) => format!(
+                    "STE from the curve {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz | from the geometry {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz",
+                    l.ste_um, l.force_ratio, r.zeta, r.omega_n_hz,
+                    gl.ste_um, gl.force_ratio, g.zeta, g.omega_n_hz
+                ),
+                _ => format!(
+                    "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
+                    l.mean_force,
+                    l.ste_amplitude,
+                    l.ste_um,
+                    ste_source_text(l.ste_source),
+                    l.force_ratio,
+                    r.zeta,
+                    r.omega_n_hz
+                ),
+            }),
             x_label: "speed (rpm)".into(),
             y_label: "pp dynamic transmission error (um)".into(),
             series,

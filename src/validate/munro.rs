@@ -48,7 +48,7 @@ pub enum SteMode {
     /// As `Curve`, and beside it the geometry path: zeta, omega_n (and the relief when asked)
     /// fitted at the design load alone, every other load predicted with the STE (and k(t) when
     /// asked) of the tooth-contact model.
-    Geometry(GeometryOptions),
+    Geometry(Box<GeometryOptions>),
 }
 
 /// Relative tolerance of DOP853 when the geometry's k(t) varies (the exact solver otherwise).
