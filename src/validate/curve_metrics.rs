@@ -15,6 +15,30 @@ pub fn min_max(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
     })
 }
 
+/// Speed of the steepest transition of a curve (sorted by speed): the first step between
+/// consecutive points that exceeds `factor` times the median step and a quarter of the largest
+/// step; the midpoint speed is returned. A jump, or the steep flank of a resonance, alike: the
+/// "transition frequency" of Kubo's envelope (Fig. 23), whose heavily damped response rises
+/// steeply without hysteresis. [`jump_location`] is the stricter test for a jump.
+pub fn transition_location(curve: &[(f64, f64)], factor: f64) -> Option<f64> {
+    if curve.len() < 4 {
+        return None;
+    }
+    let steps: Vec<(f64, f64)> = curve
+        .windows(2)
+        .map(|w| (0.5 * (w[0].0 + w[1].0), (w[1].1 - w[0].1).abs()))
+        .collect();
+    let mut sizes: Vec<f64> = steps.iter().map(|s| s.1).collect();
+    sizes.sort_by(f64::total_cmp);
+    let median = sizes[sizes.len() / 2];
+    let biggest = sizes[sizes.len() - 1];
+    let threshold = (factor * median.max(1e-12)).max(0.25 * biggest);
+    steps
+        .iter()
+        .find(|s| s.1 > threshold && s.1 > factor * median.max(1e-12))
+        .map(|s| s.0)
+}
+
 /// Speed of the first jump of a curve (sorted by speed), the midpoint of the step; None when
 /// the curve has none. A step d_i = y_(i+1) - y_i is a jump when
 ///

@@ -11,7 +11,7 @@
 //! and, above the resonance, the describing-function solution has contact as the only steady
 //! state; refit until the selection repeats.
 
-use super::curve_metrics::{jump_location, rms};
+use super::curve_metrics::{rms, transition_location};
 use super::linear::load_factor_max;
 use crate::data::{KuboData, KuboPoint};
 use crate::error::{GearError, Result};
@@ -372,8 +372,8 @@ pub fn validate_kubo(
             )
         })
         .collect();
-    let jump_measured = jump_location(&mid, 6.0);
-    let jump_up = jump_location(&up.iter().map(|u| (u.0, u.1)).collect::<Vec<_>>(), 6.0);
+    let jump_measured = transition_location(&mid, 6.0);
+    let jump_up = transition_location(&up.iter().map(|u| (u.0, u.1)).collect::<Vec<_>>(), 6.0);
     Ok(KuboValidation {
         fit: fit_result,
         ci95_profile: profile,

@@ -11,7 +11,7 @@ mod noise;
 mod study;
 mod synth;
 
-pub use curve_metrics::{jump_location, min_max, rms};
+pub use curve_metrics::{jump_location, min_max, rms, transition_location};
 pub use design_fit::{fit_design_load, DesignLoadFit, LOW_SPEED_OMEGA};
 pub use geometry_ste::{
     GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
