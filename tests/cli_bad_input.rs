@@ -42,7 +42,7 @@ fn nan_parameters() {
         &[
             "simulate", "--fm", "NaN", "--fah", "0.2", "--zeta", "0.02", "--omega", "0.5",
         ],
-        "F_m",
+        "--fm",
     );
     fails_cleanly(
         &[
@@ -63,7 +63,7 @@ fn nan_parameters() {
             "--omega",
             "0.5",
         ],
-        "F_ah",
+        "--fah",
     );
 }
 

@@ -684,7 +684,7 @@ fn error_on_the_last_of_200k_rows_is_located() {
     for i in 0..rows - 1 {
         csv.push_str(&format!("3780,{},1.5\n", 1000 + i));
     }
-    csv.push_str("3780,999999999,abc\n");
+    csv.push_str("3780,999999,abc\n");
     let last_line = 2 + rows;
     munro_csv_error(
         &csv,

@@ -1,6 +1,7 @@
 //! `geardyn attractors`: every coexisting steady state from a grid of initial conditions.
 
-use super::common::{print_json, print_text, ModelArgs, SolverArgs};
+use super::common::{print_json, print_text, unsettled_warning, ModelArgs, SolverArgs};
+use super::limits::{real, OMEGA};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::sim::{find_attractors, IcGrid};
@@ -10,10 +11,10 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
     omega: f64,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis).
+    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
     #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]
@@ -29,6 +30,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let flow = a.solver.flow(&model)?;
     let opts = a.solver.options()?;
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
+    if let Some(u) = map.attractors.iter().find(|at| !at.steady.settled) {
+        eprintln!(
+            "{} ({:.1}% of the initial conditions)",
+            unsettled_warning(u.steady.transient_periods),
+            100.0 * u.basin_fraction
+        );
+    }
     if a.json {
         let list: Vec<_> = map
             .attractors
@@ -36,7 +44,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             .map(|at| {
                 let s = &at.steady;
                 json!({
-                    "period": s.period, "motion": s.motion, "impact": s.impact, "case": s.impact.case(),
+                    "period": s.period, "settled": s.settled, "motion": s.motion, "impact": s.impact, "case": s.impact.case(),
                     "qa": s.qa, "qm": s.qm, "q_min": s.q_min, "q_max": s.q_max, "dte_pp": s.dte_pp,
                     "dl_max": s.dl_max, "lyapunov": s.lyapunov, "floquet": s.floquet,
                     "basin_fraction": at.basin_fraction, "basin_count": at.basin_count,

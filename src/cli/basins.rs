@@ -1,6 +1,9 @@
 //! `geardyn basins`: the map of which steady state each initial condition reaches (Figs 3, 6, 14).
 
-use super::common::{print_text, write_text, ModelArgs, SolverArgs};
+use super::common::{
+    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, ModelArgs, SolverArgs,
+};
+use super::limits::{real, OMEGA};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::plot::{write_category_map, CategoryMap};
@@ -12,10 +15,10 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
     omega: f64,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis).
+    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
     #[arg(long, default_value = "-2:2:101", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]
@@ -26,6 +29,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
     let model = a.model.model(a.omega)?;
     let flow = a.solver.flow(&model)?;
@@ -75,7 +79,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .collect();
     let summary = json!({
         "attractors": map.attractors.iter().map(|at| json!({
-            "period": at.steady.period, "motion": at.steady.motion, "impact": at.steady.impact,
+            "period": at.steady.period, "settled": at.steady.settled, "motion": at.steady.motion, "impact": at.steady.impact,
             "qa": at.steady.qa, "qm": at.steady.qm, "basin_fraction": at.basin_fraction,
             "basin_count": at.basin_count, "example_ic": at.example_ic, "poincare": at.steady.poincare,
             "lyapunov": at.steady.lyapunov, "floquet": at.steady.floquet,
@@ -97,15 +101,25 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         cells: map.labels.iter().map(|&l| Some(l)).collect(),
         legend,
     };
-    // Everything is computed before the first file is written.
-    let mut written = write_category_map(&cat, &a.out.join("basins"))?;
-    write_text(&a.out.join("basins.csv"), &csv_text)?;
+    // Everything is computed before the first file is written, and staged.
+    let stage = stage("--out", &a.out)?;
+    let d = stage.dir().to_path_buf();
+    let mut written = write_category_map(&cat, &d.join("basins"))?;
+    write_text(&d.join("basins.csv"), &csv_text)?;
     write_text(
-        &a.out.join("attractors.json"),
+        &d.join("attractors.json"),
         &serde_json::to_string_pretty(&summary)?,
     )?;
-    written.push(a.out.join("basins.csv"));
-    written.push(a.out.join("attractors.json"));
+    written.push(d.join("basins.csv"));
+    written.push(d.join("attractors.json"));
+    let written = commit(stage, &written)?;
+    if let Some(u) = map.attractors.iter().find(|at| !at.steady.settled) {
+        eprintln!(
+            "{} ({:.1}% of the initial conditions)",
+            unsettled_warning(u.steady.transient_periods),
+            100.0 * u.basin_fraction
+        );
+    }
     let mut text = String::new();
     for line in &cat.legend {
         text.push_str(line);

@@ -12,11 +12,13 @@ use std::time::Instant;
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
-    /// Points per axis of the basin map (0 skips it).
-    #[arg(long, default_value_t = 201)]
+    /// Points per axis of the basin map, 0 to 501 (0 skips it).
+    #[arg(long, default_value_t = 201, allow_hyphen_values = true,
+          value_parser = super::limits::whole(0..=geardyn::sim::MAX_GRID_N))]
     basin_grid: usize,
-    /// Repetitions of the steady-state timing (the median is reported).
-    #[arg(long, default_value_t = 21)]
+    /// Repetitions of the steady-state timing (the median is reported), 1 to 1000.
+    #[arg(long, default_value_t = 21, allow_hyphen_values = true,
+          value_parser = super::limits::whole(1..=1000))]
     repeat: usize,
     /// Also time `discover` on a synthetic four-load set that needs refits (about a minute).
     #[arg(long)]

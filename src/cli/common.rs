@@ -1,22 +1,24 @@
 //! Options shared by several commands: the model parameters and the integrator choice.
 
+use super::limits::{check_range, real, whole, FAH, FM, OMEGA, RTOL, ZETA};
 use anyhow::Context;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::model::GearPair;
+use geardyn::report::Staged;
 use geardyn::sim::{ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 /// Parameters of eq. 5 (the paper's model).
 #[derive(ClapArgs, Debug, Clone)]
 pub struct ModelArgs {
-    /// Dimensionless mean load F_m.
-    #[arg(long = "fm", allow_hyphen_values = true)]
+    /// Dimensionless mean load F_m, in [0, 1e4].
+    #[arg(long = "fm", allow_hyphen_values = true, value_parser = real(FM.0, FM.1, false))]
     pub fm: f64,
-    /// Dimensionless STE amplitude F_ah (force ratio F_hat = F_m / F_ah).
-    #[arg(long = "fah", allow_hyphen_values = true)]
+    /// Dimensionless STE amplitude F_ah (force ratio F_hat = F_m / F_ah), in [0, 1e3].
+    #[arg(long = "fah", allow_hyphen_values = true, value_parser = real(FAH.0, FAH.1, false))]
     pub fah: f64,
-    /// Damping ratio zeta (0 < zeta < 1).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Damping ratio zeta, in [0.001, 0.9].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(ZETA.0, ZETA.1, false))]
     pub zeta: f64,
 }
 
@@ -29,18 +31,22 @@ impl ModelArgs {
 /// Integration and steady-state options.
 #[derive(ClapArgs, Debug, Clone)]
 pub struct SolverArgs {
-    /// Forcing periods skipped as transient (default chosen from zeta; ends early once settled).
-    #[arg(long)]
+    /// Forcing periods skipped as transient, 1 to 1000000 (default chosen from zeta; ends early
+    /// once settled).
+    #[arg(long, value_name = "N", allow_hyphen_values = true,
+          value_parser = whole(1..=geardyn::sim::MAX_TRANSIENT))]
     pub periods: Option<usize>,
-    /// Forcing periods analysed after the transient.
-    #[arg(long, default_value_t = 64)]
+    /// Forcing periods analysed after the transient, 1 to 100000.
+    #[arg(long, value_name = "M", default_value_t = 64, allow_hyphen_values = true,
+          value_parser = whole(1..=geardyn::sim::MAX_KEEP))]
     pub keep: usize,
     /// Integrator: the exact piecewise solution (k = 1) or the adaptive DOP853 with event location
     /// (any model; the independent cross-check).
     #[arg(long, value_enum, default_value_t = Integrator::Exact)]
     pub integrator: Integrator,
-    /// Relative tolerance of DOP853 (1e-10 gives Poincare points to ~1e-9).
-    #[arg(long, default_value_t = 1e-10)]
+    /// Relative tolerance of DOP853, in [1e-14, 0.01] (1e-10 gives Poincare points to ~1e-9).
+    #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true,
+          value_parser = real(RTOL.0, RTOL.1, false))]
     pub rtol: f64,
 }
 
@@ -85,7 +91,8 @@ impl SolverArgs {
     }
 }
 
-/// Parse START:STOP:STEP into the list of frequencies.
+/// Parse START:STOP:STEP into the list of frequencies (START and STOP in [0.001, 100], at
+/// most 100000 values).
 pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(':').collect();
     let num = |s: &str, what: &str| -> anyhow::Result<f64> {
@@ -95,18 +102,85 @@ pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
             )
         })
     };
+    let bounded = |s: &str, what: &str| -> anyhow::Result<f64> {
+        let v = num(s, what)?;
+        check_range(&format!("{flag} '{text}'"), what, v, OMEGA)?;
+        Ok(v)
+    };
     match parts.as_slice() {
         [one] => {
-            let w = num(one, "value")?;
+            let w = bounded(one, "value")?;
             Ok(geardyn::sim::frequency_range(w, w, 1.0)?)
         }
         [a, b, c] => Ok(geardyn::sim::frequency_range(
-            num(a, "START")?,
-            num(b, "STOP")?,
+            bounded(a, "START")?,
+            bounded(b, "STOP")?,
             num(c, "STEP")?,
         )?),
         _ => anyhow::bail!("{flag} '{text}': expected START:STOP:STEP, e.g. 0.3:1.5:0.01"),
     }
+}
+
+/// Check, before any work starts, that `dir` can be the output folder of option `flag`: not an
+/// existing file, and no file where one of its parent folders would be.
+pub fn check_out_dir(flag: &str, dir: &Path) -> anyhow::Result<()> {
+    let mut p = Some(dir);
+    while let Some(d) = p.filter(|d| !d.as_os_str().is_empty()) {
+        match std::fs::metadata(d) {
+            Ok(m) if m.is_dir() => return Ok(()),
+            Ok(_) if d == dir => anyhow::bail!(
+                "{flag} {}: a folder was expected, but this is a file",
+                dir.display()
+            ),
+            Ok(_) => anyhow::bail!(
+                "{flag} {}: a folder was expected, but {} is a file",
+                dir.display(),
+                d.display()
+            ),
+            Err(_) => p = d.parent(),
+        }
+    }
+    Ok(())
+}
+
+/// Check, before any work starts, that `file` can be the output file of option `flag`: not an
+/// existing folder, and its folder can be made.
+pub fn check_out_file(flag: &str, file: &Path) -> anyhow::Result<()> {
+    if file.is_dir() {
+        anyhow::bail!(
+            "{flag} {}: a file was expected, but this is a folder",
+            file.display()
+        );
+    }
+    match file.parent().filter(|p| !p.as_os_str().is_empty()) {
+        Some(parent) => check_out_dir(flag, parent),
+        None => Ok(()),
+    }
+}
+
+/// A staged output folder for option `flag` (checked with [`check_out_dir`]): files are written
+/// into it and reach `dir` only with [`Staged::commit_merge`], once everything succeeded.
+pub fn stage(flag: &str, dir: &Path) -> anyhow::Result<Staged> {
+    check_out_dir(flag, dir)?;
+    Ok(Staged::new(dir)?)
+}
+
+/// Commit a staged folder and return the final paths of the files written into it.
+pub fn commit(stage: Staged, written: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>> {
+    let paths = written.iter().map(|p| stage.final_path(p)).collect();
+    stage.commit_merge()?;
+    Ok(paths)
+}
+
+/// The warning printed for a steady state that did not settle within its transient budget.
+pub fn unsettled_warning(transient_periods: usize) -> String {
+    format!(
+        "WARNING: not settled: no periodic orbit was found and {transient_periods} transient \
+         periods were too few for the free decay to die out (zeta x time < {}); the motion is \
+         reported as unsettled, neither aperiodic nor chaotic. Give more --periods or a larger \
+         zeta.",
+        geardyn::sim::SETTLED_DECAY
+    )
 }
 
 /// Write a text file, creating its folder.
@@ -142,7 +216,16 @@ pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
             .parse::<f64>()
             .map_err(|_| format!("'{s}': {what} '{v}' is not a number"))
     };
-    Ok((num(l, "load")?, num(e, "STE amplitude")?))
+    let (load, ste) = (num(l, "load")?, num(e, "STE amplitude")?);
+    if !(load > 0.0 && load <= 1e8) {
+        return Err(format!("'{s}': load {load} N must be in (0, 1e8]"));
+    }
+    if !(ste > 0.0 && ste <= 1000.0) {
+        return Err(format!(
+            "'{s}': STE amplitude {ste} um must be in (0, 1000]"
+        ));
+    }
+    Ok((load, ste))
 }
 
 /// The measurement noise of generated sets: a family and its parameters.
@@ -153,17 +236,18 @@ pub struct NoiseArgs {
     /// 0.25 um grid).
     #[arg(long, default_value = "constant")]
     pub noise: String,
-    /// Noise floor (the standard deviation of the constant family), um.
-    #[arg(long, default_value_t = 0.15)]
+    /// Noise floor (the standard deviation of the constant family), um, in [0, 1000].
+    #[arg(long, default_value_t = 0.15, allow_hyphen_values = true,
+          value_parser = real(0.0, 1000.0, false))]
     pub noise_um: f64,
-    /// Relative part of the level-dependent families (default 0.03).
-    #[arg(long)]
+    /// Relative part of the level-dependent families, in [0, 0.99] (default 0.03).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 0.99, false))]
     pub noise_relative: Option<f64>,
-    /// Degrees of freedom of the student-t family (default 3).
-    #[arg(long)]
+    /// Degrees of freedom of the student-t family, in [1, 1000] (default 3).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(1.0, 1000.0, false))]
     pub noise_dof: Option<f64>,
-    /// Reading grid of the quantized family, um (default 0.25).
-    #[arg(long)]
+    /// Reading grid of the quantized family, um, in (0, 1000] (default 0.25).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     pub noise_quantum_um: Option<f64>,
 }
 

@@ -1,7 +1,8 @@
 //! `geardyn compare`: harmonic balance and simulation overlaid for the same parameters
 //! (Figs 11-13), with where each method finds steady states the other misses.
 
-use super::common::{parse_range, print_json, write_text, ModelArgs};
+use super::common::{check_out_dir, commit, parse_range, print_json, stage, write_text, ModelArgs};
+use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::compare::{compare, compare_panels, CompareSettings};
@@ -13,17 +14,20 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequency range START:STOP:STEP.
+    /// Frequency range START:STOP:STEP (START, STOP in [0.001, 100]; at most 100000 values).
     #[arg(long, allow_hyphen_values = true)]
     omega: String,
-    /// Grid of initial conditions of the all-attractor search: LO:HI:N.
+    /// Grid of initial conditions of the all-attractor search: LO:HI:N (at most 501 per axis,
+    /// and at most 2000000 initial conditions over all frequencies).
     #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
     ic_grid: String,
-    /// Harmonics H of the AFT ansatz.
-    #[arg(long, default_value_t = 15)]
+    /// Harmonics H of the AFT ansatz, 1 to 128.
+    #[arg(long, default_value_t = 15, allow_hyphen_values = true,
+          value_parser = whole(1..=geardyn::hb::MAX_HARMONICS))]
     harmonics: usize,
-    /// Relative q_a tolerance of a match between the methods (0.01 = 1%).
-    #[arg(long, default_value_t = 0.01)]
+    /// Relative q_a tolerance of a match between the methods (0.01 = 1%), in (0, 1].
+    #[arg(long, default_value_t = 0.01, allow_hyphen_values = true,
+          value_parser = real(0.0, 1.0, true))]
     tolerance: f64,
     /// Print the JSON report instead of the CSV of all points on standard output.
     #[arg(long)]
@@ -34,6 +38,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let settings = CompareSettings {
         fm: a.model.fm,
         fah: a.model.fah,
@@ -43,21 +48,34 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         harmonics: a.harmonics,
         tolerance: a.tolerance,
     };
+    a.model.model(settings.omegas[0])?;
+    let ics = settings.omegas.len() * settings.grid.n * settings.grid.n;
+    if ics > 2_000_000 {
+        anyhow::bail!(
+            "--omega '{}' and --ic-grid '{}' make {ics} initial conditions: at most 2000000; use \
+             fewer frequencies or a coarser grid",
+            a.omega,
+            a.ic_grid
+        );
+    }
     let c = compare(&settings, &Bar::new())?;
     let csv = c.csv()?;
     let json = c.json();
+    let stage = stage("--out", &a.out)?;
+    let d = stage.dir().to_path_buf();
     let mut written = write_panels(
         "Harmonic balance vs digital simulation",
         &compare_panels(&c),
         2,
-        &a.out.join("compare"),
+        &d.join("compare"),
     )?;
-    write_text(&a.out.join("compare.csv"), &csv)?;
+    write_text(&d.join("compare.csv"), &csv)?;
     write_text(
-        &a.out.join("compare.json"),
+        &d.join("compare.json"),
         &format!("{}\n", serde_json::to_string_pretty(&json)?),
     )?;
-    written.extend([a.out.join("compare.csv"), a.out.join("compare.json")]);
+    written.extend([d.join("compare.csv"), d.join("compare.json")]);
+    let written = commit(stage, &written)?;
     if a.json {
         print_json(&json)?;
     } else {

@@ -1,7 +1,8 @@
 //! `geardyn digitize`: a curve of one colour in a figure image (PNG) becomes a CSV data set.
 
-use super::common::{print_text, write_text};
+use super::common::{check_out_file, commit, print_text, stage, write_text};
 use super::digitize_parse::{check_stem, columns, constants, number, numbers, pixel};
+use super::limits::real;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::digitize::{
@@ -30,8 +31,8 @@ pub struct Args {
     /// Colour of the curve, RRGGBB in hexadecimal.
     #[arg(long, alias = "colour")]
     color: String,
-    /// Largest RGB distance from --color that still counts as the curve.
-    #[arg(long, default_value_t = 60.0)]
+    /// Largest RGB distance from --color that still counts as the curve, in [0, 442].
+    #[arg(long, default_value_t = 60.0, allow_hyphen_values = true, value_parser = real(0.0, 442.0, false))]
     tolerance: f64,
     /// line: one point per pixel column; markers: one point per blob (marker) of the colour.
     #[arg(long, value_enum, default_value_t = CliMode::Line)]
@@ -72,6 +73,10 @@ enum CliMode {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_file("--out", &a.out)?;
+    if a.out.file_name().is_none() {
+        bail!("--out {}: a CSV file name was expected", a.out.display());
+    }
     let calibration = |flag: &str, text: &str, log: bool| -> anyhow::Result<AxisCalibration> {
         let [p1, v1, p2, v2] = numbers::<4>(flag, text, "PX1:VAL1:PX2:VAL2")?;
         AxisCalibration::new(p1, v1, p2, v2, log).with_context(|| format!("{flag} '{text}'"))
@@ -162,16 +167,20 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         (img.width, img.height),
         mode_text,
     );
-    // Everything is computed before the first file is written; a failed CSV write removes the
-    // check plot again so that no partial output is left.
-    let mut written = write_xy(&plot, &check_stem(&a.out))?;
-    if let Err(e) = write_text(&a.out, &csv_text) {
-        for f in &written {
-            let _ = std::fs::remove_file(f);
-        }
-        return Err(e);
-    }
-    written.insert(0, a.out.clone());
+    // Everything is computed before the first file is written; the CSV and its check plot are
+    // staged beside the output folder and moved into it together.
+    let folder = a
+        .out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = a.out.file_name().unwrap_or_default();
+    let stage = stage("--out", folder)?;
+    let staged_out = stage.dir().join(file_name);
+    let mut written = write_xy(&plot, &check_stem(&staged_out))?;
+    write_text(&staged_out, &csv_text)?;
+    written.insert(0, staged_out);
+    let written = commit(stage, &written)?;
     let mut text = format!(
         "extracted {} points from {} (colour {color}, tolerance {}, mode {mode_text})\n",
         points.len(),

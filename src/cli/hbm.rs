@@ -1,6 +1,7 @@
 //! `geardyn hbm`: harmonic-balance frequency response, every solution at each Omega (Sec. 4).
 
-use super::common::{parse_range, print_text, write_text, ModelArgs};
+use super::common::{check_out_dir, commit, parse_range, print_text, stage, write_text, ModelArgs};
+use super::limits::whole;
 use super::progress_bar::Bar;
 use super::response_plot::{write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
@@ -13,19 +14,21 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequency range START:STOP:STEP.
+    /// Frequency range START:STOP:STEP (START, STOP in [0.001, 100]; at most 100000 values).
     #[arg(long, allow_hyphen_values = true)]
     omega: String,
     /// df-exact: describing functions of eq. 8 (exact g, h); df-truncated: the paper's two-term
     /// series of eq. 9 with per-case formulas (eq. 12-19).
     #[arg(long, value_enum, default_value_t = Method::DfExact)]
     method: Method,
-    /// Harmonics of the AFT ansatz (--method aft).
-    #[arg(long, default_value_t = 15)]
+    /// Harmonics of the AFT ansatz (--method aft), 1 to 128 (time grows about as H^2.8).
+    #[arg(long, default_value_t = 15, allow_hyphen_values = true,
+          value_parser = whole(1..=geardyn::hb::MAX_HARMONICS))]
     harmonics: usize,
-    /// Subharmonic order nu of the AFT ansatz (period-nu orbits).
-    #[arg(long, default_value_t = 1)]
-    subharmonic: u32,
+    /// Subharmonic order nu of the AFT ansatz (period-nu orbits), 1 to 32.
+    #[arg(long, default_value_t = 1, allow_hyphen_values = true,
+          value_parser = whole(1..=geardyn::sim::MAX_PERIOD as usize))]
+    subharmonic: usize,
     /// Output format on standard output.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -48,7 +51,10 @@ enum Format {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let omegas = parse_range("--omega", &a.omega)?;
+    // Every method gets the model's checks (F_m, F_ah, zeta) before any work.
+    a.model.model(omegas[0])?;
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
         "omega",
@@ -99,7 +105,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let model = a.model.model(omegas[0])?;
             let opts = AftOptions {
                 harmonics: a.harmonics,
-                subharmonic: a.subharmonic,
+                subharmonic: a.subharmonic as u32,
                 ..AftOptions::default()
             };
             let last = omegas[omegas.len() - 1];
@@ -149,14 +155,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         fmt(t1),
         fmt(t2)
     );
+    let stage = stage("--out", &a.out)?;
+    let d = stage.dir().to_path_buf();
     let mut written = write_response_plot(
         &rows,
         "Frequency response (harmonic balance)",
         &caption,
-        &a.out.join("hbm"),
+        &d.join("hbm"),
     )?;
-    write_text(&a.out.join("hbm.csv"), &csv_text)?;
-    written.push(a.out.join("hbm.csv"));
+    write_text(&d.join("hbm.csv"), &csv_text)?;
+    written.push(d.join("hbm.csv"));
+    let written = commit(stage, &written)?;
     print_text(&csv_text)?;
     for p in written {
         eprintln!("wrote {}", p.display());

@@ -1,7 +1,8 @@
 //! `geardyn mesh`: STE and mesh stiffness from the gear geometry (issue 24): waveforms,
 //! harmonics and the Harris map as CSV, PNG and SVG, and a JSON summary.
 
-use super::common::print_text;
+use super::common::{check_out_dir, print_text};
+use super::limits::{real, whole};
 use anyhow::Context;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::data::load_rig_with_geometry;
@@ -20,25 +21,26 @@ pub struct Args {
     /// Loads in newtons: START:STOP:STEP, or one value.
     #[arg(long = "load-n", allow_hyphen_values = true)]
     load_n: String,
-    /// Tip relief depth in um on both gears (0: none).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Tip relief depth in um on both gears (0: none), in [0, 1000].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, false))]
     tip_relief_um: Option<f64>,
-    /// Size the tip relief depth for minimum STE peak-to-peak at this load (Harris's rule), N.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Size the tip relief depth for minimum STE peak-to-peak at this load (Harris's rule), N,
+    /// in (0, 1e8].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e8, true))]
     tip_relief_design_load_n: Option<f64>,
-    /// Relief length along the line of action, mm (default: Harris's long relief, the
-    /// double-contact stretch (eps_alpha - 1) p_b).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Relief length along the line of action, mm, in (0, 1000] (default: Harris's long
+    /// relief, the double-contact stretch (eps_alpha - 1) p_b).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     relief_length_mm: Option<f64>,
     /// Relief shape.
     #[arg(long, value_enum, default_value_t = Shape::Linear)]
     relief_shape: Shape,
-    /// Mesh positions per mesh period.
-    #[arg(long, default_value_t = 256)]
+    /// Mesh positions per mesh period, 16 to 16384.
+    #[arg(long, default_value_t = 256, allow_hyphen_values = true, value_parser = whole(16..=16_384))]
     samples: usize,
-    /// Harmonic orders reported.
-    #[arg(long, default_value_t = 5)]
-    harmonics: u32,
+    /// Harmonic orders reported, 1 to 64 (and below half of --samples).
+    #[arg(long, default_value_t = 5, allow_hyphen_values = true, value_parser = whole(1..=64))]
+    harmonics: usize,
     /// Print the JSON summary on standard output (otherwise a short table).
     #[arg(long)]
     json: bool,
@@ -87,6 +89,7 @@ fn parse_loads(text: &str) -> anyhow::Result<Vec<f64>> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let loads = parse_loads(&a.load_n)?;
     let shape = match a.relief_shape {
         Shape::Linear => ReliefShape::Linear,
@@ -120,7 +123,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         loads_n: loads,
         relief,
         samples: a.samples,
-        harmonics: a.harmonics,
+        harmonics: a.harmonics as u32,
         harris_loads_n: harris_loads,
     };
     let r = analyse(rig, &geometry, &opts)

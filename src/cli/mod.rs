@@ -10,6 +10,7 @@ mod digitize_parse;
 mod discover;
 mod discover_study;
 mod hbm;
+mod limits;
 mod mesh;
 mod progress_bar;
 mod reproduce;
@@ -73,6 +74,40 @@ enum Command {
     /// Every figure of the paper (PNG + SVG) and a claim-by-claim reproduction report
     /// (REPRODUCTION.md, index.html, claims.json, claims.csv).
     Reproduce(reproduce::Args),
+}
+
+/// Parse the command line. Negative numbers are values everywhere (`--periods -5` reaches the
+/// range check of `--periods` instead of clap's "unexpected argument").
+pub fn parse() -> Cli {
+    use clap::{CommandFactory, FromArgMatches};
+    let matches = allow_negative_numbers(Cli::command()).get_matches();
+    Cli::from_arg_matches(&matches).unwrap_or_else(|e| e.exit())
+}
+
+fn allow_negative_numbers(cmd: clap::Command) -> clap::Command {
+    let names: Vec<String> = cmd
+        .get_subcommands()
+        .map(|c| c.get_name().to_string())
+        .collect();
+    let mut cmd = cmd.allow_negative_numbers(true);
+    for n in names {
+        cmd = cmd.mut_subcommand(n, allow_negative_numbers);
+    }
+    cmd
+}
+
+/// The error and its causes on one line, each text once: a cause whose text is already part of
+/// the message (an I/O error shown by its wrapper) is not repeated.
+pub fn error_text(e: &anyhow::Error) -> String {
+    let mut text = e.to_string();
+    for cause in e.chain().skip(1) {
+        let t = cause.to_string();
+        if !text.contains(&t) {
+            text.push_str(": ");
+            text.push_str(&t);
+        }
+    }
+    text
 }
 
 /// Run the parsed command.

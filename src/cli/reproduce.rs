@@ -1,6 +1,6 @@
 //! `geardyn reproduce`: every figure of the paper and the claim-by-claim reproduction report.
 
-use super::common::print_text;
+use super::common::{check_out_dir, commit, print_text, stage};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::reproduce::{
@@ -23,6 +23,7 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let opts = ReproduceOptions {
         resolution: if a.quick {
             Resolution::quick()
@@ -32,7 +33,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         data_dir: a.data,
     };
     let r = reproduce(&opts, &Bar::new())?;
-    let written = write_reproduction(&r, &a.out)?;
+    // Staged: a failure while writing leaves the output folder as it was.
+    let stage = stage("--out", &a.out)?;
+    let written = write_reproduction(&r, stage.dir())?;
+    let written = commit(stage, &written)?;
     let mut text = format!("{} claims: ", r.claims.len());
     text.push_str(
         &verdict_counts(&r.claims)

@@ -1,6 +1,7 @@
 //! `geardyn simulate`: the steady state from one initial condition.
 
-use super::common::{print_json, print_text, ModelArgs, SolverArgs};
+use super::common::{check_out_dir, print_json, print_text, ModelArgs, SolverArgs};
+use super::limits::{real, OMEGA, STATE};
 use clap::Args as ClapArgs;
 use geardyn::sim::steady_state;
 use serde_json::json;
@@ -9,14 +10,16 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h = Omega_bar_h / omega_n.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Mesh (excitation) frequency Omega_h = Omega_bar_h / omega_n, in [0.001, 100].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
     omega: f64,
-    /// Initial displacement q(0).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Initial displacement q(0), in [-1e6, 1e6].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true,
+          value_parser = real(-STATE, STATE, false))]
     q0: f64,
-    /// Initial velocity q'(0).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Initial velocity q'(0), in [-1e6, 1e6].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true,
+          value_parser = real(-STATE, STATE, false))]
     v0: f64,
     #[command(flatten)]
     solver: SolverArgs,
@@ -32,6 +35,9 @@ pub struct Args {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    if let Some(dir) = &a.out {
+        check_out_dir("--out", dir)?;
+    }
     let model = a.model.model(a.omega)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
@@ -50,9 +56,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     for p in &written {
         eprintln!("wrote {}", p.display());
     }
+    if !s.settled {
+        eprintln!("{}", super::common::unsettled_warning(s.transient_periods));
+    }
     if a.json {
         print_json(&json!({
             "period": s.period,
+            "settled": s.settled,
             "motion": s.motion,
             "impact": s.impact,
             "case": s.impact.case(),

@@ -1,6 +1,7 @@
 //! `geardyn study NAME`: the paper's parametric and excitation studies (Figs 15-18, 24-29).
 
-use super::common::print_json;
+use super::common::{check_out_dir, commit, print_json, stage};
+use super::limits::whole;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::study::{run_study, write_outputs, StudyName, StudyOptions};
 use std::path::PathBuf;
@@ -10,8 +11,9 @@ pub struct Args {
     /// Which study.
     #[arg(value_enum)]
     name: Name,
-    /// Frequencies of the Omega grid (default: 281 for the df studies, 141 otherwise).
-    #[arg(long)]
+    /// Frequencies of the Omega grid, 2 to 2001 (default: 281 for the df studies, 141
+    /// otherwise).
+    #[arg(long, allow_hyphen_values = true, value_parser = whole(2..=geardyn::study::MAX_POINTS))]
     points: Option<usize>,
     /// Folder for the figures (PNG + SVG), NAME.csv and NAME.json.
     #[arg(long, default_value = "reports/study")]
@@ -51,9 +53,11 @@ impl From<Name> for StudyName {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let out = run_study(a.name.into(), &StudyOptions { points: a.points })?;
-    let dir = a.out.join(&out.name);
-    let written = write_outputs(&out, &dir)?;
+    let stage = stage("--out", &a.out.join(&out.name))?;
+    let written = write_outputs(&out, stage.dir())?;
+    let written = commit(stage, &written)?;
     print_json(&out.summary)?;
     for p in written {
         eprintln!("wrote {}", p.display());

@@ -1,6 +1,7 @@
 //! `geardyn sweep`: steady states over a frequency range (carried up/down, or all attractors).
 
-use super::common::{parse_range, print_text, ModelArgs, SolverArgs};
+use super::common::{check_out_dir, commit, parse_range, print_text, stage, ModelArgs, SolverArgs};
+use super::limits::{real, STATE};
 use super::progress_bar::Bar;
 use super::response_plot::{sweep_csv, write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
@@ -11,21 +12,23 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequency range START:STOP:STEP.
+    /// Frequency range START:STOP:STEP (START, STOP in [0.001, 100]; at most 100000 values).
     #[arg(long, allow_hyphen_values = true)]
     omega: String,
     /// up / down carry the last steady state (Fig. 13); all searches the IC grid at each Omega;
     /// both runs up then down.
     #[arg(long, value_enum, default_value_t = Direction::Up)]
     direction: Direction,
-    /// Grid of initial conditions for --direction all: LO:HI:N.
+    /// Grid of initial conditions for --direction all: LO:HI:N (at most 501 per axis, and at
+    /// most 2000000 initial conditions over all frequencies).
     #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
     ic_grid: String,
-    /// Initial q of a carried sweep (default: static equilibrium 1 + F_m).
-    #[arg(long, allow_hyphen_values = true)]
+    /// Initial q of a carried sweep, in [-1e6, 1e6] (default: static equilibrium 1 + F_m).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(-STATE, STATE, false))]
     q0: Option<f64>,
-    /// Initial q' of a carried sweep.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Initial q' of a carried sweep, in [-1e6, 1e6].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true,
+          value_parser = real(-STATE, STATE, false))]
     v0: f64,
     #[command(flatten)]
     solver: SolverArgs,
@@ -36,6 +39,10 @@ pub struct Args {
     #[arg(long, default_value = "reports/sweep")]
     out: PathBuf,
 }
+
+/// Largest number of initial conditions a `--direction all` sweep integrates (frequencies
+/// times grid points): about 10 minutes on two cores where the motion is periodic.
+const MAX_ALL_ICS: usize = 2_000_000;
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 enum Direction {
@@ -51,8 +58,21 @@ enum Format {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let omegas = parse_range("--omega", &a.omega)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
+    if a.direction == Direction::All && omegas.len() * grid.n * grid.n > MAX_ALL_ICS {
+        anyhow::bail!(
+            "--direction all with --omega '{}' ({} frequencies) and --ic-grid '{}' ({} initial \
+             conditions each) integrates {} initial conditions: at most {MAX_ALL_ICS}; use \
+             fewer frequencies or a coarser grid",
+            a.omega,
+            omegas.len(),
+            a.ic_grid,
+            grid.n * grid.n,
+            omegas.len() * grid.n * grid.n
+        );
+    }
     let model = a.model.model(omegas[0])?;
     let opts = a.solver.options()?;
     let factory = a.solver.factory();
@@ -83,13 +103,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         a.solver.integrator_name()
     );
     let rows: Vec<ResponseRow> = points.iter().map(ResponseRow::from).collect();
-    let written = write_response_plot(
+    let stage = stage("--out", &a.out)?;
+    let d = stage.dir().to_path_buf();
+    let mut written = write_response_plot(
         &rows,
         "Frequency response (digital simulation)",
         &caption,
-        &a.out.join("sweep"),
+        &d.join("sweep"),
     )?;
-    super::common::write_text(&a.out.join("sweep.csv"), &csv)?;
+    super::common::write_text(&d.join("sweep.csv"), &csv)?;
+    written.push(d.join("sweep.csv"));
+    let written = commit(stage, &written)?;
     print_text(&csv)?;
     for p in written {
         eprintln!("wrote {}", p.display());

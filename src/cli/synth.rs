@@ -1,6 +1,7 @@
 //! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
 
-use super::common::{parse_load_ste, print_text, NoiseArgs};
+use super::common::{check_out_dir, commit, parse_load_ste, print_text, stage, NoiseArgs};
+use super::limits::real;
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand};
 use geardyn::validate::{synth_kubo, synth_munro, HiddenEffects, KuboTruth, MunroTruth};
@@ -22,41 +23,41 @@ enum Which {
 
 #[derive(ClapArgs, Debug)]
 struct Hidden {
-    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Omega t + psi)).
-    #[arg(long, default_value_t = 0.0)]
+    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Omega t + psi)), in [0, 0.9].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 0.9, false))]
     stiffness_eps: f64,
-    /// Phase psi of the hidden stiffness variation (rad).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Phase psi of the hidden stiffness variation (rad), in [-100, 100].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     stiffness_phase: f64,
-    /// Hidden second STE harmonic as a fraction of the first.
-    #[arg(long, default_value_t = 0.0)]
+    /// Hidden second STE harmonic as a fraction of the first, in [0, 10].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     ste2_ratio: f64,
-    /// Phase of the hidden second STE harmonic (rad).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Phase of the hidden second STE harmonic (rad), in [-100, 100].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     ste2_phase: f64,
-    /// Hidden third STE harmonic as a fraction of the first.
-    #[arg(long, default_value_t = 0.0)]
+    /// Hidden third STE harmonic as a fraction of the first, in [0, 10].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     ste3_ratio: f64,
-    /// Phase of the hidden third STE harmonic (rad).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Phase of the hidden third STE harmonic (rad), in [-100, 100].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     ste3_phase: f64,
-    /// Hidden load-dependent damping: zeta (W / W_design)^gamma, this gamma (Munro only).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Hidden load-dependent damping: zeta (W / W_design)^gamma, this gamma (Munro only), in [-10, 10].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-10.0, 10.0, false))]
     damping_exponent: f64,
-    /// Hidden true half backlash over the stated one (Munro only; 1 = none).
-    #[arg(long, default_value_t = 1.0)]
+    /// Hidden true half backlash over the stated one (Munro only; 1 = none), in [0.01, 100].
+    #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = real(0.01, 100.0, false))]
     backlash_factor: f64,
-    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (Munro only).
-    #[arg(long, default_value_t = 0.0)]
+    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (Munro only), in [0, 10].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     torque_ripple_ratio: f64,
-    /// Phase of the hidden torque ripple (rad).
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    /// Phase of the hidden torque ripple (rad), in [-100, 100].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     torque_ripple_phase: f64,
-    /// Out-of-library effect: a measuring-chain resonance at this mesh frequency, Hz (Munro only).
-    #[arg(long, default_value_t = 0.0)]
+    /// Out-of-library effect: a measuring-chain resonance at this mesh frequency, Hz (Munro only), in [0, 1e6].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 1e6, false))]
     sensor_peak_hz: f64,
-    /// Relative height of that measuring-chain peak.
-    #[arg(long, default_value_t = 0.0)]
+    /// Relative height of that measuring-chain peak, in [0, 100].
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 100.0, false))]
     sensor_peak_gain: f64,
 }
 
@@ -84,11 +85,11 @@ struct MunroArgs {
     /// Output folder.
     #[arg(long, default_value = "data/munro")]
     out: PathBuf,
-    /// True damping ratio.
-    #[arg(long, default_value_t = 0.0175)]
+    /// True damping ratio, in [0.001, 0.9].
+    #[arg(long, default_value_t = 0.0175, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
-    /// True natural frequency, Hz.
-    #[arg(long, default_value_t = 1600.0)]
+    /// True natural frequency, Hz, in [1, 1e6].
+    #[arg(long, default_value_t = 1600.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
     #[command(flatten)]
     noise: NoiseArgs,
@@ -103,8 +104,8 @@ struct MunroArgs {
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
     /// Make the curves with DOP853 at this relative tolerance instead of the exact solver:
-    /// chaotic points then differ from what the exact solver fits (as real data would).
-    #[arg(long)]
+    /// chaotic points then differ from what the exact solver fits (as real data would), in [1e-14, 0.01].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(1e-14, 1e-2, false))]
     dop853_rtol: Option<f64>,
     #[command(flatten)]
     hidden: Hidden,
@@ -115,11 +116,11 @@ struct KuboArgs {
     /// Output folder.
     #[arg(long, default_value = "data/kubo")]
     out: PathBuf,
-    /// True damping ratio.
-    #[arg(long, default_value_t = 0.1)]
+    /// True damping ratio, in [0.001, 0.9].
+    #[arg(long, default_value_t = 0.1, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
-    /// True natural frequency, Hz.
-    #[arg(long, default_value_t = 2500.0)]
+    /// True natural frequency, Hz, in [1, 1e6].
+    #[arg(long, default_value_t = 2500.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
     /// Noise seed.
     #[arg(long, default_value_t = 2)]
@@ -142,7 +143,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             }
             t.hidden = m.hidden.effects();
             t.dop853_rtol = m.dop853_rtol;
-            synth_munro(&t, &m.out, &Bar::new())?;
+            check_out_dir("--out", &m.out)?;
+            let stage = stage("--out", &m.out)?;
+            synth_munro(&t, stage.dir(), &Bar::new())?;
+            commit(stage, &[])?;
             m.out
         }
         Which::Kubo(k) => {
@@ -151,7 +155,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.omega_n_hz = k.omega_n_hz;
             t.seed = k.seed;
             t.hidden = k.hidden.effects();
-            synth_kubo(&t, &k.out, &Bar::new())?;
+            check_out_dir("--out", &k.out)?;
+            let stage = stage("--out", &k.out)?;
+            synth_kubo(&t, stage.dir(), &Bar::new())?;
+            commit(stage, &[])?;
             k.out
         }
     };

@@ -1,6 +1,6 @@
 //! `geardyn validate munro|kubo`: fit, predict, compare, and write fits/ and reports/.
 
-use super::common::print_text;
+use super::common::{check_out_dir, print_text};
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
 use geardyn::data::{load_kubo, load_munro, load_rig_with_geometry};
@@ -154,6 +154,9 @@ fn load_line(l: &LoadResult) -> String {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    let (Which::Munro(d) | Which::Kubo(d)) = &a.which;
+    check_out_dir("--fits", &d.fits)?;
+    check_out_dir("--reports", &d.reports)?;
     let (written, banner, summary) = match a.which {
         Which::Munro(m) => {
             let dir = m

@@ -1,7 +1,8 @@
 //! `geardyn validate-study --noise FAMILY --seeds N`: interval coverage of `validate munro`
 //! on seeded synthetic design-load curves (Wilson 95% intervals of the rates).
 
-use super::common::{print_text, NoiseArgs};
+use super::common::{check_out_file, print_text, NoiseArgs};
+use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
@@ -16,7 +17,7 @@ use std::path::PathBuf;
 #[derive(ClapArgs, Debug)]
 pub struct Args {
     /// Number of seeds (data sets), 1 to 100000.
-    #[arg(long, default_value_t = 200)]
+    #[arg(long, default_value_t = 200, allow_hyphen_values = true, value_parser = whole(1..=100_000))]
     seeds: usize,
     /// First noise seed.
     #[arg(long, default_value_t = 1)]
@@ -27,21 +28,21 @@ pub struct Args {
     /// drawn at random in 1000-5000 rpm, fixed draw).
     #[arg(long, default_value = "uniform")]
     grid: String,
-    /// Step of the uniform grid, rpm.
-    #[arg(long, default_value_t = 50.0)]
+    /// Step of the uniform grid, rpm, in [1, 4000].
+    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true, value_parser = real(1.0, 4000.0, false))]
     speed_step: f64,
     /// DOP853 relative tolerance of the sets (another integrator than the fit's closed form);
     /// 0 makes them with the exact solver.
     #[arg(long, default_value_t = 1e-9)]
     dop853_rtol: f64,
-    /// True damping ratio (dimensionless).
-    #[arg(long, default_value_t = 0.0175)]
+    /// True damping ratio (dimensionless), in [0.001, 0.9].
+    #[arg(long, default_value_t = 0.0175, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
-    /// True natural frequency, Hz.
-    #[arg(long, default_value_t = 1600.0)]
+    /// True natural frequency, Hz, in [1, 1e6].
+    #[arg(long, default_value_t = 1600.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
-    /// True STE amplitude at the design load, um.
-    #[arg(long, default_value_t = 0.3)]
+    /// True STE amplitude at the design load, um, in (0, 1000].
+    #[arg(long, default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     ste_um: f64,
     /// Student-t errors in the fit: auto (when the residuals say so), on, off.
     #[arg(long, default_value = "auto")]
@@ -63,6 +64,7 @@ pub fn parse_robust(s: &str) -> anyhow::Result<Robust> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_file("--out", &a.out)?;
     let grid = match a.grid.as_str() {
         "uniform" => SpeedGrid::Uniform {
             step_rpm: a.speed_step,
@@ -91,13 +93,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     std::fs::create_dir_all(&parent).with_context(|| parent.display().to_string())?;
     let scratch = parent.join(format!(".scratch-{}", std::process::id()));
     let seeds_path = a.out.with_extension("seeds.jsonl");
+    // The per-seed lines go to a temporary file beside it, renamed when the study succeeded.
+    let seeds_tmp = parent.join(format!(".seeds.jsonl.tmp-{}", std::process::id()));
     let mut seeds_file: Option<std::fs::File> = None;
     let mut on_seed = |s: &ValidateSeed| -> geardyn::error::Result<()> {
         use std::io::Write;
-        let io = GearError::io(&seeds_path);
+        let io = GearError::io(&seeds_tmp);
         let f = match seeds_file.as_mut() {
             Some(f) => f,
-            None => seeds_file.insert(std::fs::File::create(&seeds_path).map_err(&io)?),
+            None => seeds_file.insert(std::fs::File::create(&seeds_tmp).map_err(&io)?),
         };
         let line = serde_json::to_string(s)
             .map_err(|e| GearError::Numerical(format!("seed fit to JSON: {e}")))?;
@@ -105,9 +109,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
-    let s = result?;
+    let s = match result {
+        Ok(s) => s,
+        Err(e) => {
+            let _ = std::fs::remove_file(&seeds_tmp);
+            return Err(e.into());
+        }
+    };
     let text = serde_json::to_string_pretty(&s)?;
-    std::fs::write(&a.out, format!("{text}\n")).with_context(|| a.out.display().to_string())?;
+    if seeds_tmp.exists() {
+        std::fs::rename(&seeds_tmp, &seeds_path)
+            .with_context(|| seeds_path.display().to_string())?;
+    }
+    geardyn::report::write_file_atomic(&a.out, &format!("{text}\n"))?;
     let mut msg = summary_text(&s);
     msg.push_str(&format!(
         "wrote {} (per seed: {})\n",

@@ -346,11 +346,24 @@ impl Row<'_> {
         Ok(v)
     }
 
-    /// The non-negative finite number in column `col`.
-    pub(crate) fn non_negative(&self, col: usize, name: &str) -> Result<f64> {
+    /// The number in column `col`, within the plausible range [`lo`, `hi`] of its unit
+    /// (`lo_open`: `lo` itself excluded). Values far outside are unit or typing mistakes
+    /// (411700 for 0.4117) that would otherwise reach the fit.
+    pub(crate) fn within(
+        &self,
+        col: usize,
+        name: &str,
+        (lo, lo_open): (f64, bool),
+        hi: f64,
+    ) -> Result<f64> {
         let v = self.number(col, name)?;
-        if v < 0.0 {
-            return Err(self.error(name, format!("{v} must not be negative")));
+        let low = if lo_open { v <= lo } else { v < lo };
+        if low || v > hi {
+            let open = if lo_open { "(" } else { "[" };
+            return Err(self.error(
+                name,
+                format!("{v} is outside the plausible range {open}{lo}, {hi}] of {name}"),
+            ));
         }
         Ok(v)
     }
@@ -368,6 +381,10 @@ pub(crate) struct SpeedColumns {
 pub(crate) const SPEED_RPM: &str = "speed_rpm";
 /// Column name of mesh frequency.
 pub(crate) const MESH_FREQ_HZ: &str = "mesh_freq_hz";
+
+/// Plausible shaft speeds, rpm: beyond them the dimensionless frequency leaves the solvers'
+/// range (1e-200 rpm or 1e12 rpm hung the fit).
+pub(crate) const SPEED_RPM_RANGE: (f64, f64) = (0.01, 1e6);
 
 /// Relative disagreement tolerated between `speed_rpm` and `mesh_freq_hz` given together.
 const SPEED_AGREEMENT: f64 = 5e-3;
@@ -396,15 +413,30 @@ impl SpeedColumns {
         }
     }
 
-    /// Shaft speed (rpm) of `row`, positive.
+    /// Shaft speed (rpm) of `row`, in [`SPEED_RPM_RANGE`].
     pub(crate) fn speed_rpm(&self, row: &Row) -> Result<f64> {
-        let from_hz =
-            |c| -> Result<f64> { Ok(row.positive(c, MESH_FREQ_HZ)? * 60.0 / self.pinion_teeth) };
+        let (lo, hi) = SPEED_RPM_RANGE;
+        let from_hz = |c| -> Result<f64> {
+            let hz = row.positive(c, MESH_FREQ_HZ)?;
+            let rpm = hz * 60.0 / self.pinion_teeth;
+            if !(lo..=hi).contains(&rpm) {
+                return Err(row.error(
+                    MESH_FREQ_HZ,
+                    format!(
+                        "{hz} Hz is {rpm} rpm with {} pinion teeth: outside the plausible \
+                         range [{lo}, {hi}] rpm",
+                        self.pinion_teeth
+                    ),
+                ));
+            }
+            Ok(rpm)
+        };
+        let rpm_col = |r| row.within(r, SPEED_RPM, (lo, false), hi);
         match (self.rpm, self.mesh_hz) {
-            (Some(r), None) => row.positive(r, SPEED_RPM),
+            (Some(r), None) => rpm_col(r),
             (None, Some(h)) => from_hz(h),
             (Some(r), Some(h)) => {
-                let rpm = row.positive(r, SPEED_RPM)?;
+                let rpm = rpm_col(r)?;
                 let other = from_hz(h)?;
                 if (rpm - other).abs() > SPEED_AGREEMENT * rpm {
                     return Err(row.error(

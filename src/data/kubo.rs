@@ -42,6 +42,9 @@ pub struct KuboData {
 
 /// Load a Kubo data set: `dir/rig.toml` and every `dir/*.csv` (sorted by name). Every failure
 /// is one [`crate::GearError::Data`] naming the file, line and field.
+/// Largest plausible dynamic factor (peak over mean mesh force).
+const MAX_FACTOR: f64 = 100.0;
+
 pub fn load_kubo(dir: &Path) -> Result<KuboData> {
     let rig = load_rig(&dir.join("rig.toml"))?;
     let mut points = Vec::new();
@@ -55,8 +58,8 @@ pub fn load_kubo(dir: &Path) -> Result<KuboData> {
         order.start_file(file, i + 1 < files.len());
         while let Some(row) = table.next_row()? {
             let speed_rpm = speed.speed_rpm(&row)?;
-            let lo = row.non_negative(min_col, "dynamic_factor_min")?;
-            let hi = row.non_negative(max_col, "dynamic_factor_max")?;
+            let lo = row.within(min_col, "dynamic_factor_min", (0.0, false), MAX_FACTOR)?;
+            let hi = row.within(max_col, "dynamic_factor_max", (0.0, false), MAX_FACTOR)?;
             if lo > hi {
                 return Err(row.error(
                     "dynamic_factor_min",

@@ -82,6 +82,12 @@ impl MunroData {
     }
 }
 
+/// Largest plausible load, N (a unit mistake beyond).
+pub const MAX_LOAD_N: f64 = 1e8;
+/// Largest plausible peak-to-peak DTE and its standard deviation, um: a millimetre of
+/// transmission error is a unit mistake, not a measurement.
+pub const MAX_DTE_UM: f64 = 1000.0;
+
 /// Load a Munro data set: `dir/rig.toml` and every `dir/*.csv` (sorted by name). Every failure
 /// is one [`crate::GearError::Data`] naming the file, line and field.
 pub fn load_munro(dir: &Path) -> Result<MunroData> {
@@ -98,10 +104,12 @@ pub fn load_munro(dir: &Path) -> Result<MunroData> {
         let sd_col = table.column(SD_COLUMN);
         order.start_file(file, i + 1 < files.len());
         while let Some(row) = table.next_row()? {
-            let load_n = row.positive(load_col, "load_n")?;
+            let load_n = row.within(load_col, "load_n", (0.0, true), MAX_LOAD_N)?;
             let speed_rpm = speed.speed_rpm(&row)?;
-            let dte_pp_um = row.non_negative(dte_col, "dte_pp_um")?;
-            let sd_um = sd_col.map(|c| row.positive(c, SD_COLUMN)).transpose()?;
+            let dte_pp_um = row.within(dte_col, "dte_pp_um", (0.0, false), MAX_DTE_UM)?;
+            let sd_um = sd_col
+                .map(|c| row.within(c, SD_COLUMN, (0.0, true), MAX_DTE_UM))
+                .transpose()?;
             let curve = groups
                 .curve_of(load_n)
                 .map_err(|message| row.error("load_n", message))?;

@@ -4,6 +4,7 @@
 
 use super::errors::{data_error, read_text, WHOLE_FILE};
 use super::geometry::GearGeometry;
+use super::munro::{MAX_DTE_UM, MAX_LOAD_N};
 use super::source::Source;
 use super::toml_doc::TomlDoc;
 use crate::error::{GearError, Result};
@@ -76,6 +77,19 @@ pub(super) fn positive(key: &'static str, value: f64) -> Option<RigProblem> {
     )
 }
 
+/// At most `hi` (NaN passes: [`positive`] reports it first).
+pub(super) fn at_most(
+    key: &'static str,
+    value: f64,
+    hi: f64,
+    reason: &'static str,
+) -> Option<RigProblem> {
+    require(key, value, value.is_nan() || value <= hi, reason)
+}
+
+/// Tooth counts above this are a typing mistake (4294967295 teeth were accepted).
+const MANY_TEETH: &str = "more than 1000 teeth: not a practical spur gear";
+
 /// An optional value, checked with `check` when present.
 pub(super) fn optional(
     value: Option<f64>,
@@ -99,7 +113,17 @@ impl Rig {
         )
         .or_else(|| require("pinion_teeth", z1, self.pinion_teeth >= 5, teeth))
         .or_else(|| require("gear_teeth", z2, self.gear_teeth >= 5, teeth))
+        .or_else(|| require("pinion_teeth", z1, self.pinion_teeth <= 1000, MANY_TEETH))
+        .or_else(|| require("gear_teeth", z2, self.gear_teeth <= 1000, MANY_TEETH))
         .or_else(|| positive("module_mm", self.module_mm))
+        .or_else(|| {
+            at_most(
+                "module_mm",
+                self.module_mm,
+                100.0,
+                "a module above 100 mm is a unit mistake",
+            )
+        })
         .or_else(|| {
             require(
                 "pressure_angle_deg",
@@ -109,11 +133,42 @@ impl Rig {
             )
         })
         .or_else(|| positive("face_width_mm", self.face_width_mm))
+        .or_else(|| {
+            at_most(
+                "face_width_mm",
+                self.face_width_mm,
+                2000.0,
+                "a face width above 2000 mm is a unit mistake",
+            )
+        })
         .or_else(|| positive("design_load_n", self.design_load_n))
+        .or_else(|| {
+            at_most(
+                "design_load_n",
+                self.design_load_n,
+                MAX_LOAD_N,
+                "a load above 1e8 N is a unit mistake",
+            )
+        })
         .or_else(|| positive("backlash_mm", self.backlash_mm))
         .or_else(|| {
+            at_most(
+                "backlash_mm",
+                self.backlash_mm,
+                10.0,
+                "a backlash above 10 mm is a unit mistake",
+            )
+        })
+        .or_else(|| {
             optional(self.mesh_stiffness_n_per_um, |v| {
-                positive("mesh_stiffness_n_per_um", v)
+                positive("mesh_stiffness_n_per_um", v).or_else(|| {
+                    require(
+                        "mesh_stiffness_n_per_um",
+                        v,
+                        (0.01..=1e5).contains(&v),
+                        "mesh stiffness must be in [0.01, 1e5] N/um (steel spur gears: 5 to 2000)",
+                    )
+                })
             })
         })
         .or_else(|| {
@@ -136,8 +191,30 @@ impl Rig {
                 )
             })
         })
-        .or_else(|| optional(self.omega_n_hz, |v| positive("omega_n_hz", v)))
-        .or_else(|| optional(self.test_load_n, |v| positive("test_load_n", v)))
+        .or_else(|| {
+            optional(self.omega_n_hz, |v| {
+                positive("omega_n_hz", v).or_else(|| {
+                    require(
+                        "omega_n_hz",
+                        v,
+                        (1.0..=1e6).contains(&v),
+                        "natural frequency must be in [1, 1e6] Hz",
+                    )
+                })
+            })
+        })
+        .or_else(|| {
+            optional(self.test_load_n, |v| {
+                positive("test_load_n", v).or_else(|| {
+                    at_most(
+                        "test_load_n",
+                        v,
+                        MAX_LOAD_N,
+                        "a load above 1e8 N is a unit mistake",
+                    )
+                })
+            })
+        })
     }
 
     /// Check every value against its range; the first violation is an
@@ -163,6 +240,15 @@ pub struct SteTable {
     pub load_n: Vec<f64>,
     /// STE amplitude e_bar (half peak-to-peak, um) at each load, positive.
     pub amplitude_um: Vec<f64>,
+}
+
+/// Largest plausible `[ste]` value: loads in N, amplitudes in um.
+fn ste_max(key: &str) -> f64 {
+    if key == "load_n" {
+        MAX_LOAD_N
+    } else {
+        MAX_DTE_UM
+    }
 }
 
 impl SteTable {
@@ -198,12 +284,16 @@ impl SteTable {
             if let Some((i, v)) = values
                 .iter()
                 .enumerate()
-                .find(|(_, v)| !(v.is_finite() && **v > 0.0))
+                .find(|(_, v)| !(v.is_finite() && **v > 0.0 && **v <= ste_max(key)))
             {
                 return Err(doc.error(
                     "ste",
                     key,
-                    format!("entry {} is {v}: must be a positive finite number", i + 1),
+                    format!(
+                        "entry {} is {v}: must be a positive finite number, at most {}",
+                        i + 1,
+                        ste_max(key)
+                    ),
                 ));
             }
         }

@@ -25,7 +25,7 @@ mod roots;
 mod scan;
 mod transitions;
 
-pub use aft::AftOptions;
+pub use aft::{AftOptions, MAX_HARMONICS};
 pub use aft_guess::{guess_from_state, linear_guess};
 pub use aft_point::HbPoint;
 pub use aft_solve::solve_at;

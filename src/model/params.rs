@@ -8,6 +8,11 @@ use serde::{Deserialize, Serialize};
 /// exact solver approach overflow (a fit that let b drift to b e^-667 reached F_m ~ 1e289).
 pub const MAX_FORCE: f64 = 1e9;
 
+/// Smallest excitation frequency Omega accepted (a forcing period of 6e6 natural periods).
+pub const MIN_OMEGA: f64 = 1e-6;
+/// Largest excitation frequency Omega accepted.
+pub const MAX_OMEGA: f64 = 1e6;
+
 const TOO_LARGE: &str =
     "force beyond 1e9 half backlashes of deflection: the backlash is negligible, use a linear model";
 
@@ -96,6 +101,14 @@ impl GearPair {
                 "omega",
                 self.omega,
                 "excitation frequency must be finite and > 0",
+            ));
+        }
+        if !(MIN_OMEGA..=MAX_OMEGA).contains(&self.omega) {
+            return Err(GearError::param(
+                "omega",
+                self.omega,
+                "excitation frequency over the natural frequency must be in [1e-6, 1e6] \
+                 (further out the time of one forcing period under- or overflows the solvers)",
             ));
         }
         if !(self.mean_force.is_finite() && self.mean_force >= 0.0) {

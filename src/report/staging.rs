@@ -40,14 +40,63 @@ impl Staged {
         std::fs::write(&p, text).map_err(GearError::io(&p))
     }
 
-    /// Replace the destination with the staged folder.
+    /// The staged folder itself (for library writers that take a folder).
+    pub fn dir(&self) -> &Path {
+        &self.tmp
+    }
+
+    /// Where a path inside the staged folder will be once committed.
+    pub fn final_path(&self, staged: &Path) -> PathBuf {
+        match staged.strip_prefix(&self.tmp) {
+            Ok(rel) => self.dest.join(rel),
+            Err(_) => staged.to_path_buf(),
+        }
+    }
+
+    /// Replace the destination with the staged folder. A destination without a name of its
+    /// own (`.`, `/`, `..`) is never removed: the staged files are merged into it instead.
     pub fn commit(self) -> Result<PathBuf> {
+        if self.dest.file_name().is_none() {
+            return self.commit_merge();
+        }
         if self.dest.exists() {
             std::fs::remove_dir_all(&self.dest).map_err(GearError::io(&self.dest))?;
         }
         std::fs::rename(&self.tmp, &self.dest).map_err(GearError::io(&self.dest))?;
         Ok(self.dest.clone())
     }
+}
+
+impl Staged {
+    /// Move the staged files into the destination folder (created if needed), replacing files
+    /// of the same name and leaving every other file there alone: for folders the user names
+    /// (`--out DIR`), which may hold other things. Nothing reaches the destination before this
+    /// is called, so a failed command leaves it as it was.
+    pub fn commit_merge(self) -> Result<PathBuf> {
+        std::fs::create_dir_all(&self.dest).map_err(GearError::io(&self.dest))?;
+        merge_into(&self.tmp, &self.dest)?;
+        Ok(self.dest.clone())
+    }
+}
+
+/// Move every entry of `from` into `to` (both folders), recursing into folders both have.
+fn merge_into(from: &Path, to: &Path) -> Result<()> {
+    let mut entries: Vec<_> = std::fs::read_dir(from)
+        .map_err(GearError::io(from))?
+        .collect::<std::io::Result<Vec<_>>>()
+        .map_err(GearError::io(from))?;
+    entries.sort_by_key(|e| e.file_name());
+    for e in entries {
+        let src = e.path();
+        let dst = to.join(e.file_name());
+        let src_is_dir = e.file_type().map_err(GearError::io(&src))?.is_dir();
+        if src_is_dir && dst.is_dir() {
+            merge_into(&src, &dst)?;
+        } else {
+            std::fs::rename(&src, &dst).map_err(GearError::io(&dst))?;
+        }
+    }
+    Ok(())
 }
 
 impl Drop for Staged {
@@ -59,6 +108,15 @@ impl Drop for Staged {
 
 /// Write a single file atomically (temporary file in the same folder, then rename).
 pub fn write_file_atomic(path: &Path, text: &str) -> Result<()> {
+    let tmp = staged_file(path, text)?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        GearError::io(path)(e)
+    })
+}
+
+/// Write `text` to a temporary file beside `path` (creating the folder); returns its path.
+fn staged_file(path: &Path, text: &str) -> Result<PathBuf> {
     let parent = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -70,7 +128,7 @@ pub fn write_file_atomic(path: &Path, text: &str) -> Result<()> {
         std::process::id()
     ));
     std::fs::write(&tmp, text).map_err(GearError::io(&tmp))?;
-    std::fs::rename(&tmp, path).map_err(GearError::io(path))
+    Ok(tmp)
 }
 
 /// Finish a report: write the page (HTML and Markdown) into the staged folder, move the folder
@@ -87,8 +145,17 @@ pub fn finish_report(
     stage.write("report.md", &md)?;
     let text = serde_json::to_string_pretty(json)
         .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?;
-    let dest = stage.commit()?;
-    write_file_atomic(json_path, &text)?;
+    // The JSON is written beside its destination before the report folder moves into place, so
+    // an unwritable fits folder leaves neither (only the two renames follow).
+    let json_tmp = staged_file(json_path, &text)?;
+    let dest = match stage.commit() {
+        Ok(d) => d,
+        Err(e) => {
+            let _ = std::fs::remove_file(&json_tmp);
+            return Err(e);
+        }
+    };
+    std::fs::rename(&json_tmp, json_path).map_err(GearError::io(json_path))?;
     Ok(vec![
         json_path.to_path_buf(),
         dest.join("index.html"),

@@ -31,12 +31,15 @@ pub struct Attractor {
 pub struct AttractorMap {
     /// The grid searched.
     pub grid: IcGrid,
-    /// Distinct steady states, ordered by period (non-periodic last), impact regime and q_a.
+    /// Distinct steady states, ordered by period (non-periodic last, unsettled after them),
+    /// impact regime and q_a.
     pub attractors: Vec<Attractor>,
     /// Attractor index of each grid point, in [`IcGrid::points`] order.
     pub labels: Vec<usize>,
 }
 
+/// Initial conditions integrated in parallel before their results are merged.
+const PHASE2_CHUNK: usize = 2048;
 /// Seeds per axis integrated fully before the rest of the grid is matched against them.
 const SEEDS_PER_AXIS: usize = 7;
 /// Relative distance to a known periodic point below which a trajectory is tested for capture.
@@ -78,19 +81,24 @@ pub fn find_attractors<F: PeriodFlow + ?Sized>(
     // Phase 2: the rest stop as soon as they are captured by a known periodic attractor.
     let known: Vec<SteadyState> = found.iter().map(|(s, _)| s.clone()).collect();
     let rest: Vec<usize> = (0..points.len()).filter(|&i| !is_seed[i]).collect();
-    let outcomes: Vec<Result<Watched<usize>>> = rest
-        .par_iter()
-        .map(|&i| {
-            let r = classify(flow, points[i], &known, opts);
-            progress.advance(1);
-            r
-        })
-        .collect();
-    for (&i, r) in rest.iter().zip(outcomes) {
-        labels[i] = match r? {
-            Watched::Stopped(k) => k,
-            Watched::Steady(s) => merge(&mut found, s, points[i]),
-        };
+    // In chunks, merged in grid order as they come: a steady state that is not captured keeps
+    // its section cloud (32 kB for a chaotic one) only until it is merged, so memory stays
+    // bounded by the chunk, not the grid.
+    for chunk in rest.chunks(PHASE2_CHUNK) {
+        let outcomes: Vec<Result<Watched<usize>>> = chunk
+            .par_iter()
+            .map(|&i| {
+                let r = classify(flow, points[i], &known, opts);
+                progress.advance(1);
+                r
+            })
+            .collect();
+        for (&i, r) in chunk.iter().zip(outcomes) {
+            labels[i] = match r? {
+                Watched::Stopped(k) => k,
+                Watched::Steady(s) => merge(&mut found, s, points[i]),
+            };
+        }
     }
     progress.finish();
     Ok(order(grid, found, labels))
@@ -163,10 +171,16 @@ fn widen(known: &mut SteadyState, other: &SteadyState) {
 }
 
 /// Two steady states are the same attractor when they are the same periodic orbit (up to phase)
-/// or both non-periodic with section points on each other's cloud. The impact regime of a
+/// or both non-periodic with section points on each other's cloud; every unsettled motion is
+/// one entry. The impact regime of a
 /// non-periodic sample is not compared: it comes from a finite stretch of the motion (see
 /// [`widen`]), and two stretches of one strange attractor can disagree on it.
 pub fn same_attractor(a: &SteadyState, b: &SteadyState) -> bool {
+    // Motions that did not settle within their budget are not attractors yet: they are counted
+    // together, as one entry whose basin is the share of initial conditions left unsettled.
+    if !a.settled || !b.settled {
+        return a.settled == b.settled;
+    }
     match (a.period, b.period) {
         (Some(p), Some(r)) if p == r => {
             let tol = SAME_ORBIT_TOL * scale(&a.poincare).max(scale(&b.poincare));
@@ -228,8 +242,8 @@ fn order(grid: &IcGrid, found: Vec<(SteadyState, State)>, labels: Vec<usize>) ->
     let mut idx: Vec<usize> = (0..found.len()).collect();
     idx.sort_by(|&i, &j| {
         let (a, b) = (&found[i].0, &found[j].0);
-        (a.period.unwrap_or(u32::MAX), a.impact)
-            .cmp(&(b.period.unwrap_or(u32::MAX), b.impact))
+        (!a.settled, a.period.unwrap_or(u32::MAX), a.impact)
+            .cmp(&(!b.settled, b.period.unwrap_or(u32::MAX), b.impact))
             .then(a.qa.total_cmp(&b.qa))
     });
     let mut new_of_old = vec![0; found.len()];
@@ -280,6 +294,7 @@ mod tests {
             floquet: None,
             poincare: ring[..64].to_vec(),
             transient_periods: 100,
+            settled: true,
             cloud: ring,
         }
     }

@@ -4,6 +4,10 @@ use super::flow::State;
 use crate::error::{GearError, Result};
 use serde::Serialize;
 
+/// Largest number of grid values per axis: 501 x 501 = 251001 initial conditions, about two
+/// minutes on two cores when every one is periodic, longer where the motion is chaotic.
+pub const MAX_GRID_N: usize = 501;
+
 /// A square grid of initial conditions: q0 and v0 each take `n` equally spaced values in
 /// [lo, hi] (the paper searches -2 < q(0), q'(0) < 2).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -40,11 +44,11 @@ impl IcGrid {
                 "the grid needs at least 1 point per axis",
             ));
         }
-        if n > 4001 {
+        if n > MAX_GRID_N {
             return Err(GearError::param(
                 "ic-grid",
                 n as f64,
-                "at most 4001 points per axis",
+                "at most 501 points per axis (251001 initial conditions)",
             ));
         }
         Ok(IcGrid { lo, hi, n })

@@ -22,7 +22,7 @@ pub use exact::ExactFlow;
 pub(crate) use extrema::golden_max;
 pub use extrema::Extremes;
 pub use flow::{Observer, PeriodFlow, Piece, State};
-pub use ic_grid::IcGrid;
+pub use ic_grid::{IcGrid, MAX_GRID_N};
 pub use lyapunov::largest_lyapunov;
 pub use period::{detect_period, eigenvalues2, monodromy, refine_orbit, PeriodicOrbit, MAX_PERIOD};
 pub use rk::{
@@ -30,7 +30,10 @@ pub use rk::{
     OdeSystem, Outcome,
 };
 pub use rk_flow::{RkFlow, ATOL_PER_RTOL};
-pub use steady::{default_transient, steady_state, Motion, SteadyOptions, SteadyState};
+pub use steady::{
+    default_transient, steady_state, Motion, SteadyOptions, SteadyState, MAX_KEEP, MAX_TRANSIENT,
+    SETTLED_DECAY,
+};
 pub use sweep::{frequency_range, sweep, Branch, FlowFactory, SweepPlan, SweepPoint};
 pub use trajectory::{sample_trajectory, Sample};
 pub use window_spread::dte_pp_over_windows;

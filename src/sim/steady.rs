@@ -38,6 +38,46 @@ impl Default for SteadyOptions {
     }
 }
 
+/// Largest transient accepted, in forcing periods (`--periods`): bounds the time of one steady
+/// state (about 5 us a period with the exact solver).
+pub const MAX_TRANSIENT: usize = 1_000_000;
+/// Largest number of analysed periods (`--keep`): bounds memory (16 bytes a kept period, more
+/// with the figures of `simulate --out`).
+pub const MAX_KEEP: usize = 100_000;
+/// Decay exponent zeta x (transient time) below which a motion without a periodic orbit is not
+/// settled: the free decay e^{-zeta t} of the initial condition is then above e^-20 = 2e-9.
+pub const SETTLED_DECAY: f64 = 20.0;
+
+impl SteadyOptions {
+    /// Check the budgets against [`MAX_TRANSIENT`] and [`MAX_KEEP`].
+    pub fn validate(&self) -> Result<()> {
+        if let Some(t) = self.transient {
+            if t > MAX_TRANSIENT {
+                return Err(GearError::param(
+                    "periods",
+                    t as f64,
+                    "at most 1000000 transient periods",
+                ));
+            }
+        }
+        if self.keep == 0 || self.keep > MAX_KEEP {
+            return Err(GearError::param(
+                "keep",
+                self.keep as f64,
+                "the analysed periods must be between 1 and 100000",
+            ));
+        }
+        if self.lyapunov_periods > MAX_TRANSIENT {
+            return Err(GearError::param(
+                "lyapunov_periods",
+                self.lyapunov_periods as f64,
+                "at most 1000000 periods",
+            ));
+        }
+        Ok(())
+    }
+}
+
 /// Default transient length: enough forcing periods for a decay e^{-zeta t} of 1e-13 (the slowest
 /// free decay of eq. 3a in contact), at least 100 and at most 20000 periods.
 pub fn default_transient(zeta: f64, period: f64) -> usize {
@@ -55,6 +95,10 @@ pub enum Motion {
     Chaotic,
     /// No period up to 32 and a non-positive exponent (quasi-periodic, or a very long period).
     Aperiodic,
+    /// No periodic orbit found and the transient budget too short for the free decay to have
+    /// died out: the motion is still converging, so it is neither classified as aperiodic nor
+    /// as chaotic ([`SteadyState::settled`] is false).
+    Unsettled,
 }
 
 /// The steady state reached from one initial condition.
@@ -87,6 +131,10 @@ pub struct SteadyState {
     pub poincare: Vec<State>,
     /// Transient periods actually integrated before the analysis.
     pub transient_periods: usize,
+    /// False when no periodic orbit was found and the transient was too short for the slowest
+    /// free decay to die out (zeta x transient time < [`SETTLED_DECAY`]): the motion is then
+    /// reported as [`Motion::Unsettled`], not as aperiodic or chaotic.
+    pub settled: bool,
     /// Section points of the Lyapunov run of non-periodic motion (the strange attractor's cloud),
     /// used to tell coexisting chaotic attractors apart.
     #[serde(skip)]
@@ -145,6 +193,7 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
     watch: &mut dyn FnMut(State) -> Result<Option<T>>,
 ) -> Result<Watched<T>> {
     check_state(x0)?;
+    opts.validate()?;
     let model = flow.model();
     let transient = opts
         .transient
@@ -258,6 +307,11 @@ fn analyse<F: PeriodFlow + ?Sized>(
             }
         }
     }
+    // Without a periodic orbit, the motion counts as settled only if the transient was long
+    // enough for the free decay of the initial condition to die out; otherwise the kept points
+    // are still a transient and say nothing about chaos or quasi-periodicity.
+    let settled =
+        period.is_some() || model.zeta * transient_periods as f64 * flow.period() >= SETTLED_DECAY;
     let (start, analysed) = match (&orbit, period) {
         (Some(o), _) => (o.points[0], o.period as usize),
         (None, Some(p)) => (x, p as usize),
@@ -269,16 +323,17 @@ fn analyse<F: PeriodFlow + ?Sized>(
         (Some(o), _) if opts.lyapunov => {
             Some(o.spectral_radius().ln() / (o.period as f64 * flow.period()))
         }
-        (None, None) => {
+        (None, None) if settled => {
             Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?.0)
         }
-        (None, Some(_)) if opts.lyapunov => {
+        (None, _) if opts.lyapunov => {
             Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, None)?.0)
         }
         _ => None,
     };
     let motion = match (period, lyapunov) {
         (Some(_), _) => Motion::Periodic,
+        (None, _) if !settled => Motion::Unsettled,
         (None, Some(l)) if l > 1e-3 * model.zeta.max(1e-3) => Motion::Chaotic,
         _ => Motion::Aperiodic,
     };
@@ -301,6 +356,7 @@ fn analyse<F: PeriodFlow + ?Sized>(
             None => points,
         },
         transient_periods,
+        settled,
         cloud,
     })
 }
@@ -328,6 +384,34 @@ mod tests {
     use super::*;
     use crate::model::GearPair;
     use crate::sim::ExactFlow;
+
+    /// A transient cut by its budget is reported as not settled, never as aperiodic or chaotic
+    /// (issue 22: Omega 1e3 was "aperiodic, double impact" where the steady state is period-1);
+    /// the chaos of Fig. 4 stays chaotic and settled.
+    #[test]
+    fn unsettled_motion_is_not_classified() {
+        let m = GearPair::paper(0.1, 0.2, 0.02, 1e3).unwrap();
+        let f = ExactFlow::new(&m).unwrap();
+        let s = steady_state(&f, [0.0, 0.0], &SteadyOptions::default()).unwrap();
+        assert!(!s.settled);
+        assert_eq!((s.period, s.motion), (None, Motion::Unsettled));
+        let m = GearPair::paper(0.1, 0.2, 0.02, 1.0).unwrap();
+        let f = ExactFlow::new(&m).unwrap();
+        let s = steady_state(&f, [0.0, 0.0], &SteadyOptions::default()).unwrap();
+        assert!(s.settled);
+        assert_eq!(s.motion, Motion::Chaotic);
+        let short = SteadyOptions {
+            transient: Some(10),
+            ..SteadyOptions::default()
+        };
+        let s = steady_state(&f, [0.0, 0.0], &short).unwrap();
+        assert_eq!((s.settled, s.motion), (false, Motion::Unsettled));
+        let huge = SteadyOptions {
+            keep: MAX_KEEP + 1,
+            ..SteadyOptions::default()
+        };
+        assert!(steady_state(&f, [0.0, 0.0], &huge).is_err());
+    }
 
     /// Linear regime: eq. 13 gives q_a, q_m = 1 + F_m exactly, and pp(x) follows from the
     /// transfer function of x = q + e/b.

@@ -1,0 +1,521 @@
+//! Table of bad inputs across the commands (issue 22): every one exits non-zero before any
+//! work is wasted, with one message naming the option, or the file, line and field (or the
+//! rig.toml key), and writes nothing: the output folders stay absent, a file given where a folder
+//! is expected stays as it was, and no staging folder is left behind. Each case runs in its own
+//! temporary folder (also the working directory, so default output folders would show up there).
+//! tests/cli_bad_input.rs and tests/data_errors.rs cover other bad inputs; none is repeated here.
+
+use std::path::Path;
+use std::process::Command;
+
+/// A valid synthetic Munro-like rig.toml; the line numbers in the table refer to it.
+const RIG: &str = r#"[rig]
+name = "Munro-like test rig"
+pinion_teeth = 32
+gear_teeth = 32
+module_mm = 6.35
+pressure_angle_deg = 20.0
+face_width_mm = 12.7
+design_load_n = 3780.0
+backlash_mm = 0.1
+
+[source]
+kind = "synthetic"
+citation = "a table-driven test of bad inputs"
+generator = "tests/bad_inputs.rs"
+
+[source.truth]
+zeta = 0.0175
+"#;
+
+const HEADER: &str = "load_n,speed_rpm,dte_pp_um\n";
+
+/// What a case needs in its folder besides the command line.
+enum Setup {
+    /// Nothing.
+    None,
+    /// A Munro data set `data/` with this CSV as `data/c.csv` (after the header when the text
+    /// does not start with a letter) and this rig.toml.
+    Data(String, String),
+    /// A plain file `file.txt`, passed where a folder (or a file) is expected.
+    File,
+    /// A folder `folder/`, passed where a file is expected.
+    Folder,
+}
+
+struct Case {
+    name: &'static str,
+    args: String,
+    needle: String,
+    setup: Setup,
+}
+
+const M: &str = "--fm 0.1 --fah 0.2 --zeta 0.02";
+const VALIDATE: &str = "validate munro --data data --fits fits --reports reports";
+
+fn case(name: &'static str, args: &str, needle: &str, setup: Setup) -> Case {
+    Case {
+        name,
+        args: args.to_string(),
+        needle: needle.to_string(),
+        setup,
+    }
+}
+
+fn cli(name: &'static str, args: &str, needle: &str) -> Case {
+    case(name, args, needle, Setup::None)
+}
+
+/// A data-set case: `rows` follow the header (or replace it when they start with a letter).
+fn csv(name: &'static str, rows: &str, needle: &str) -> Case {
+    let text = if rows.starts_with(|c: char| c.is_ascii_alphabetic()) {
+        rows.to_string()
+    } else {
+        format!("{HEADER}{rows}")
+    };
+    case(name, VALIDATE, needle, Setup::Data(text, RIG.to_string()))
+}
+
+/// A rig.toml case: `from` replaced by `to` in the valid rig.
+fn rig(name: &'static str, from: &str, to: &str, needle: &str) -> Case {
+    assert!(RIG.contains(from), "{name}: '{from}' not in the rig");
+    case(
+        name,
+        VALIDATE,
+        needle,
+        Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.replace(from, to)),
+    )
+}
+
+fn table() -> Vec<Case> {
+    let hundred_digits = "9".repeat(100);
+    vec![
+        // CSV faults: each names file:line and the column.
+        csv(
+            "NaN DTE",
+            "3780,1000,1.0\n3780,1100,NaN\n",
+            "c.csv:3: field 'dte_pp_um'",
+        ),
+        csv("inf speed", "3780,inf,1.0\n", "c.csv:2: field 'speed_rpm'"),
+        csv(
+            "1e308 DTE",
+            "3780,1000,1e308\n",
+            "c.csv:2: field 'dte_pp_um'",
+        ),
+        csv(
+            "100-digit DTE",
+            &format!("3780,1000,1.0\n3780,1100,{hundred_digits}\n"),
+            "c.csv:3: field 'dte_pp_um'",
+        ),
+        csv(
+            "DTE in nm, not um",
+            "3780,1000,411700\n",
+            "c.csv:2: field 'dte_pp_um'",
+        ),
+        csv(
+            "negative load",
+            "-3780,1000,1.0\n",
+            "c.csv:2: field 'load_n'",
+        ),
+        csv(
+            "zero load",
+            "3780,1000,1.0\n0,1100,1.0\n",
+            "c.csv:3: field 'load_n'",
+        ),
+        csv(
+            "load 1e300 N",
+            "1e300,1000,1.0\n",
+            "c.csv:2: field 'load_n'",
+        ),
+        csv("zero speed", "3780,0,1.0\n", "c.csv:2: field 'speed_rpm'"),
+        csv(
+            "negative speed",
+            "3780,-1000,1.0\n",
+            "c.csv:2: field 'speed_rpm'",
+        ),
+        csv(
+            "speed 1e-200 rpm",
+            "3780,1e-200,1.0\n",
+            "c.csv:2: field 'speed_rpm'",
+        ),
+        csv(
+            "speed 1e12 rpm",
+            "3780,1000,1.0\n3780,1e12,1.0\n",
+            "c.csv:3: field 'speed_rpm'",
+        ),
+        csv(
+            "mesh frequency 1e12 Hz",
+            "load_n,mesh_freq_hz,dte_pp_um\n3780,1e12,1.0\n",
+            "c.csv:2: field 'mesh_freq_hz'",
+        ),
+        csv(
+            "loads 1e-7 N apart at one speed",
+            "3780,1000,1.0\n3780,1100,1.2\n3780.0000001,1100,1.5\n",
+            "c.csv:4: field 'speed_rpm'",
+        ),
+        csv(
+            "negative stated sd",
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.0,-0.1\n",
+            "c.csv:2: field 'dte_pp_sd_um'",
+        ),
+        csv(
+            "missing DTE column",
+            "load_n,speed_rpm\n3780,1000\n",
+            "c.csv:1: field 'dte_pp_um'",
+        ),
+        csv(
+            "semicolon separator",
+            "load_n;speed_rpm;dte_pp_um\n3780;1000;1,0\n",
+            "comma-separated",
+        ),
+        csv(
+            "tab separator",
+            "load_n\tspeed_rpm\tdte_pp_um\n3780\t1000\t1.0\n",
+            "comma-separated",
+        ),
+        csv("extra field", "3780,1000,1.0,7\n", "c.csv:2: field '(row)'"),
+        csv("empty cell", "3780,,1.0\n", "c.csv:2: field 'speed_rpm'"),
+        // rig.toml faults: each names rig.toml:line and the key.
+        rig(
+            "module 1e300 mm",
+            "module_mm = 6.35",
+            "module_mm = 1e300",
+            "rig.toml:5: field 'rig.module_mm'",
+        ),
+        rig(
+            "4294967295 teeth",
+            "gear_teeth = 32",
+            "gear_teeth = 4294967295",
+            "rig.toml:4: field 'rig.gear_teeth'",
+        ),
+        rig(
+            "mesh stiffness 1e30",
+            "backlash_mm = 0.1",
+            "backlash_mm = 0.1\nmesh_stiffness_n_per_um = 1e30",
+            "rig.toml:10: field 'rig.mesh_stiffness_n_per_um'",
+        ),
+        rig(
+            "backlash 1e9 mm",
+            "backlash_mm = 0.1",
+            "backlash_mm = 1e9",
+            "rig.toml:9: field 'rig.backlash_mm'",
+        ),
+        rig(
+            "design load nan",
+            "design_load_n = 3780.0",
+            "design_load_n = nan",
+            "rig.toml:8: field 'rig.design_load_n'",
+        ),
+        rig(
+            "omega_n 0 Hz",
+            "backlash_mm = 0.1",
+            "backlash_mm = 0.1\nomega_n_hz = 0",
+            "rig.toml:10: field 'rig.omega_n_hz'",
+        ),
+        rig(
+            "STE amplitude 1e300",
+            "[source]\n",
+            "[ste]\nload_n = [3780.0]\namplitude_um = [1e300]\n\n[source]\n",
+            "field 'ste.amplitude_um'",
+        ),
+        // Command-line edge values: each names the option.
+        cli(
+            "omega 1e-200",
+            &format!("simulate {M} --omega 1e-200 --json"),
+            "--omega",
+        ),
+        cli(
+            "omega 1e3",
+            &format!("simulate {M} --omega 1e3 --json"),
+            "--omega",
+        ),
+        cli(
+            "periods 1e12",
+            &format!("simulate {M} --omega 0.5 --periods 1e12"),
+            "--periods",
+        ),
+        cli(
+            "periods -5",
+            &format!("simulate {M} --omega 0.5 --periods -5"),
+            "--periods",
+        ),
+        cli(
+            "keep 1e9",
+            &format!("simulate {M} --omega 0.5 --keep 1000000000"),
+            "--keep",
+        ),
+        cli(
+            "q0 1e300",
+            &format!("simulate {M} --omega 0.5 --q0 1e300"),
+            "--q0",
+        ),
+        cli(
+            "negative F_ah",
+            "simulate --fm 0.1 --fah -0.2 --zeta 0.02 --omega 0.5",
+            "--fah",
+        ),
+        cli(
+            "zeta 1e-6",
+            "attractors --fm 0.1 --fah 0.2 --zeta 1e-6 --omega 0.5",
+            "--zeta",
+        ),
+        cli(
+            "rtol 0",
+            &format!("simulate {M} --omega 0.5 --integrator dop853 --rtol 0"),
+            "--rtol",
+        ),
+        cli(
+            "1000 harmonics",
+            &format!("hbm {M} --omega 0.5:0.6:0.1 --method aft --harmonics 1000 --out out"),
+            "--harmonics",
+        ),
+        cli(
+            "subharmonic 0",
+            &format!("hbm {M} --omega 0.5:0.6:0.1 --method aft --subharmonic 0 --out out"),
+            "--subharmonic",
+        ),
+        cli(
+            "hbm F_m 1e300",
+            "hbm --fm 1e300 --fah 0.2 --zeta 0.02 --omega 0.5 --out out",
+            "--fm",
+        ),
+        cli(
+            "hbm omega from 1e-300",
+            &format!("hbm {M} --omega 1e-300:1:0.1 --out out"),
+            "--omega",
+        ),
+        cli(
+            "basin grid 4001",
+            &format!("basins {M} --omega 0.5 --ic-grid -2:2:4001 --out out"),
+            "ic-grid",
+        ),
+        cli(
+            "sweep all over a huge grid",
+            &format!("sweep {M} --omega 0.1:100:0.01 --direction all --ic-grid -2:2:101 --out out"),
+            "--ic-grid",
+        ),
+        cli(
+            "study points 100000",
+            "study damping --points 100000 --out out",
+            "--points",
+        ),
+        cli(
+            "compare tolerance -1",
+            &format!("compare {M} --omega 0.5 --tolerance -1 --out out"),
+            "--tolerance",
+        ),
+        cli(
+            "synth omega_n 0",
+            "synth munro --omega-n-hz 0 --out out",
+            "--omega-n-hz",
+        ),
+        cli(
+            "synth noise -1",
+            "synth munro --noise-um -1 --out out",
+            "--noise-um",
+        ),
+        cli(
+            "synth kubo zeta 1.5",
+            "synth kubo --zeta 1.5 --out out",
+            "--zeta",
+        ),
+        cli(
+            "synth negative STE",
+            "synth munro --loads 3780:-1 --out out",
+            "--loads",
+        ),
+        cli(
+            "validate-study 0 seeds",
+            "validate-study --seeds 0 --out out/summary.json",
+            "--seeds",
+        ),
+        cli(
+            "bench basin grid 100000",
+            "bench --basin-grid 100000",
+            "--basin-grid",
+        ),
+        cli(
+            "mesh 1e9 samples",
+            "mesh --rig rig.toml --load-n 945 --tip-relief-um 10 --samples 1000000000 --out out",
+            "--samples",
+        ),
+        // Output paths of the wrong kind: named, with what was expected, before any work.
+        case(
+            "simulate --out FILE",
+            &format!("simulate {M} --omega 0.5 --out file.txt"),
+            "--out file.txt: a folder was expected",
+            Setup::File,
+        ),
+        case(
+            "basins --out FILE",
+            &format!("basins {M} --omega 0.5 --ic-grid -2:2:3 --out file.txt"),
+            "--out file.txt: a folder was expected",
+            Setup::File,
+        ),
+        case(
+            "sweep --out below a FILE",
+            &format!("sweep {M} --omega 0.5 --out file.txt/sweep"),
+            "file.txt is a file",
+            Setup::File,
+        ),
+        case(
+            "validate --fits FILE",
+            "validate munro --data data --fits file.txt --reports reports",
+            "--fits file.txt: a folder was expected",
+            Setup::File,
+        ),
+        case(
+            "validate-study --out FOLDER",
+            "validate-study --seeds 1 --out folder",
+            "--out folder: a file was expected",
+            Setup::Folder,
+        ),
+    ]
+}
+
+/// Names in `dir` (sorted).
+fn entries(dir: &Path) -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(dir)
+        .expect("read dir")
+        .map(|e| e.expect("entry").file_name().to_string_lossy().into_owned())
+        .collect();
+    v.sort();
+    v
+}
+
+/// Run one case in a fresh folder; return a description of what went wrong, if anything.
+fn run(c: &Case) -> Option<String> {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let d = dir.path();
+    match &c.setup {
+        Setup::None => {}
+        Setup::Data(csv, rig) => {
+            std::fs::create_dir(d.join("data")).expect("mkdir");
+            std::fs::write(d.join("data/rig.toml"), rig).expect("write rig");
+            std::fs::write(d.join("data/c.csv"), csv).expect("write csv");
+        }
+        Setup::File => std::fs::write(d.join("file.txt"), "keep me\n").expect("write"),
+        Setup::Folder => std::fs::create_dir(d.join("folder")).expect("mkdir"),
+    }
+    let before = entries(d);
+    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args(c.args.split_whitespace())
+        .current_dir(d)
+        .output()
+        .expect("the geardyn binary runs");
+    let err = String::from_utf8_lossy(&out.stderr);
+    let mut problems = Vec::new();
+    if out.status.success() {
+        problems.push("exit status 0".to_string());
+    }
+    if err.contains("panicked") {
+        problems.push("panicked".to_string());
+    }
+    if !err.contains(&c.needle) {
+        problems.push(format!("message does not contain '{}'", c.needle));
+    }
+    if err.matches("error:").count() != 1 {
+        problems.push("not exactly one error message".to_string());
+    }
+    if !out.stdout.is_empty() {
+        problems.push("wrote to standard output".to_string());
+    }
+    let after = entries(d);
+    if after != before {
+        problems.push(format!("folder changed: {before:?} -> {after:?}"));
+    }
+    if matches!(c.setup, Setup::File)
+        && std::fs::read_to_string(d.join("file.txt")).ok().as_deref() != Some("keep me\n")
+    {
+        problems.push("file.txt changed".to_string());
+    }
+    if matches!(c.setup, Setup::Folder) && !entries(&d.join("folder")).is_empty() {
+        problems.push("wrote into folder/".to_string());
+    }
+    (!problems.is_empty()).then(|| format!("{}: {} (stderr: {err})", c.name, problems.join("; ")))
+}
+
+#[test]
+fn bad_inputs_fail_cleanly_and_write_nothing() {
+    let cases = table();
+    assert!(cases.len() >= 40, "{} cases", cases.len());
+    let failures: Vec<String> = cases.iter().filter_map(run).collect();
+    assert!(
+        failures.is_empty(),
+        "{} of {} cases failed:\n{}",
+        failures.len(),
+        cases.len(),
+        failures.join("\n")
+    );
+}
+
+/// The limits are in `--help`.
+#[test]
+fn limits_are_in_help() {
+    for (cmd, text) in [
+        ("simulate", "[0.001, 100]"),
+        ("simulate", "1 to 100000"),
+        ("basins", "at most 501"),
+        ("hbm", "1 to 128"),
+        ("study", "2 to 2001"),
+    ] {
+        let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+            .args([cmd, "--help"])
+            .output()
+            .expect("runs");
+        let help = String::from_utf8_lossy(&out.stdout);
+        assert!(help.contains(text), "{cmd} --help lacks '{text}':\n{help}");
+    }
+}
+
+/// A steady state cut by its transient budget says so (`"settled": false` and a warning) and is
+/// not classified as aperiodic or chaotic (issue 22).
+#[test]
+fn unsettled_steady_state_is_reported() {
+    let out = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args([
+            "simulate", "--fm", "0.1", "--fah", "0.2", "--zeta", "0.001", "--omega", "100",
+            "--json",
+        ])
+        .output()
+        .expect("runs");
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).expect("JSON");
+    assert_eq!(v["settled"], serde_json::json!(false));
+    assert_eq!(v["motion"], serde_json::json!("unsettled"));
+    assert!(String::from_utf8_lossy(&out.stderr).contains("WARNING: not settled"));
+}
+
+/// `--out DIR` receives the outputs once they are all written, next to what DIR already held,
+/// and no staging folder is left.
+#[test]
+fn outputs_are_merged_into_an_existing_folder() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("out");
+    std::fs::create_dir(&out).expect("mkdir");
+    std::fs::write(out.join("notes.txt"), "mine\n").expect("write");
+    let o = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args([
+            "hbm",
+            "--fm",
+            "0.1",
+            "--fah",
+            "0.05",
+            "--zeta",
+            "0.05",
+            "--omega",
+            "0.5:0.7:0.1",
+            "--out",
+            "out",
+        ])
+        .current_dir(dir.path())
+        .output()
+        .expect("runs");
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(
+        entries(&out),
+        ["hbm.csv", "hbm.png", "hbm.svg", "notes.txt"],
+        "outputs beside the user's file"
+    );
+    assert_eq!(entries(dir.path()), ["out"], "no staging folder left");
+}
