@@ -154,7 +154,10 @@ fn load_line(l: &LoadResult) -> String {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    let (Which::Munro(d) | Which::Kubo(d)) = &a.which;
+    let d = match &a.which {
+        Which::Munro(m) => &m.dirs,
+        Which::Kubo(d) => d,
+    };
     check_out_dir("--fits", &d.fits)?;
     check_out_dir("--reports", &d.reports)?;
     let (written, banner, summary) = match a.which {
