@@ -5,30 +5,11 @@
 use super::ste::pp;
 use super::tooth_stiffness::{hertz_compliance, tooth_compliance};
 use super::*;
-use crate::data::{GearGeometry, Rig};
+use crate::data::GearGeometry;
 use crate::model::{Dimensional, StiffnessSource};
 
-/// Munro's rig as `data/munro/rig.toml` describes it.
-fn munro_rig() -> Rig {
-    Rig {
-        name: "Munro".into(),
-        pinion_teeth: 32,
-        gear_teeth: 32,
-        module_mm: 6.35,
-        pressure_angle_deg: 20.0,
-        face_width_mm: 12.7,
-        design_load_n: 3780.0,
-        backlash_mm: 0.1,
-        mesh_stiffness_n_per_um: None,
-        contact_ratio: None,
-        zeta: None,
-        omega_n_hz: None,
-        test_load_n: None,
-    }
-}
-
 fn munro() -> GearPairGeometry {
-    GearPairGeometry::from_rig(&munro_rig(), &GearGeometry::default()).unwrap()
+    GearPairGeometry::from_rig(&crate::validate::munro_rig(), &GearGeometry::default()).unwrap()
 }
 
 /// Harris's long relief on both tips, `amount_um` deep.
@@ -149,7 +130,7 @@ fn mean_mesh_stiffness_against_iso_6336_c_gamma() {
     let geo = munro();
     let model = MeshModel::new(geo.clone());
     let mean = model.mean_mesh_stiffness_n_per_um(1024);
-    let dim = Dimensional::from_rig(&munro_rig()).unwrap();
+    let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
     let StiffnessSource::Iso6336Estimate { contact_ratio, .. } = dim.stiffness_source else {
         panic!("Munro's rig gives no stiffness: ISO estimate expected");
     };
@@ -329,7 +310,7 @@ fn harmonics_rebuild_the_waveform() {
 
 #[test]
 fn bad_geometry_and_relief_are_named_errors() {
-    let rig = munro_rig();
+    let rig = crate::validate::munro_rig();
     let too_close = GearGeometry {
         centre_distance_mm: Some(150.0),
         ..GearGeometry::default()
@@ -382,7 +363,7 @@ fn profile_shift_moves_the_centre_distance_and_path() {
         gear_profile_shift: Some(0.2),
         ..GearGeometry::default()
     };
-    let geo = GearPairGeometry::from_rig(&munro_rig(), &g).unwrap();
+    let geo = GearPairGeometry::from_rig(&crate::validate::munro_rig(), &g).unwrap();
     assert!((geo.working_pressure_angle.to_degrees() - 21.7872).abs() < 1e-3);
     assert!((geo.centre_distance_m * 1e3 - 205.6).abs() < 0.1);
     assert!(geo.contact_ratio() > 1.0 && geo.contact_ratio() < munro().contact_ratio());

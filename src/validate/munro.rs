@@ -187,13 +187,9 @@ fn ste_from_rig(data: &MunroData, load: f64) -> Option<f64> {
         .map(|(_, a)| *a)
 }
 
-/// The design-load fit of `validate munro` on a loaded set (its curve, the rig's STE when
-/// given, the set's noise setting), and the STE the rig gives, if any. Errors when the design
-/// load has fewer than 5 points.
-pub fn fit_munro_design_load(
-    data: &MunroData,
-    robust: Robust,
-) -> Result<(DesignLoadFit, Option<f64>)> {
+/// The rig's dimensional scales, the design load (N) and its measured curve, which a fit needs
+/// with at least 5 points.
+fn design_curve(data: &MunroData) -> Result<(Dimensional, f64, Vec<&MunroPoint>)> {
     let rig = &data.rig.rig;
     let dim = Dimensional::from_rig(rig)?;
     let design = rig.design_load_n;
@@ -209,6 +205,17 @@ pub fn fit_munro_design_load(
             ),
         });
     }
+    Ok((dim, design, curve))
+}
+
+/// The design-load fit of `validate munro` on a loaded set (its curve, the rig's STE when
+/// given, the set's noise setting), and the STE the rig gives, if any. Errors when the design
+/// load has fewer than 5 points.
+pub fn fit_munro_design_load(
+    data: &MunroData,
+    robust: Robust,
+) -> Result<(DesignLoadFit, Option<f64>)> {
+    let (dim, design, curve) = design_curve(data)?;
     let ste_given = ste_from_rig(data, design);
     // The other loads whose STE is not given: their low-speed parts join the fit.
     let others: Vec<(f64, Vec<&MunroPoint>)> = data
@@ -325,20 +332,7 @@ fn validate_geometry(
     progress: &dyn Progress,
 ) -> Result<GeometryValidation> {
     let rig = &data.rig.rig;
-    let dim = Dimensional::from_rig(rig)?;
-    let design = rig.design_load_n;
-    let curve = data.curve(design);
-    if curve.len() < 5 {
-        return Err(GearError::Data {
-            file: data.dir.join("rig.toml"),
-            line: 0,
-            field: "design_load_n".into(),
-            message: format!(
-                "the fit needs the design-load curve ({design} N) with at least 5 points; found {}",
-                curve.len()
-            ),
-        });
-    }
+    let (dim, design, curve) = design_curve(data)?;
     let mesh = GearMesh::new(rig, g)?;
     let (start_um, fit_depth) = match g.relief {
         ReliefRule::DesignRule => (mesh.design_rule_um(design)?, false),
