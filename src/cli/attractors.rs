@@ -1,7 +1,7 @@
 //! `geardyn attractors`: every coexisting steady state from a grid of initial conditions.
 
-use super::common::{print_json, print_text, unsettled_warning, ModelArgs, SolverArgs};
-use super::limits::{real, OMEGA};
+use super::common::{print_json, print_text, unsettled_warning, SolverArgs};
+use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::sim::{find_attractors, IcGrid};
@@ -11,10 +11,10 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
-    omega: f64,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
+    #[command(flatten)]
+    frequency: Frequency,
+    /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
+    /// values per axis, at most 501).
     #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]
@@ -26,7 +26,10 @@ pub struct Args {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let model = a.model.model(a.omega)?;
+    let m = a.model.resolve()?;
+    let omega = a.frequency.omega(&m)?;
+    m.print_conversion(omega);
+    let model = m.at(omega)?;
     let flow = a.solver.flow(&model)?;
     let opts = a.solver.options()?;
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
@@ -37,6 +40,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             100.0 * u.basin_fraction
         );
     }
+    let mut parameters = m.json();
+    parameters["omega"] = omega.into();
     if a.json {
         let list: Vec<_> = map
             .attractors
@@ -49,6 +54,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     "dl_max": s.dl_max, "lyapunov": s.lyapunov, "floquet": s.floquet,
                     "basin_fraction": at.basin_fraction, "basin_count": at.basin_count,
                     "example_ic": at.example_ic, "poincare": s.poincare,
+                    "rig_units": SteadyInRigUnits::json(&SteadyInRigUnits::new(&m, omega, s)),
                 })
             })
             .collect();
@@ -56,12 +62,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "attractors": list,
             "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
             "integrator": flow.method(),
-            "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
+            "parameters": parameters,
         }))?;
     } else {
         let mut text = format!(
-            "{} attractor(s) from {}x{} initial conditions in [{}, {}]^2\n",
+            "{} attractor(s) at Ω_h = {} from {}x{} initial conditions in [{}, {}]^2 (q and q' \
+             dimensionless)\n",
             map.attractors.len(),
+            num(omega),
             grid.n,
             grid.n,
             grid.lo,
@@ -70,15 +78,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         for (i, at) in map.attractors.iter().enumerate() {
             let s = &at.steady;
             text.push_str(&format!(
-                "  #{i}: period {} ({:?}), impact {}, qa {:.5}, qm {:.5}, basin {:.1}%{}\n",
+                "  #{i}: period {} ({}), impact {}, q_a {:.5}, q_m {:.5}, basin {:.1}%{}{}\n",
                 s.period.map_or("none".into(), |p| p.to_string()),
-                s.motion,
+                s.motion.name(),
                 s.impact.name(),
                 s.qa,
                 s.qm,
                 100.0 * at.basin_fraction,
                 s.lyapunov
-                    .map_or(String::new(), |l| format!(", lyapunov {l:.4}"))
+                    .map_or(String::new(), |l| format!(", lyapunov {l:.4}")),
+                SteadyInRigUnits::new(&m, omega, s)
+                    .map_or(String::new(), |r| format!("; {}", r.text(false)))
             ));
         }
         print_text(&text)?;

@@ -1,9 +1,9 @@
 //! `geardyn basins`: the map of which steady state each initial condition reaches (Figs 3, 6, 14).
 
 use super::common::{
-    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, ModelArgs, SolverArgs,
+    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, SolverArgs,
 };
-use super::limits::{real, OMEGA};
+use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::plot::{write_category_map, CategoryMap};
@@ -15,10 +15,10 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
-    omega: f64,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
+    #[command(flatten)]
+    frequency: Frequency,
+    /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
+    /// values per axis, at most 501).
     #[arg(long, default_value = "-2:2:101", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]
@@ -31,7 +31,10 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let model = a.model.model(a.omega)?;
+    let m = a.model.resolve()?;
+    let omega = a.frequency.omega(&m)?;
+    m.print_conversion(omega);
+    let model = m.at(omega)?;
     let flow = a.solver.flow(&model)?;
     let opts = a.solver.options()?;
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
@@ -55,7 +58,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             l.to_string(),
             s.period.map_or(String::new(), |p| p.to_string()),
             s.impact.name().to_string(),
-            format!("{:?}", s.motion).to_lowercase(),
+            s.motion.name().to_string(),
             format!("{:.8}", s.qa),
             format!("{:.8}", s.qm),
         ])?;
@@ -68,31 +71,45 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .map(|(i, at)| {
             let s = &at.steady;
             format!(
-                "#{i} {} {} impact, q_a {:.3} ({:.1}%)",
+                "#{i} {} {} impact, q_a {:.3}{} ({:.1}%)",
                 s.period
                     .map_or("non-periodic".to_string(), |p| format!("period-{p}")),
                 s.impact.name(),
                 s.qa,
+                SteadyInRigUnits::new(&m, omega, s)
+                    .map_or(String::new(), |r| format!(", {}", r.text(false))),
                 100.0 * at.basin_fraction
             )
         })
         .collect();
+    let mut parameters = m.json();
+    parameters["omega"] = omega.into();
     let summary = json!({
         "attractors": map.attractors.iter().map(|at| json!({
             "period": at.steady.period, "settled": at.steady.settled, "motion": at.steady.motion, "impact": at.steady.impact,
             "qa": at.steady.qa, "qm": at.steady.qm, "basin_fraction": at.basin_fraction,
             "basin_count": at.basin_count, "example_ic": at.example_ic, "poincare": at.steady.poincare,
             "lyapunov": at.steady.lyapunov, "floquet": at.steady.floquet,
+            "rig_units": SteadyInRigUnits::json(&SteadyInRigUnits::new(&m, omega, &at.steady)),
         })).collect::<Vec<_>>(),
         "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
         "integrator": flow.method(),
-        "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
+        "parameters": parameters,
     });
     let cat = CategoryMap {
-        title: format!("Domains of attraction, Omega_h = {}", a.omega),
+        title: match &m.rig {
+            Some(op) => format!(
+                "Domains of attraction, {} rpm (Ω_h = {})",
+                num(op.speed_rpm(omega)),
+                num(omega)
+            ),
+            None => format!("Domains of attraction, Ω_h = {}", num(omega)),
+        },
         caption: Some(format!(
-            "F_m = {}, F_ah = {}, zeta = {}, {}x{} initial conditions",
-            a.model.fm, a.model.fah, a.model.zeta, grid.n, grid.n
+            "{}, {}x{} initial conditions",
+            m.caption(),
+            grid.n,
+            grid.n
         )),
         x_label: "q(0)".into(),
         y_label: "q'(0)".into(),

@@ -1,32 +1,12 @@
-//! Options shared by several commands: the model parameters and the integrator choice.
+//! Options shared by several commands (the integrator choice, noise) and output helpers.
 
-use super::limits::{check_range, real, whole, FAH, FM, OMEGA, RTOL, ZETA};
+use super::limits::{real, whole, RTOL};
 use anyhow::Context;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::model::GearPair;
 use geardyn::report::Staged;
 use geardyn::sim::{ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
 use std::path::{Path, PathBuf};
-
-/// Parameters of eq. 5 (the paper's model).
-#[derive(ClapArgs, Debug, Clone)]
-pub struct ModelArgs {
-    /// Dimensionless mean load F_m, in [0, 1e4].
-    #[arg(long = "fm", allow_hyphen_values = true, value_parser = real(FM.0, FM.1, false))]
-    pub fm: f64,
-    /// Dimensionless STE amplitude F_ah (force ratio F_hat = F_m / F_ah), in [0, 1e3].
-    #[arg(long = "fah", allow_hyphen_values = true, value_parser = real(FAH.0, FAH.1, false))]
-    pub fah: f64,
-    /// Damping ratio zeta, in [0.001, 0.9].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(ZETA.0, ZETA.1, false))]
-    pub zeta: f64,
-}
-
-impl ModelArgs {
-    pub fn model(&self, omega: f64) -> anyhow::Result<GearPair> {
-        Ok(GearPair::paper(self.fm, self.fah, self.zeta, omega)?)
-    }
-}
 
 /// Integration and steady-state options.
 #[derive(ClapArgs, Debug, Clone)]
@@ -88,36 +68,6 @@ impl SolverArgs {
             Integrator::Exact => "exact",
             Integrator::Dop853 => "dop853",
         }
-    }
-}
-
-/// Parse START:STOP:STEP into the list of frequencies (START and STOP in [0.001, 100], at
-/// most 100000 values).
-pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let num = |s: &str, what: &str| -> anyhow::Result<f64> {
-        s.trim().parse::<f64>().map_err(|_| {
-            anyhow::anyhow!(
-                "{flag} '{text}': {what} '{s}' is not a number; expected START:STOP:STEP"
-            )
-        })
-    };
-    let bounded = |s: &str, what: &str| -> anyhow::Result<f64> {
-        let v = num(s, what)?;
-        check_range(&format!("{flag} '{text}'"), what, v, OMEGA)?;
-        Ok(v)
-    };
-    match parts.as_slice() {
-        [one] => {
-            let w = bounded(one, "value")?;
-            Ok(geardyn::sim::frequency_range(w, w, 1.0)?)
-        }
-        [a, b, c] => Ok(geardyn::sim::frequency_range(
-            bounded(a, "START")?,
-            bounded(b, "STOP")?,
-            num(c, "STEP")?,
-        )?),
-        _ => anyhow::bail!("{flag} '{text}': expected START:STOP:STEP, e.g. 0.3:1.5:0.01"),
     }
 }
 

@@ -12,6 +12,7 @@ mod discover_study;
 mod hbm;
 mod limits;
 mod mesh;
+mod model_args;
 mod progress_bar;
 mod reproduce;
 mod response_plot;
