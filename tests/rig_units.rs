@@ -20,7 +20,13 @@ fn rows(csv: &str) -> Vec<HashMap<String, String>> {
         .map(String::from)
         .collect();
     lines
-        .map(|l| header.iter().cloned().zip(l.split(',').map(String::from)).collect())
+        .map(|l| {
+            header
+                .iter()
+                .cloned()
+                .zip(l.split(',').map(String::from))
+                .collect()
+        })
         .collect()
 }
 
@@ -87,7 +93,10 @@ fn dimensional_sweep_is_the_dimensionless_one_scaled() {
         "zeta = 0.05 from rig.toml",
         "omega_n_hz = 1000 from rig.toml",
     ] {
-        assert!(err.contains(needle), "'{needle}' not in the conversion:\n{err}");
+        assert!(
+            err.contains(needle),
+            "'{needle}' not in the conversion:\n{err}"
+        );
     }
     let (plain_csv, _) = run(&[
         "sweep",
@@ -122,7 +131,10 @@ fn dimensional_sweep_is_the_dimensionless_one_scaled() {
             // The same model (F_m 0.1 and F_ah 0.05 to the last bits), so the same steady
             // state to the printed digits (10 decimals dimensionless, 6 in um, 4 in N).
             let (a, b) = (val(d, col), val(p, col));
-            assert!((a - b).abs() <= 1e-9 * b.abs().max(1.0), "{col} at {speed} rpm: {a} vs {b}");
+            assert!(
+                (a - b).abs() <= 1e-9 * b.abs().max(1.0),
+                "{col} at {speed} rpm: {a} vs {b}"
+            );
             let s = val(d, scaled);
             assert!(
                 (s - factor * b).abs() <= 1e-6 * (factor * b).abs().max(1.0),
@@ -177,7 +189,10 @@ fn munro_design_load_follows_eq_13() {
         let checks = [
             ("qa_um", ste * w * w / den),
             ("dte_pp_um", 2.0 * ste * hx),
-            ("mesh_force_max_n", load * (1.0 + ste / 50.0 * w * w * hx / fm)),
+            (
+                "mesh_force_max_n",
+                load * (1.0 + ste / 50.0 * w * w * hx / fm),
+            ),
         ];
         for (col, expected) in checks {
             let got = val(r, col);
@@ -196,26 +211,79 @@ fn wrong_combinations_are_rejected_with_the_option_named() {
     let munro = concat!(env!("CARGO_MANIFEST_DIR"), "/data/munro/rig.toml");
     let cases: [(&[&str], &str); 5] = [
         (
-            &["simulate", "--fm", "0.1", "--fah", "0.2", "--zeta", "0.02", "--speed-rpm", "1000"],
+            &[
+                "simulate",
+                "--fm",
+                "0.1",
+                "--fah",
+                "0.2",
+                "--zeta",
+                "0.02",
+                "--speed-rpm",
+                "1000",
+            ],
             "--rig",
         ),
         (
-            &["simulate", "--rig", munro, "--fm", "0.1", "--ste-um", "1", "--zeta", "0.02",
-              "--omega-n-hz", "1600", "--speed-rpm", "1000"],
+            &[
+                "simulate",
+                "--rig",
+                munro,
+                "--fm",
+                "0.1",
+                "--ste-um",
+                "1",
+                "--zeta",
+                "0.02",
+                "--omega-n-hz",
+                "1600",
+                "--speed-rpm",
+                "1000",
+            ],
             "--fm",
         ),
         (
-            &["simulate", "--rig", munro, "--ste-um", "1", "--zeta", "0.02", "--speed-rpm", "1000"],
+            &[
+                "simulate",
+                "--rig",
+                munro,
+                "--ste-um",
+                "1",
+                "--zeta",
+                "0.02",
+                "--speed-rpm",
+                "1000",
+            ],
             "--omega-n-hz is needed with --rig",
         ),
         (
-            &["simulate", "--rig", munro, "--zeta", "0.02", "--omega-n-hz", "1600",
-              "--speed-rpm", "1000"],
+            &[
+                "simulate",
+                "--rig",
+                munro,
+                "--zeta",
+                "0.02",
+                "--omega-n-hz",
+                "1600",
+                "--speed-rpm",
+                "1000",
+            ],
             "--ste-um is needed",
         ),
         (
-            &["sweep", "--rig", munro, "--ste-um", "1", "--zeta", "0.02", "--omega-n-hz", "1600",
-              "--speed-rpm", "1:1000000:1"],
+            &[
+                "sweep",
+                "--rig",
+                munro,
+                "--ste-um",
+                "1",
+                "--zeta",
+                "0.02",
+                "--omega-n-hz",
+                "1600",
+                "--speed-rpm",
+                "1:1000000:1",
+            ],
             "--speed-rpm",
         ),
     ];

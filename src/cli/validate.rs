@@ -28,7 +28,8 @@ enum Which {
 
 #[derive(ClapArgs, Debug)]
 struct Dirs {
-    /// Data set folder (rig.toml + CSV); default data/munro or data/kubo.
+    /// Data set folder (rig.toml + CSV curves, docs/data-format.md); default: the shipped
+    /// data/munro or data/kubo, relative to the current folder.
     #[arg(long)]
     data: Option<PathBuf>,
     /// Folder for the fitted-parameter JSON.
@@ -162,11 +163,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--reports", &d.reports)?;
     let (written, banner, summary) = match a.which {
         Which::Munro(m) => {
-            let dir = m
-                .dirs
-                .data
-                .clone()
-                .unwrap_or_else(|| PathBuf::from("data/munro"));
+            let dir = data_dir(m.dirs.data.as_deref(), "munro")?;
             let data = load_munro(&dir)?;
             let opts = MunroOptions {
                 ste: m.ste_mode(&dir.join("rig.toml"))?,
@@ -222,7 +219,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             (written, data_kind_banner(&data.rig), s)
         }
         Which::Kubo(d) => {
-            let data = load_kubo(&d.data.unwrap_or_else(|| PathBuf::from("data/kubo")))?;
+            let data = load_kubo(&data_dir(d.data.as_deref(), "kubo")?)?;
             let r = validate_kubo(&data, &KuboOptions::default(), &Bar::new())?;
             let written = write_kubo_report(&data, &r, &d.fits, &d.reports.join("kubo"))?;
             let s = format!(
@@ -241,6 +238,26 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         text.push_str(&format!("wrote {}\n", p.display()));
     }
     print_text(&text)
+}
+
+/// The data set folder: `--data`, else the shipped `data/NAME` of the repository, which must
+/// then exist in the current folder (a hint otherwise: outside the repository a missing default
+/// is no fault in any file).
+fn data_dir(given: Option<&std::path::Path>, name: &str) -> anyhow::Result<PathBuf> {
+    if let Some(d) = given {
+        return Ok(d.to_path_buf());
+    }
+    let d = PathBuf::from("data").join(name);
+    if !d.join("rig.toml").is_file() {
+        let here = std::env::current_dir().map_or(String::from("."), |p| p.display().to_string());
+        anyhow::bail!(
+            "no data set given and the default {}/rig.toml is not in {here}: give your data \
+             set with --data DIR (a folder with rig.toml and CSV curves; `geardyn init-data DIR` \
+             writes a template), or run from the geardyn repository for the shipped set",
+            d.display()
+        );
+    }
+    Ok(d)
 }
 
 /// A value and its 95% interval, with the interval's digits.

@@ -29,7 +29,9 @@ pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
 pub use munro::{load_munro, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
-pub use rig::{load_rig, load_rig_with_geometry, write_rig, Rig, RigFile, StatedNoise, SteTable};
+pub use rig::{
+    load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile, StatedNoise, SteTable,
+};
 pub use source::{DataKind, Source};
 
 #[cfg(test)]

@@ -451,6 +451,15 @@ pub fn load_rig_with_geometry(path: &Path) -> Result<(RigFile, GearGeometry)> {
     load_rig_toml(path)
 }
 
+/// An error about `[table] key` of the `rig.toml` in the data set folder `dir`, located at the
+/// key's line (the table's line when the key is absent, 0 when the file cannot be read again):
+/// for checks made after loading (e.g. a key that one pipeline cannot use).
+pub fn rig_key_error(dir: &Path, table: &str, key: &str, message: impl Into<String>) -> GearError {
+    let path = dir.join("rig.toml");
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    TomlDoc::new(&path, &text).error(table, key, message)
+}
+
 /// Validate `rig` and write it as TOML to `path` (used by `geardyn synth`). An invalid rig is
 /// not written, and the file appears complete or not at all (written aside, then renamed).
 pub fn write_rig(path: &Path, rig: &RigFile) -> Result<()> {

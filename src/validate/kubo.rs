@@ -12,8 +12,9 @@
 //! state; refit until the selection repeats.
 
 use super::curve_metrics::{rms, transition_location};
+use super::fit_check::{fit_failed, fit_failure};
 use super::linear::load_factor_max;
-use crate::data::{KuboData, KuboPoint};
+use crate::data::{rig_key_error, KuboData, KuboPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
@@ -200,6 +201,20 @@ pub fn validate_kubo(
         .filter(|p| p.dynamic_factor_max < CONTACT_LIMIT)
         .collect();
     let mut used_count = 0;
+    if let (Some(_), None) | (None, Some(_)) = (rig.zeta, rig.omega_n_hz) {
+        let key = if rig.zeta.is_some() {
+            "zeta"
+        } else {
+            "omega_n_hz"
+        };
+        return Err(rig_key_error(
+            &data.dir,
+            "rig",
+            key,
+            "validate kubo takes zeta and omega_n_hz as fixed values only when both are given \
+             (else it fits both): give the other one too, or remove this one",
+        ));
+    }
     let (fit_result, profile, zeta, wn, ste, source) = match (rig.zeta, rig.omega_n_hz) {
         (Some(z), Some(w)) => {
             let e = ste_given.ok_or_else(|| GearError::Data {
@@ -290,6 +305,9 @@ pub fn validate_kubo(
                 ste_um: ste_given,
             });
             let prof = problem.profile(&r)?;
+            if let Some(reason) = fit_failure(&r, &prof) {
+                return Err(fit_failed(&data.dir, "fit to the contact part", reason));
+            }
             let e = ste_of(ste_given, &r.params);
             let (z, w) = (r.params[0], r.params[1]);
             used_count = problem.points.len();

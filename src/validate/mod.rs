@@ -3,6 +3,7 @@
 
 mod curve_metrics;
 mod design_fit;
+mod fit_check;
 mod geometry_ste;
 mod kubo;
 mod linear;
@@ -13,6 +14,7 @@ mod synth;
 
 pub use curve_metrics::{jump_location, min_max, rms, transition_location};
 pub use design_fit::{fit_design_load, DesignLoadFit, LOW_SPEED_OMEGA};
+pub use fit_check::{fit_failure, FITTED_ZETA};
 pub use geometry_ste::{
     GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
 };
