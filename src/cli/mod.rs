@@ -10,6 +10,7 @@ mod digitize_parse;
 mod discover;
 mod discover_study;
 mod hbm;
+mod init_data;
 mod limits;
 mod mesh;
 mod model_args;
@@ -51,6 +52,9 @@ enum Command {
     Validate(validate::Args),
     /// Write a synthetic data set (labelled synthetic, with its truth) in the data layout.
     Synth(synth::Args),
+    /// Start a data set of your own measurements: a commented rig.toml template (every key
+    /// with unit and range) and a CSV file with its header.
+    InitData(init_data::Args),
     /// Performance figures: one steady state per integrator and a basin map (README numbers).
     Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
@@ -124,6 +128,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Mesh(a) => mesh::run(a),
         Command::Validate(a) => validate::run(a),
         Command::Synth(a) => synth::run(a),
+        Command::InitData(a) => init_data::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Study(a) => study::run(a),
         Command::Discover(a) => discover::run(a),

@@ -23,6 +23,7 @@ mod kubo;
 mod munro;
 mod rig;
 mod source;
+mod template;
 mod toml_doc;
 
 pub use errors::WHOLE_FILE;
@@ -33,6 +34,7 @@ pub use rig::{
     load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile, StatedNoise, SteTable,
 };
 pub use source::{DataKind, Source};
+pub use template::{csv_template, rig_template, Layout};
 
 #[cfg(test)]
 mod tests;

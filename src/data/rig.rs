@@ -415,11 +415,67 @@ struct RigToml {
     source: Source,
 }
 
+/// The keys each required table must give (the others are optional or depend on the data kind).
+const REQUIRED_KEYS: [(&str, &[&str]); 2] = [
+    (
+        "rig",
+        &[
+            "name",
+            "pinion_teeth",
+            "gear_teeth",
+            "module_mm",
+            "pressure_angle_deg",
+            "face_width_mm",
+            "design_load_n",
+            "backlash_mm",
+        ],
+    ),
+    ("source", &["kind", "citation"]),
+];
+
+/// Every required key missing from a table of `text`, in one error at the first one (so that
+/// a new file, e.g. the template of `geardyn init-data`, is filled in one round); None when the
+/// text is not TOML or nothing is missing.
+fn missing_keys(doc: &TomlDoc, text: &str) -> Option<GearError> {
+    let table: toml::Table = toml::from_str(text).ok()?;
+    for (name, keys) in REQUIRED_KEYS {
+        let Some(t) = table.get(name).and_then(|t| t.as_table()) else {
+            continue;
+        };
+        let missing: Vec<&str> = keys
+            .iter()
+            .copied()
+            .filter(|k| !t.contains_key(*k))
+            .collect();
+        if let Some(first) = missing.first() {
+            return Some(doc.error(
+                name,
+                first,
+                format!(
+                    "missing in [{name}]: {} (each is marked REQUIRED in the template of \
+                     `geardyn init-data`; docs/data-format.md lists every key)",
+                    missing.join(", ")
+                ),
+            ));
+        }
+    }
+    None
+}
+
 /// Read and validate every table of a `rig.toml`.
 fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
     let text = read_text(path)?;
     let doc = TomlDoc::new(path, &text);
-    let t: RigToml = toml::from_str(&text).map_err(|e| doc.toml_error(&e))?;
+    let t: RigToml = toml::from_str(&text).map_err(|e| {
+        // serde stops at the first missing key; name them all (an unknown key, e.g. a unit
+        // typo, is reported first, at its line, as the parser found it).
+        let all_missing = e
+            .message()
+            .contains("missing field")
+            .then(|| missing_keys(&doc, &text))
+            .flatten();
+        all_missing.unwrap_or_else(|| doc.toml_error(&e))
+    })?;
     let rig = RigFile {
         rig: t.rig,
         ste: t.ste,
