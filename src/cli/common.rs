@@ -24,7 +24,8 @@ pub struct SolverArgs {
     /// (any model; the independent cross-check).
     #[arg(long, value_enum, default_value_t = Integrator::Exact)]
     pub integrator: Integrator,
-    /// Relative tolerance of DOP853, in [1e-14, 0.01] (1e-10 gives Poincare points to ~1e-9).
+    /// Relative tolerance of DOP853 (dimensionless), in [1e-14, 0.01] (1e-10 gives Poincaré
+    /// points to ~1e-9).
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true,
           value_parser = real(RTOL.0, RTOL.1, false))]
     pub rtol: f64,
@@ -190,10 +191,11 @@ pub struct NoiseArgs {
     #[arg(long, default_value_t = 0.15, allow_hyphen_values = true,
           value_parser = real(0.0, 1000.0, false))]
     pub noise_um: f64,
-    /// Relative part of the level-dependent families, in [0, 0.99] (default 0.03).
+    /// Relative part of the level-dependent families, a fraction of the level (dimensionless),
+    /// in [0, 0.99] (default 0.03).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 0.99, false))]
     pub noise_relative: Option<f64>,
-    /// Degrees of freedom of the student-t family, in [1, 1000] (default 3).
+    /// Degrees of freedom of the student-t family (dimensionless), in [1, 1000] (default 3).
     #[arg(long, allow_hyphen_values = true, value_parser = real(1.0, 1000.0, false))]
     pub noise_dof: Option<f64>,
     /// Reading grid of the quantized family, um, in (0, 1000] (default 0.25).

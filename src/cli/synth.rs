@@ -16,38 +16,40 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 enum Which {
     /// pp DTE versus speed at loads 1, 3/4, 1/2, 1/4 of 3780 N on Munro's rig geometry.
+    #[command(after_help = super::examples::SYNTH)]
     Munro(MunroArgs),
     /// Dynamic-factor envelope of a heavily damped rig (zeta about 0.1).
+    #[command(after_help = super::examples::SYNTH)]
     Kubo(KuboArgs),
 }
 
 #[derive(ClapArgs, Debug)]
 struct Hidden {
-    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Omega t + psi)), in [0, 0.9].
+    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Ω t + ψ)), dimensionless, in [0, 0.9].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 0.9, false))]
     stiffness_eps: f64,
     /// Phase psi of the hidden stiffness variation (rad), in [-100, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     stiffness_phase: f64,
-    /// Hidden second STE harmonic as a fraction of the first, in [0, 10].
+    /// Hidden second STE harmonic as a fraction of the first (dimensionless), in [0, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     ste2_ratio: f64,
     /// Phase of the hidden second STE harmonic (rad), in [-100, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     ste2_phase: f64,
-    /// Hidden third STE harmonic as a fraction of the first, in [0, 10].
+    /// Hidden third STE harmonic as a fraction of the first (dimensionless), in [0, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     ste3_ratio: f64,
     /// Phase of the hidden third STE harmonic (rad), in [-100, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     ste3_phase: f64,
-    /// Hidden load-dependent damping: zeta (W / W_design)^gamma, this gamma (Munro only), in [-10, 10].
+    /// Hidden load-dependent damping: ζ (W / W_design)^γ, this exponent γ (dimensionless; Munro only), in [-10, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-10.0, 10.0, false))]
     damping_exponent: f64,
-    /// Hidden true half backlash over the stated one (Munro only; 1 = none), in [0.01, 100].
+    /// Hidden true half backlash over the stated one (a ratio; Munro only; 1 = none), in [0.01, 100].
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = real(0.01, 100.0, false))]
     backlash_factor: f64,
-    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (Munro only), in [0, 10].
+    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (dimensionless; Munro only), in [0, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     torque_ripple_ratio: f64,
     /// Phase of the hidden torque ripple (rad), in [-100, 100].
@@ -56,7 +58,7 @@ struct Hidden {
     /// Out-of-library effect: a measuring-chain resonance at this mesh frequency, Hz (Munro only), in [0, 1e6].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 1e6, false))]
     sensor_peak_hz: f64,
-    /// Relative height of that measuring-chain peak, in [0, 100].
+    /// Relative height of that measuring-chain peak (dimensionless), in [0, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 100.0, false))]
     sensor_peak_gain: f64,
 }
@@ -85,7 +87,7 @@ struct MunroArgs {
     /// Output folder.
     #[arg(long, default_value = "data/munro")]
     out: PathBuf,
-    /// True damping ratio, in [0.001, 0.9].
+    /// True damping ratio ζ (dimensionless), in [0.001, 0.9].
     #[arg(long, default_value_t = 0.0175, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
     /// True natural frequency, Hz, in [1, 1e6].
@@ -93,18 +95,19 @@ struct MunroArgs {
     omega_n_hz: f64,
     #[command(flatten)]
     noise: NoiseArgs,
-    /// Noise seed.
+    /// Noise seed (an integer).
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Also publish the STE amplitudes in rig.toml.
     #[arg(long)]
     publish_ste: bool,
-    /// Loads and their STE amplitudes as LOAD_N:STE_UM pairs, comma separated
+    /// Loads (N) and their STE amplitudes (µm) as LOAD_N:STE_UM pairs, comma separated
     /// [default: 3780:0.3,2835:1.5,1890:2.5,945:3.5].
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
-    /// Make the curves with DOP853 at this relative tolerance instead of the exact solver:
-    /// chaotic points then differ from what the exact solver fits (as real data would), in [1e-14, 0.01].
+    /// Make the curves with DOP853 at this relative tolerance (dimensionless) instead of the
+    /// exact solver: chaotic points then differ from what the exact solver fits (as real data
+    /// would), in [1e-14, 0.01].
     #[arg(long, allow_hyphen_values = true, value_parser = real(1e-14, 1e-2, false))]
     dop853_rtol: Option<f64>,
     #[command(flatten)]
@@ -116,13 +119,13 @@ struct KuboArgs {
     /// Output folder.
     #[arg(long, default_value = "data/kubo")]
     out: PathBuf,
-    /// True damping ratio, in [0.001, 0.9].
+    /// True damping ratio ζ (dimensionless), in [0.001, 0.9].
     #[arg(long, default_value_t = 0.1, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
     /// True natural frequency, Hz, in [1, 1e6].
     #[arg(long, default_value_t = 2500.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
-    /// Noise seed.
+    /// Noise seed (an integer).
     #[arg(long, default_value_t = 2)]
     seed: u64,
     #[command(flatten)]

@@ -20,9 +20,12 @@ pub struct Args {
 
 #[derive(Subcommand, Debug)]
 enum Which {
-    /// Munro's pp dynamic transmission error at four loads (Figs 19-22).
+    /// Peak-to-peak DTE curves at several loads (Munro layout, Figs 19-22): fit zeta and f_n at
+    /// the design load, predict the other loads.
+    #[command(after_help = super::examples::VALIDATE)]
     Munro(MunroArgs),
-    /// Kubo's dynamic factor envelope (Fig. 23).
+    /// Dynamic-factor envelope at one load (Kubo layout, Fig. 23).
+    #[command(after_help = super::examples::VALIDATE)]
     Kubo(Dirs),
 }
 
@@ -53,7 +56,7 @@ struct MunroArgs {
     /// given: --tip-relief-um.
     #[arg(long, value_enum, default_value_t = Relief::DesignRule)]
     relief: Relief,
-    /// Geometry path: the relief depth in um (with --relief given).
+    /// Geometry path: the relief depth, µm (with --relief given).
     #[arg(long, allow_hyphen_values = true)]
     tip_relief_um: Option<f64>,
     /// Geometry path: relief length along the line of action, mm (default: Harris's long
@@ -63,7 +66,7 @@ struct MunroArgs {
     /// Geometry path: relief shape.
     #[arg(long, value_enum, default_value_t = Shape::Linear)]
     relief_shape: Shape,
-    /// Geometry path: STE harmonics in the model (1 to 5; 1 is the paper's model).
+    /// Geometry path: number of STE harmonics in the model, 1 to 5 (1 is the paper's model).
     #[arg(long, default_value_t = 1)]
     ste_harmonics: u32,
     /// Geometry path: mesh stiffness of the predictions. constant: k = 1, k_h as the per-curve

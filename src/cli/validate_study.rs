@@ -13,13 +13,12 @@ use geardyn::validate::{
 };
 use std::path::PathBuf;
 
-/// Example: `geardyn validate-study --noise relative --grid nonuniform --seeds 200`
 #[derive(ClapArgs, Debug)]
 pub struct Args {
     /// Number of seeds (data sets), 1 to 100000.
     #[arg(long, default_value_t = 200, allow_hyphen_values = true, value_parser = whole(1..=100_000))]
     seeds: usize,
-    /// First noise seed.
+    /// First noise seed (an integer).
     #[arg(long, default_value_t = 1)]
     first_seed: u64,
     #[command(flatten)]
@@ -31,8 +30,8 @@ pub struct Args {
     /// Step of the uniform grid, rpm, in [1, 4000].
     #[arg(long, default_value_t = 50.0, allow_hyphen_values = true, value_parser = real(1.0, 4000.0, false))]
     speed_step: f64,
-    /// DOP853 relative tolerance of the sets (another integrator than the fit's closed form);
-    /// 0 makes them with the exact solver.
+    /// DOP853 relative tolerance (dimensionless) of the sets (another integrator than the fit's
+    /// closed form), in [0, 0.01); 0 makes them with the exact solver.
     #[arg(long, default_value_t = 1e-9)]
     dop853_rtol: f64,
     /// True damping ratio (dimensionless), in [0.001, 0.9].
@@ -41,7 +40,7 @@ pub struct Args {
     /// True natural frequency, Hz, in [1, 1e6].
     #[arg(long, default_value_t = 1600.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
-    /// True STE amplitude at the design load, um, in (0, 1000].
+    /// True STE amplitude at the design load, µm, in (0, 1000].
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     ste_um: f64,
     /// Student-t errors in the fit: auto (when the residuals say so), on, off.
