@@ -94,6 +94,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let seeds_path = a.out.with_extension("seeds.jsonl");
     // The per-seed lines go to a temporary file beside it, renamed when the study succeeded.
     let seeds_tmp = parent.join(format!(".seeds.jsonl.tmp-{}", std::process::id()));
+    // Removed by an interrupt as well (Ctrl-C), until moved into place.
+    geardyn::report::track_unfinished(&scratch);
+    geardyn::report::track_unfinished(&seeds_tmp);
     let mut seeds_file: Option<std::fs::File> = None;
     let mut on_seed = |s: &ValidateSeed| -> geardyn::error::Result<()> {
         use std::io::Write;
@@ -108,17 +111,20 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
+    geardyn::report::untrack_unfinished(&scratch);
     let s = match result {
         Ok(s) => s,
         Err(e) => {
             let _ = std::fs::remove_file(&seeds_tmp);
+            geardyn::report::untrack_unfinished(&seeds_tmp);
             return Err(e.into());
         }
     };
     let text = serde_json::to_string_pretty(&s)?;
     if seeds_tmp.exists() {
-        std::fs::rename(&seeds_tmp, &seeds_path)
-            .with_context(|| seeds_path.display().to_string())?;
+        let renamed = std::fs::rename(&seeds_tmp, &seeds_path);
+        geardyn::report::untrack_unfinished(&seeds_tmp);
+        renamed.with_context(|| seeds_path.display().to_string())?;
     }
     geardyn::report::write_file_atomic(&a.out, &format!("{text}\n"))?;
     let mut msg = summary_text(&s);
