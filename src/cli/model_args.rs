@@ -5,7 +5,7 @@
 use super::limits::{check_range, real, FAH, FM, OMEGA, ZETA};
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::data::{load_rig, MAX_DTE_UM, MAX_LOAD_N};
+use geardyn::data::{load_gear_pair, MAX_DTE_UM, MAX_LOAD_N};
 use geardyn::model::{Dimensional, GearPair, OperatingPoint};
 use geardyn::sim::to_significant;
 use std::path::PathBuf;
@@ -94,14 +94,14 @@ impl ModelArgs {
                 origins: Vec::new(),
             });
         };
-        let file = load_rig(path)?;
-        let rig = &file.rig;
+        let (rig_table, ste_table) = load_gear_pair(path)?;
+        let rig = &rig_table;
         let dim = Dimensional::from_rig(rig)?;
         let mut origins = Vec::new();
         let load = self.load_n.unwrap_or(rig.design_load_n);
         let ste = match (
             self.ste_um,
-            file.ste.as_ref().and_then(|t| t.amplitude_at(load)),
+            ste_table.as_ref().and_then(|t| t.amplitude_at(load)),
         ) {
             (Some(e), _) => e,
             (None, Some(e)) => {

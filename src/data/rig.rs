@@ -462,20 +462,23 @@ fn missing_keys(doc: &TomlDoc, text: &str) -> Option<GearError> {
     None
 }
 
+/// A located error for a TOML document that does not parse into the expected tables. serde
+/// stops at the first missing key; every missing required key is named instead (an unknown key,
+/// e.g. a unit typo, is reported first, at its line, as the parser found it).
+fn parse_error(doc: &TomlDoc, text: &str, e: &toml::de::Error) -> GearError {
+    let all_missing = e
+        .message()
+        .contains("missing field")
+        .then(|| missing_keys(doc, text))
+        .flatten();
+    all_missing.unwrap_or_else(|| doc.toml_error(e))
+}
+
 /// Read and validate every table of a `rig.toml`.
 fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
     let text = read_text(path)?;
     let doc = TomlDoc::new(path, &text);
-    let t: RigToml = toml::from_str(&text).map_err(|e| {
-        // serde stops at the first missing key; name them all (an unknown key, e.g. a unit
-        // typo, is reported first, at its line, as the parser found it).
-        let all_missing = e
-            .message()
-            .contains("missing field")
-            .then(|| missing_keys(&doc, &text))
-            .flatten();
-        all_missing.unwrap_or_else(|| doc.toml_error(&e))
-    })?;
+    let t: RigToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
     let rig = RigFile {
         rig: t.rig,
         ste: t.ste,
@@ -492,6 +495,32 @@ fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
         ));
     }
     Ok((rig, geometry))
+}
+
+/// The gear pair of a `rig.toml` alone: its `[rig]` and `[ste]` tables, as the analysis commands
+/// read them (`--rig`); the other tables (`[source]`, `[noise]`, `[geometry]`) describe a data
+/// set and may be absent or unfinished. Errors as [`load_rig`].
+pub fn load_gear_pair(path: &Path) -> Result<(Rig, Option<SteTable>)> {
+    #[derive(Deserialize)]
+    struct GearPairToml {
+        rig: Rig,
+        #[serde(default)]
+        ste: Option<SteTable>,
+    }
+    let text = read_text(path)?;
+    let doc = TomlDoc::new(path, &text);
+    let t: GearPairToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
+    if let Some(p) = t.rig.first_problem() {
+        return Err(doc.error(
+            "rig",
+            p.key,
+            format!("{} = {}: {}", p.key, p.value, p.reason),
+        ));
+    }
+    if let Some(ste) = &t.ste {
+        ste.check(&doc)?;
+    }
+    Ok((t.rig, t.ste))
 }
 
 /// Read and validate a `rig.toml`. Every failure is one [`GearError::Data`] naming the file, the
