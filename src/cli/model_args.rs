@@ -161,7 +161,7 @@ impl Model {
     pub fn caption(&self) -> String {
         match &self.rig {
             Some(op) => format!(
-                "F̄_m {} N, ē {} µm, ζ {}, f_n {} Hz",
+                "load {} N, ē {} µm, ζ {}, f_n {} Hz",
                 op.load_n, op.ste_um, op.zeta, op.omega_n_hz
             ),
             None => format!(
