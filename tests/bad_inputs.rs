@@ -563,7 +563,7 @@ fn bad_inputs_fail_cleanly_and_write_nothing() {
 #[test]
 fn interrupt_leaves_nothing_behind() {
     let dir = tempfile::tempdir().expect("temp dir");
-    let mut child = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+    let child = Command::new(env!("CARGO_BIN_EXE_geardyn"))
         .args([
             "validate-study",
             "--seeds",

@@ -162,19 +162,8 @@ mod tests {
     /// scale is a round number: b k_h = 50e-6 m x 250e6 N/m = 12500 N.
     fn munro_250() -> Dimensional {
         let rig = Rig {
-            name: "Munro".into(),
-            pinion_teeth: 32,
-            gear_teeth: 32,
-            module_mm: 6.35,
-            pressure_angle_deg: 20.0,
-            face_width_mm: 12.7,
-            design_load_n: 3780.0,
-            backlash_mm: 0.1,
             mesh_stiffness_n_per_um: Some(250.0),
-            contact_ratio: None,
-            zeta: None,
-            omega_n_hz: None,
-            test_load_n: None,
+            ..crate::validate::munro_rig()
         };
         Dimensional::from_rig(&rig).unwrap()
     }

@@ -188,13 +188,7 @@ pub fn validate_kubo(
     let dim = Dimensional::from_rig(rig)?;
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
-    let ste_given = data.rig.ste.as_ref().and_then(|t| {
-        t.load_n
-            .iter()
-            .zip(&t.amplitude_um)
-            .find(|(l, _)| (*l - load).abs() <= 1e-6 * load)
-            .map(|(_, a)| *a)
-    });
+    let ste_given = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
     let contact: Vec<&KuboPoint> = data
         .points
         .iter()

@@ -182,12 +182,7 @@ pub struct GeometryValidation {
 
 /// STE amplitude at a load from rig.toml, if listed.
 fn ste_from_rig(data: &MunroData, load: f64) -> Option<f64> {
-    let t = data.rig.ste.as_ref()?;
-    t.load_n
-        .iter()
-        .zip(&t.amplitude_um)
-        .find(|(l, _)| (*l - load).abs() <= 1e-6 * load.abs().max(1.0))
-        .map(|(_, a)| *a)
+    data.rig.ste.as_ref()?.amplitude_at(load)
 }
 
 /// The rig's dimensional scales, the design load (N) and its measured curve, which a fit needs
