@@ -184,10 +184,10 @@ pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
 pub struct NoiseArgs {
     /// Noise family: constant (Gaussian), relative (Gaussian, floor plus 3% of the level),
     /// student-t (3 degrees of freedom, floor plus 3%), quantized (floor plus 3%, read to a
-    /// 0.25 um grid).
+    /// 0.25 µm grid).
     #[arg(long, default_value = "constant")]
     pub noise: String,
-    /// Noise floor (the standard deviation of the constant family), um, in [0, 1000].
+    /// Noise floor (the standard deviation of the constant family), µm, in [0, 1000].
     #[arg(long, default_value_t = 0.15, allow_hyphen_values = true,
           value_parser = real(0.0, 1000.0, false))]
     pub noise_um: f64,
@@ -198,7 +198,7 @@ pub struct NoiseArgs {
     /// Degrees of freedom of the student-t family (dimensionless), in [1, 1000] (default 3).
     #[arg(long, allow_hyphen_values = true, value_parser = real(1.0, 1000.0, false))]
     pub noise_dof: Option<f64>,
-    /// Reading grid of the quantized family, um, in (0, 1000] (default 0.25).
+    /// Reading grid of the quantized family, µm, in (0, 1000] (default 0.25).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     pub noise_quantum_um: Option<f64>,
 }
