@@ -439,6 +439,11 @@ fn table() -> Vec<Case> {
             Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
         ),
         cli(
+            "reproduce without the data sets",
+            "reproduce --quick --out out",
+            "--data data: data/munro/rig.toml not found",
+        ),
+        cli(
             "validate without data outside the repository",
             "validate munro --fits fits --reports reports",
             "give your data set with --data DIR",
@@ -588,7 +593,8 @@ fn interrupt_leaves_nothing_behind() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert_eq!(out.status.code(), Some(130), "{err}");
     assert!(err.contains("interrupted"), "{err}");
-    assert!(entries(&dir.path().join("out")).is_empty(), "left behind");
+    let left = entries(&dir.path().join("out"));
+    assert!(left.is_empty(), "left behind: {left:?}");
 }
 
 /// The limits are in `--help`.

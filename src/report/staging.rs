@@ -28,18 +28,27 @@ pub fn untrack_unfinished(path: &Path) {
 /// commits from starting.
 pub fn remove_unfinished() {
     let mut list = unfinished();
-    for p in list.drain(..) {
-        // Renamed first: worker threads still writing into a folder by its path then fail
-        // instead of refilling it while it is removed.
-        let mut gone = p.clone().into_os_string();
-        gone.push(".interrupted");
-        let gone = PathBuf::from(gone);
-        let target = if std::fs::rename(&p, &gone).is_ok() {
-            gone
+    let paths: Vec<PathBuf> = list.drain(..).collect();
+    // Worker threads may still be writing by path (and `create_dir_all` would make a removed
+    // folder again): each path is first renamed aside and replaced by an empty file, in which
+    // nothing can be created; the blockers go last, just before the process ends.
+    let mut blockers = Vec::new();
+    for p in &paths {
+        let mut aside = p.clone().into_os_string();
+        aside.push(".interrupted");
+        let aside = PathBuf::from(aside);
+        let target = if std::fs::rename(p, &aside).is_ok() {
+            if std::fs::write(p, "").is_ok() {
+                blockers.push(p.clone());
+            }
+            aside
         } else {
-            p
+            p.clone()
         };
         let _ = std::fs::remove_dir_all(&target).or_else(|_| std::fs::remove_file(&target));
+    }
+    for b in blockers {
+        let _ = std::fs::remove_file(b);
     }
     // The lock is kept: the process is about to end, and no commit may start before it does.
     std::mem::forget(list);
