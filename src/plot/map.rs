@@ -14,8 +14,8 @@ use super::range::resolve;
 use super::style::{palette_color, Sizes, FONT};
 use crate::error::{GearError, Result};
 
-/// Colour of unclassified (`None`) cells.
-const UNCLASSIFIED: RGBColor = RGBColor(0xE4, 0xE4, 0xE4);
+/// Colour of unclassified (`None`) cells: a mid grey, 3.2:1 on white like the palette.
+pub(crate) const UNCLASSIFIED: RGBColor = RGBColor(0x90, 0x90, 0x90);
 
 /// A grid of cells, each belonging to a category (or none), drawn as a coloured map.
 #[derive(Debug, Clone, PartialEq, Default)]

@@ -26,6 +26,7 @@ mod map;
 mod output;
 mod panels;
 mod range;
+mod raster_text;
 mod series;
 mod style;
 mod xy;

@@ -177,3 +177,20 @@ fn mismatched_category_map_errors() {
     map.cells.clear();
     assert!(write_category_map(&map, &stem).is_err());
 }
+
+#[test]
+fn every_colour_has_3_to_1_contrast_on_white() {
+    use super::style::contrast_on_white;
+    use plotters::style::RGBColor;
+    // WCAG reference values: black 21:1, white 1:1, #767676 4.54:1 (the lightest grey at 4.5:1).
+    assert!((contrast_on_white(RGBColor(0, 0, 0)) - 21.0).abs() < 1e-9);
+    assert!((contrast_on_white(RGBColor(255, 255, 255)) - 1.0).abs() < 1e-9);
+    assert!((contrast_on_white(RGBColor(0x76, 0x76, 0x76)) - 4.54).abs() < 0.01);
+    for (i, c) in PALETTE
+        .iter()
+        .chain([&super::map::UNCLASSIFIED])
+        .enumerate()
+    {
+        assert!(contrast_on_white(*c) >= 3.0, "colour {i} {c:?}");
+    }
+}
