@@ -23,7 +23,9 @@ mod glyph;
 mod layout;
 mod legend;
 mod map;
+mod notation;
 mod output;
+mod overlap;
 mod panels;
 mod range;
 mod raster_text;
@@ -36,6 +38,7 @@ mod xy_draw;
 mod tests;
 
 pub use map::{write_category_map, CategoryMap};
+pub use notation::symbols;
 pub use panels::write_panels;
 pub use series::Series;
 pub use style::{palette_color, Marker, SeriesStyle, PALETTE};

@@ -66,6 +66,25 @@ pub enum SeriesStyle {
     LineMarkers,
     /// Dashed polyline (e.g. unstable branches, reference curves).
     Dashed,
+    /// Dotted polyline, a third line style beside solid and dashed (e.g. one edge of a band
+    /// whose other edge is dashed).
+    Dotted,
+}
+
+impl SeriesStyle {
+    /// Whether the style draws a line (and so can hide or be hidden by another line).
+    pub fn has_line(self) -> bool {
+        !matches!(self, SeriesStyle::Markers)
+    }
+
+    /// Dash and gap lengths in pixels of a broken line style, `None` for solid lines.
+    pub(crate) fn dash(self) -> Option<(u32, u32)> {
+        match self {
+            SeriesStyle::Dashed => Some((9, 6)),
+            SeriesStyle::Dotted => Some((2, 4)),
+            _ => None,
+        }
+    }
 }
 
 /// Marker shape used by [`SeriesStyle::Markers`] and [`SeriesStyle::LineMarkers`].
