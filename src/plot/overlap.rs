@@ -7,20 +7,32 @@ use super::clip::View;
 
 /// Share of a line's length that must lie on another line for the two to be noted as coinciding
 /// in part, and for them to coincide outright.
-const PARTLY: f64 = 0.5;
+const PARTLY: f64 = 0.75;
 const WHOLLY: f64 = 0.97;
+/// Most notes kept (the pairs that share the most), so that notes never crowd the legend.
+const MAX_NOTES: usize = 3;
 
-/// One drawn line series: its label and visible polylines (data coordinates).
+/// One drawn series: its label, visible polylines and markers (data coordinates).
 pub(crate) struct Drawn<'a> {
     pub label: &'a str,
     pub lines: &'a [Vec<(f64, f64)>],
+    pub dots: &'a [(f64, f64)],
 }
 
-/// Points every `step` pixels along `lines`, as (pixel column, pixel row, data x).
-fn samples(lines: &[Vec<(f64, f64)>], view: &View, step: f64) -> Vec<(i32, i32, f64)> {
+/// Points every `step` pixels along the lines of `d`, and its markers, as (pixel column, pixel
+/// row, data x).
+fn samples(d: &Drawn<'_>, view: &View, step: f64) -> Vec<(i32, i32, f64)> {
     let (px, py) = view.pixel();
     let to_px = |p: (f64, f64)| ((p.0 - view.x.0) / px, (view.y.1 - p.1) / py);
-    let mut out = Vec::new();
+    let lines = d.lines;
+    let mut out: Vec<(i32, i32, f64)> = d
+        .dots
+        .iter()
+        .map(|&p| {
+            let (u, v) = to_px(p);
+            (u.round() as i32, v.round() as i32, p.0)
+        })
+        .collect();
     for l in lines {
         for s in l.windows(2) {
             let (a, b) = (to_px(s[0]), to_px(s[1]));
@@ -41,10 +53,10 @@ fn samples(lines: &[Vec<(f64, f64)>], view: &View, step: f64) -> Vec<(i32, i32, 
     out
 }
 
-/// Share of `a`'s samples within one pixel of a pixel of `b`, and the x extent of the others.
-fn covered(a: &[(i32, i32, f64)], b: &HashSet<(i32, i32)>) -> (f64, Option<(f64, f64)>) {
+/// Share of `a`'s samples within `r` pixels of a pixel of `b`, and the x extent of the others.
+fn covered(a: &[(i32, i32, f64)], b: &HashSet<(i32, i32)>, r: i32) -> (f64, Option<(f64, f64)>) {
     let near = |&(u, v, _): &(i32, i32, f64)| {
-        (-1..=1).any(|du| (-1..=1).any(|dv| b.contains(&(u + du, v + dv))))
+        (-r..=r).any(|du| (-r..=r).any(|dv| b.contains(&(u + du, v + dv))))
     };
     let mut apart: Option<(f64, f64)> = None;
     let mut hits = 0usize;
@@ -58,19 +70,20 @@ fn covered(a: &[(i32, i32, f64)], b: &HashSet<(i32, i32)>) -> (f64, Option<(f64,
     (hits as f64 / a.len().max(1) as f64, apart)
 }
 
-/// Notes on the pairs of lines that coincide on the canvas: "A and B coincide", or "A and B
-/// coincide except at x lo–hi" when they share at least half of the shorter one's length.
+/// Notes on the pairs of series (lines or markers) that coincide on the canvas: "A and B
+/// coincide", or "A and B coincide except at x lo–hi" when one lies on the other for at least
+/// three quarters of its length; at most [`MAX_NOTES`], the most shared first.
 /// `fmt` formats x values.
 pub(crate) fn coincidence_notes(
     drawn: &[Drawn<'_>],
     view: &View,
     fmt: impl Fn(f64) -> String,
 ) -> Vec<String> {
-    let sampled: Vec<_> = drawn.iter().map(|d| samples(d.lines, view, 2.0)).collect();
+    let sampled: Vec<_> = drawn.iter().map(|d| samples(d, view, 2.0)).collect();
     let cells: Vec<HashSet<(i32, i32)>> = drawn
         .iter()
         .map(|d| {
-            samples(d.lines, view, 0.5)
+            samples(d, view, 0.5)
                 .into_iter()
                 .map(|(u, v, _)| (u, v))
                 .collect()
@@ -82,8 +95,15 @@ pub(crate) fn coincidence_notes(
             if sampled[i].len() < 10 || sampled[j].len() < 10 {
                 continue;
             }
-            let (ci, apart_i) = covered(&sampled[i], &cells[j]);
-            let (cj, apart_j) = covered(&sampled[j], &cells[i]);
+            // Lines hide lines, markers hide markers; a marker on a line hides neither.
+            let (li, lj) = (drawn[i].lines.is_empty(), drawn[j].lines.is_empty());
+            if li != lj {
+                continue;
+            }
+            // Lines are 2 px wide; a marker hides another within about its radius.
+            let r = if li { 2 } else { 1 };
+            let (ci, apart_i) = covered(&sampled[i], &cells[j], r);
+            let (cj, apart_j) = covered(&sampled[j], &cells[i], r);
             let (share, apart) = if ci >= cj {
                 (ci, apart_i)
             } else {
@@ -91,17 +111,18 @@ pub(crate) fn coincidence_notes(
             };
             let (a, b) = (drawn[i].label, drawn[j].label);
             match apart {
-                _ if share >= WHOLLY => notes.push(format!("{a} and {b} coincide")),
-                Some((lo, hi)) if share >= PARTLY => notes.push(format!(
-                    "{a} and {b} coincide except at {}–{}",
-                    fmt(lo),
-                    fmt(hi)
-                )),
+                _ if share >= WHOLLY => notes.push((share, format!("{a} and {b} coincide"))),
+                Some((lo, hi)) if share >= PARTLY => {
+                    let (lo, hi) = (fmt(lo), fmt(hi));
+                    let at = if lo == hi { lo } else { format!("{lo}–{hi}") };
+                    notes.push((share, format!("{a} and {b} coincide except at {at}")));
+                }
                 _ => {}
             }
         }
     }
-    notes
+    notes.sort_by(|a, b| b.0.total_cmp(&a.0));
+    notes.into_iter().take(MAX_NOTES).map(|n| n.1).collect()
 }
 
 #[cfg(test)]
@@ -167,6 +188,25 @@ mod tests {
             (3.8..=4.1).contains(&lo) && (5.8..=6.1).contains(&hi),
             "{n:?}"
         );
+    }
+
+    #[test]
+    fn markers_on_the_same_points_coincide() {
+        let pts: Vec<(f64, f64)> = (0..20).map(|i| (i as f64 * 0.5, 3.0)).collect();
+        let d = [
+            Drawn {
+                label: "sweep",
+                lines: &[],
+                dots: &pts,
+            },
+            Drawn {
+                label: "attractors",
+                lines: &[],
+                dots: &pts,
+            },
+        ];
+        let n = coincidence_notes(&d, &V, |x| format!("{x:.1}"));
+        assert_eq!(n, ["sweep and attractors coincide"]);
     }
 
     #[test]

@@ -72,11 +72,6 @@ pub enum SeriesStyle {
 }
 
 impl SeriesStyle {
-    /// Whether the style draws a line (and so can hide or be hidden by another line).
-    pub fn has_line(self) -> bool {
-        !matches!(self, SeriesStyle::Markers)
-    }
-
     /// Dash and gap lengths in pixels of a broken line style, `None` for solid lines.
     pub(crate) fn dash(self) -> Option<(u32, u32)> {
         match self {

@@ -138,7 +138,21 @@ pub(crate) fn draw_xy<DB: DrawingBackend>(
         drawn.extend(vline_label_cover(&area, plot, &guess, sz).unwrap_or_default());
         l.place(&drawn, &guess)
     });
+    // Outside: a strip to the right of the plot or below it, whichever leaves the larger plot
+    // (a strip may take at most half the width or height).
+    let below = legend.as_ref().is_some_and(|l| {
+        let (lw, lh) = (f64::from(l.size.0 + 12), f64::from(l.size.1 + 8));
+        let (w, h) = (f64::from(w), f64::from(h));
+        let right = (w - lw.min(w / 2.0)) * h * if lw > w / 2.0 { 0.5 } else { 1.0 };
+        let under = w * (h - lh.min(h / 2.0)) * if lh > h / 2.0 { 0.5 } else { 1.0 };
+        under > right
+    });
     let (chart_area, side) = match (&legend, placement) {
+        (Some(l), Some(Placement::Outside)) if below => {
+            let strip = (l.size.1 + 8).min(h as i32 / 2);
+            let (a, b) = area.split_vertically(h as i32 - strip);
+            (a, Some(b))
+        }
         (Some(l), Some(Placement::Outside)) => {
             let strip = (l.size.0 + 12).min(w as i32 / 2);
             let (a, b) = area.split_horizontally(w as i32 - strip);
@@ -149,7 +163,11 @@ pub(crate) fn draw_xy<DB: DrawingBackend>(
 
     let mut chart = ChartBuilder::on(&chart_area)
         .margin_top(frame.top)
-        .margin_right(if side.is_some() { 8 } else { frame.right })
+        .margin_right(if side.is_some() && !below {
+            8
+        } else {
+            frame.right
+        })
         .margin_left(frame.left)
         .x_label_area_size(frame.x_labels)
         .y_label_area_size(frame.y_labels)
@@ -188,6 +206,10 @@ pub(crate) fn draw_xy<DB: DrawingBackend>(
     match (legend, placement, side) {
         (Some(l), Some(Placement::Inside(fx, fy)), _) => {
             l.draw_inside(&chart.plotting_area().strip_coord_spec(), (fx, fy))
+        }
+        (Some(l), Some(Placement::Outside), Some(side)) if below => {
+            let x0 = (side.dim_in_pixel().0 as i32 - l.size.0).max(0) / 2;
+            l.draw_at(&side, (x0, 2))
         }
         (Some(l), Some(Placement::Outside), Some(side)) => l.draw_at(&side, (4, frame.top as i32)),
         _ => Ok(()),
@@ -270,10 +292,11 @@ fn build_legend<'a, DB: DrawingBackend>(
         .series
         .iter()
         .zip(&vis)
-        .filter(|(s, _)| s.style.has_line() && !s.label.is_empty())
+        .filter(|(s, _)| !s.label.is_empty())
         .map(|(s, v)| Drawn {
             label: &s.label,
             lines: &v.lines,
+            dots: &v.dots,
         })
         .collect();
     let mut notes = coincidence_notes(&drawn, view, |x| ax.format_between(x));

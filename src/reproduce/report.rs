@@ -422,7 +422,11 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
                 },
                 e.what.clone().into(),
                 Cell {
-                    text: if e.files.is_empty() { "-".into() } else { String::new() },
+                    text: if e.files.is_empty() {
+                        "-".into()
+                    } else {
+                        String::new()
+                    },
                     links: e
                         .files
                         .iter()
@@ -446,7 +450,10 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
     let mut shown: Vec<&String> = Vec::new();
     for e in &index {
         if e.files.is_empty() {
-            page.subheading(&format!("Fig. {}: {}", e.figure, e.what), &format!("fig-{}", e.figure));
+            page.subheading(
+                &format!("Fig. {}: {}", e.figure, e.what),
+                &format!("fig-{}", e.figure),
+            );
             page.paragraph(&e.note);
             continue;
         }
