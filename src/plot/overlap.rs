@@ -146,10 +146,12 @@ mod tests {
             Drawn {
                 label: "up",
                 lines: a,
+                dots: &[],
             },
             Drawn {
                 label: "down",
                 lines: b,
+                dots: &[],
             },
         ];
         coincidence_notes(&d, &V, |x| format!("{x:.1}"))
@@ -212,6 +214,6 @@ mod tests {
     #[test]
     fn separate_lines_get_no_note() {
         assert!(notes(&line(|x| x), &line(|x| 10.0 - x)).is_empty());
-        assert!(notes(&line(|x| 2.0), &line(|x| 3.0)).is_empty());
+        assert!(notes(&line(|_| 2.0), &line(|_| 3.0)).is_empty());
     }
 }
