@@ -94,12 +94,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         points.extend(sweep(&factory, &model, &plan, &Bar::new())?);
     }
     let csv = sweep_csv(&points)?;
+    let sweep_text = match a.direction {
+        Direction::Up => "carried up",
+        Direction::Down => "carried down",
+        Direction::All => "every attractor of the IC grid",
+        Direction::Both => "carried up, then down",
+    };
     let caption = format!(
-        "F_m = {}, F_ah = {}, zeta = {}, sweep {:?}, integrator {}",
+        "F_m = {}, F_ah = {}, zeta = {}, sweep {sweep_text}, integrator {}",
         a.model.fm,
         a.model.fah,
         a.model.zeta,
-        a.direction,
         a.solver.integrator_name()
     );
     let rows: Vec<ResponseRow> = points.iter().map(ResponseRow::from).collect();

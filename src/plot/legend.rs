@@ -20,8 +20,8 @@ const CLEAR: f64 = 3.0;
 const NOTE_SCALE: f64 = 0.85;
 
 /// A measured legend: its entries, its notes wrapped to the box, and the box size in pixels.
-pub(crate) struct Legend<'a> {
-    entries: Vec<(&'a str, LegendSample)>,
+pub(crate) struct Legend {
+    entries: Vec<(String, LegendSample)>,
     notes: Vec<String>,
     glyph_w: i32,
     row_h: i32,
@@ -39,12 +39,12 @@ pub(crate) enum Placement {
     Outside,
 }
 
-impl<'a> Legend<'a> {
+impl Legend {
     /// Measures the legend of `entries` and `notes` (notes wrapped to the entries' width, at
     /// least `min_note_w` pixels).
     pub fn measure<DB: DrawingBackend>(
         area: &DrawingArea<DB, Shift>,
-        entries: Vec<(&'a str, LegendSample)>,
+        entries: Vec<(String, LegendSample)>,
         notes: &[String],
         sz: &Sizes,
     ) -> Result<Self, String> {

@@ -45,7 +45,7 @@ fn xy_writes_png_and_svg_with_real_text() {
     let files = write_xy(&sample_plot(), &stem).unwrap();
     let svg = check_outputs(&files, &stem);
     assert!(svg.contains("<text"));
-    assert!(svg.contains("Sine") && svg.contains("zeta = 0.05") && svg.contains("samples"));
+    assert!(svg.contains("Sine") && svg.contains("ζ = 0.05") && svg.contains("samples"));
 }
 
 #[test]

@@ -260,22 +260,38 @@ fn draw_series<DB: DrawingBackend>(
 
 /// The legend of `plot` (labelled series, then notes on coinciding lines and on far points), or
 /// `None` when it is switched off or empty.
-fn build_legend<'a, DB: DrawingBackend>(
+fn build_legend<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
-    plot: &'a XyPlot,
+    plot: &XyPlot,
     view: &View,
     (ax, ay): (&LinAxis, &LinAxis),
     sz: &Sizes,
-) -> Result<Option<Legend<'a>>, String> {
+) -> Result<Option<Legend>, String> {
     if !plot.legend {
         return Ok(None);
     }
+    let vis = visible(plot, view);
+    // A listed series with nothing on the canvas says so, rather than look hidden.
+    let labels: Vec<String> = plot
+        .series
+        .iter()
+        .zip(&vis)
+        .map(|(s, v)| {
+            let beyond = s.outside_range && !s.points.is_empty();
+            if v.lines.is_empty() && v.dots.is_empty() && !beyond {
+                format!("{} (none)", s.label)
+            } else {
+                s.label.clone()
+            }
+        })
+        .collect();
     let entries: Vec<_> = plot
         .series
         .iter()
         .zip(colors(plot))
-        .filter(|(s, _)| !s.label.is_empty())
-        .map(|(s, color)| {
+        .zip(&labels)
+        .filter(|((s, _), _)| !s.label.is_empty())
+        .map(|((s, color), label)| {
             let sample = LegendSample {
                 width: (sz.legend * 2.2) as i32,
                 style: s.style,
@@ -284,10 +300,9 @@ fn build_legend<'a, DB: DrawingBackend>(
                 line: sz.line,
                 color,
             };
-            (s.label.as_str(), sample)
+            (label.clone(), sample)
         })
         .collect();
-    let vis = visible(plot, view);
     let drawn: Vec<Drawn> = plot
         .series
         .iter()

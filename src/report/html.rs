@@ -12,33 +12,27 @@ pub fn esc(s: &str) -> String {
         .replace('"', "&quot;")
 }
 
+/// `s` with its backtick code spans passed through `code` and the text between through `text`.
+fn spans(s: &str, code: impl Fn(&str) -> String, text: impl Fn(&str) -> String) -> String {
+    s.split('`')
+        .enumerate()
+        .map(|(i, part)| if i % 2 == 1 { code(part) } else { text(part) })
+        .collect()
+}
+
 /// Inline text: backtick spans become `<code>` (kept verbatim), the rest is escaped with the
 /// paper's symbols.
 fn inline_html(s: &str) -> String {
-    s.split('`')
-        .enumerate()
-        .map(|(i, part)| {
-            if i % 2 == 1 {
-                format!("<code>{}</code>", esc(part))
-            } else {
-                esc(&symbols(part))
-            }
-        })
-        .collect()
+    spans(
+        s,
+        |c| format!("<code>{}</code>", esc(c)),
+        |t| esc(&symbols(t)),
+    )
 }
 
 /// Inline Markdown: the paper's symbols outside code spans.
 fn inline_md(s: &str) -> String {
-    s.split('`')
-        .enumerate()
-        .map(|(i, part)| {
-            if i % 2 == 1 {
-                format!("`{part}`")
-            } else {
-                symbols(part)
-            }
-        })
-        .collect()
+    spans(s, |c| format!("`{c}`"), symbols)
 }
 
 /// Anchor id of a heading: lower-case letters and digits, words joined by '-'.

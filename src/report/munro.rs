@@ -303,6 +303,7 @@ pub fn write_munro_report(
         &banner,
         synthetic,
     );
+    page.toc();
     parameter_table(&mut page, data, r);
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
     let rows: Vec<Vec<String>> = r
