@@ -7,6 +7,7 @@ use super::limits::{real, OMEGA};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::plot::{write_category_map, CategoryMap};
+use geardyn::reproduce::describe_attractor;
 use geardyn::sim::{find_attractors, IcGrid};
 use serde_json::json;
 use std::path::PathBuf;
@@ -65,17 +66,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .attractors
         .iter()
         .enumerate()
-        .map(|(i, at)| {
-            let s = &at.steady;
-            format!(
-                "#{i} {} {} impact, q_a {:.3} ({:.1}%)",
-                s.period
-                    .map_or("non-periodic".to_string(), |p| format!("period-{p}")),
-                s.impact.name(),
-                s.qa,
-                100.0 * at.basin_fraction
-            )
-        })
+        .map(|(i, at)| format!("#{i} {}", describe_attractor(at)))
         .collect();
     let summary = json!({
         "attractors": map.attractors.iter().map(|at| json!({
