@@ -7,6 +7,7 @@ use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::plot::{write_category_map, CategoryMap};
+use geardyn::reproduce::describe_attractor;
 use geardyn::sim::{find_attractors, IcGrid};
 use serde_json::json;
 use std::path::PathBuf;
@@ -69,17 +70,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .iter()
         .enumerate()
         .map(|(i, at)| {
-            let s = &at.steady;
-            format!(
-                "#{i} {} {} impact, q_a {:.3}{} ({:.1}%)",
-                s.period
-                    .map_or("non-periodic".to_string(), |p| format!("period-{p}")),
-                s.impact.name(),
-                s.qa,
-                SteadyInRigUnits::new(&m, omega, s)
-                    .map_or(String::new(), |r| format!(", {}", r.text(false))),
-                100.0 * at.basin_fraction
-            )
+            let units = SteadyInRigUnits::new(&m, omega, &at.steady)
+                .map_or(String::new(), |r| format!(" [{}]", r.text(false)));
+            format!("#{i} {}{units}", describe_attractor(at))
         })
         .collect();
     let mut parameters = m.json();

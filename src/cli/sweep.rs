@@ -54,12 +54,13 @@ enum Direction {
 }
 
 impl Direction {
+    /// The sweep in words, for the figure's caption.
     fn name(self) -> &'static str {
         match self {
-            Direction::Up => "up",
-            Direction::Down => "down",
-            Direction::All => "over all attractors",
-            Direction::Both => "up and down",
+            Direction::Up => "carried up",
+            Direction::Down => "carried down",
+            Direction::All => "every attractor of the IC grid",
+            Direction::Both => "carried up, then down",
         }
     }
 }

@@ -5,7 +5,9 @@ use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
 use geardyn::data::{load_kubo, load_munro, load_rig_with_geometry};
 use geardyn::mesh::ReliefShape;
-use geardyn::report::{data_kind_banner, interval_digits, write_kubo_report, write_munro_report};
+use geardyn::report::{
+    data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
+};
 use geardyn::validate::{
     validate_kubo, validate_munro, GeometryOptions, KuboOptions, LoadResult, MunroOptions,
     ReliefRule, SteMode, StiffnessChoice,
@@ -73,6 +75,11 @@ struct MunroArgs {
     /// path; geometry: the loaded k_h(F) and k(t) of the geometry (DOP853, ~30 s).
     #[arg(long, value_enum, default_value_t = Stiffness::Constant)]
     mesh_stiffness: Stiffness,
+    /// Figures: fit the pp DTE axis to every attractor, far ones included. By default it fits
+    /// the data and the two sweeps, and attractors beyond are arrows on the frame, counted in
+    /// the legend, so a few far attractors do not squeeze the curves.
+    #[arg(long)]
+    all_attractors_in_range: bool,
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -174,7 +181,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             };
             let r = validate_munro(&data, &opts, &Bar::new())?;
             let d = m.dirs;
-            let written = write_munro_report(&data, &r, &d.fits, &d.reports.join("munro"))?;
+            let figures = MunroFigures {
+                all_attractors_in_range: m.all_attractors_in_range,
+            };
+            let written =
+                write_munro_report(&data, &r, &figures, &d.fits, &d.reports.join("munro"))?;
             let mut s = format!(
                 "zeta {}, omega_n {} Hz\n",
                 value_ci(r.zeta, r.fit.estimate.ci95[0], 4),

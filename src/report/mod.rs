@@ -9,7 +9,7 @@ mod staging;
 
 pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
-pub use munro::{munro_json, write_munro_report};
+pub use munro::{munro_json, write_munro_report, MunroFigures};
 pub use staging::{
     remove_unfinished, track_unfinished, untrack_unfinished, write_file_atomic, Staged,
 };

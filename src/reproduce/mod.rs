@@ -29,6 +29,7 @@ mod steady_figures;
 mod summary_values;
 
 pub use artifacts::{write_artifact, Artifact, FigureEntry};
+pub use attractor_set::describe as describe_attractor;
 pub use claims::{verdict_counts, Claim, Verdict};
 pub use report::{figure_index, write_reproduction};
 pub use steady_figures::{steady_figures, SteadyFigures};
