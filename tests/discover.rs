@@ -195,7 +195,7 @@ fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
             .iter()
             .find(|e| e.load_n == 945.0)
             .unwrap();
-        let margin = |top: f64| 3.0 * d.sigma_um + 0.1 * top;
+        let margin = |top: f64| 3.0 * d.noise.model.scale(top) + 0.1 * top;
         let top = e.measured_range_um.1;
         assert!(
             top > e.predicted_range_um.1 + margin(e.predicted_range_um.1),

@@ -116,6 +116,23 @@ impl Candidate {
         }
     }
 
+    /// The value of [`Candidate::estimate`] at delta = 0, where the candidate is M0 itself:
+    /// zero amplitude, gamma 0, b / b_stated 1.
+    pub fn nested_value(self) -> f64 {
+        match self {
+            Candidate::Backlash => 1.0,
+            _ => 0.0,
+        }
+    }
+
+    /// Whether a 95% interval of the estimate excludes [`Candidate::nested_value`]: only then
+    /// is the effect told apart from M0 and named. An amplitude's interval is clipped at zero,
+    /// so its lower end must be above it.
+    pub fn excludes_nested(self, (lo, hi): (f64, f64)) -> bool {
+        let v = self.nested_value();
+        lo > v || hi < v
+    }
+
     /// Probe points delta of the dictionary used for the score ranking and the likelihood-ratio
     /// statistic: amplitudes times phases for the phase-carrying effects, signed steps otherwise.
     /// The smallest non-zero amplitude level comes first.

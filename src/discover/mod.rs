@@ -16,7 +16,7 @@ mod effects;
 mod fit;
 mod forward;
 mod linearized;
-mod lm;
+mod noise;
 mod report;
 mod run;
 pub mod stats;
@@ -25,6 +25,7 @@ mod windows;
 
 pub use effects::{Candidate, Effect, LIBRARY};
 pub use forward::{Curve, Setup};
+pub use noise::{DiscoveryNoise, NoiseOrigin, TailChoice};
 pub use report::{discovery_json, summary_text, write_discovery};
 pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,

@@ -12,13 +12,17 @@ use super::forward::{
     aperiodic_pp_range, fitted_damping_admissible, predict_many, CurvePrediction, Setup, MIN_ZETA,
 };
 use super::linearized::{detection_names, Linearized, Statistics};
-use super::lm::{rss, LmFit, Stop};
+use super::noise::{
+    estimate as estimate_noise, DiscoveryNoise, NoiseOrigin, NoiseSpec, PseudoInput, Scales,
+    TailChoice,
+};
 use super::stats::{bootstrap_p, chi2_sf, holm};
-use super::windows::Window;
+use super::windows::{windows, Window};
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
+use crate::fit::{rss, LmFit, Stop};
 use crate::progress::Progress;
-use crate::validate::min_max;
+use crate::validate::{min_max, MunroNoise};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -30,8 +34,11 @@ pub struct DiscoverOptions {
     pub bootstrap: usize,
     /// Seed of the bootstrap.
     pub seed: u64,
-    /// Stated measurement noise (um); None estimates it from second differences of the curves.
+    /// Stated measurement noise (um, a constant); None takes the data set's statement
+    /// (`dte_pp_sd_um`, rig.toml `[noise]`) or estimates it (see [`super::noise`]).
     pub noise_um: Option<f64>,
+    /// Whether estimated noise may have Student-t tails (chosen by the data) or is Gaussian.
+    pub tails: TailChoice,
     /// Family-wise error rate of the whole decision; half goes to the detection tests and half
     /// to the candidate tests (Bonferroni across the two families, Holm within each).
     pub alpha: f64,
@@ -52,6 +59,7 @@ impl Default for DiscoverOptions {
             bootstrap: 1999,
             seed: 12345,
             noise_um: None,
+            tails: TailChoice::Auto,
             alpha: 0.05,
             refit_top: 2,
             refit_iterations: 12,
@@ -180,8 +188,8 @@ pub struct ExcludedPoints {
     /// ([`super::forward::aperiodic_pp_range`]), since the measured pp there is one window out
     /// of that distribution.
     pub model_range_um: (f64, f64),
-    /// Excluded points whose measured pp lies outside the M0 range by more than 3 sigma plus
-    /// 10% of M0's largest pp there: a gross disagreement, beyond the noise, beyond any
+    /// Excluded points whose measured pp lies outside the M0 range by more than 3 noise scales
+    /// (at M0's largest pp there) plus 10% of that pp: a gross disagreement, beyond the noise, beyond any
     /// window of M0's motion and beyond the onset of non-period-1 motion moving a little with
     /// the parameters.
     pub outside_model_range: usize,
@@ -202,7 +210,7 @@ fn excluded_by_load(
     setup: &Setup,
     m0: &M0Fit,
     train: &[usize],
-    sigma: f64,
+    noise: &DiscoveryNoise,
 ) -> Result<Vec<ExcludedPoints>> {
     let mut out = Vec::new();
     for (i, (c, (p, m))) in setup
@@ -226,7 +234,7 @@ fn excluded_by_load(
             .iter()
             .filter_map(|&j| windows[j])
             .fold(predicted, |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
-        let margin = 3.0 * sigma + 0.1 * model.1.abs();
+        let margin = |j: usize| 3.0 * noise.scale_at(i, j, model.1.abs()) + 0.1 * model.1.abs();
         out.push(ExcludedPoints {
             load_n: c.load_n,
             points: dropped.len(),
@@ -236,8 +244,10 @@ fn excluded_by_load(
             model_range_um: model,
             outside_model_range: dropped
                 .iter()
-                .map(|&j| c.dte_pp_um[j])
-                .filter(|v| *v > model.1 + margin || *v < model.0 - margin)
+                .filter(|&&j| {
+                    let v = c.dte_pp_um[j];
+                    v > model.1 + margin(j) || v < model.0 - margin(j)
+                })
                 .count(),
         });
     }
@@ -268,8 +278,10 @@ pub struct Discovery {
     /// Detection tests on the residuals after adding the chosen effect (same null distribution).
     pub post_fit: Vec<TestResult>,
     pub candidates: Vec<CandidateResult>,
-    pub sigma_um: f64,
-    pub sigma_source: &'static str,
+    /// The noise the tests and fits use: stated, or estimated (floor, relative part, tails).
+    pub noise: DiscoveryNoise,
+    /// Smallest and largest noise scale over the kept points (um), at M0's levels.
+    pub noise_range_um: (f64, f64),
     pub zeta_m0: f64,
     pub omega_n_hz_m0: f64,
     pub training_loads_n: Vec<f64>,
@@ -280,10 +292,11 @@ pub struct Discovery {
     /// Per load with excluded points: how the data there compare with M0 (not tested).
     pub excluded_by_load: Vec<ExcludedPoints>,
     pub gap_before: GapSet,
+    /// Gap with the best refitted candidate: the named effect, or, when the answer is
+    /// "unexplained" or "ambiguous", the candidate that came closest (`gap_after_model` says
+    /// which); M0's own gap when no candidate was refitted.
     pub gap_after: GapSet,
-    /// Gap with the leading significant candidate refitted (equal to gap_after when it is the
-    /// effect; shown also when the effect is "unexplained" or "ambiguous").
-    pub gap_leading: Option<GapSet>,
+    pub gap_after_model: String,
     pub windows: Vec<Window>,
     pub residuals_before: Vec<ResidualCurve>,
     /// Residuals with the leading significant candidate refitted (M0's when there is none).
@@ -331,7 +344,7 @@ fn predict_all(
     train: &[usize],
     held: &[usize],
     mask: &Mask,
-    sigma: f64,
+    scales: &Scales,
     held_start: Option<&[HeldFit]>,
 ) -> Result<(Vec<CurvePrediction>, Vec<HeldFit>)> {
     let mut preds: Vec<Option<CurvePrediction>> = vec![None; setup.curves.len()];
@@ -347,9 +360,16 @@ fn predict_all(
             let start = held_start
                 .and_then(|h| h.iter().find(|x| x.0 == i))
                 .map_or_else(|| ste_from_low_speed(setup, i, fit.globals), |x| x.1);
-            let (e, lm) = fit_ste(setup, i, mask, sigma, fit.globals, &fit.effect, start)?;
+            let (e, lm) = fit_ste(setup, i, mask, scales, fit.globals, &fit.effect, start)?;
             let p = super::forward::predict(setup, i, fit.globals, e, &fit.effect)?;
-            Ok(((i, e, lm.jacobian.column(0).into_owned()), p))
+            // The sensitivity of the curve (um per um of STE) from that of its standardized
+            // residuals.
+            let kept = (0..mask[i].len()).filter(|&j| mask[i][j]);
+            let sens = DVector::from_iterator(
+                lm.jacobian.nrows(),
+                lm.jacobian.column(0).iter().zip(kept).map(|(d, j)| -d * scales[i][j]),
+            );
+            Ok(((i, e, sens), p))
         })
         .collect();
     let mut held_out = Vec::new();
@@ -365,18 +385,21 @@ fn predict_all(
     Ok((preds, held_out))
 }
 
-/// A held-out curve's index, fitted STE (um) and its sensitivity column.
+/// A held-out curve's index, fitted STE (um) and its sensitivity (um per um of STE) on its
+/// kept points.
 type HeldFit = (usize, f64, DVector<f64>);
 
 /// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
 /// measured pp there depends on history beyond the model) and the two points around every
-/// predicted jump larger than 10 sigma: a change of impact regime (Fig. 9: none, single-sided,
-/// double-sided) between neighbouring speeds. A jump displaced by one grid step would dominate
-/// every statistic without saying anything about a missing effect.
-fn make_mask(preds: &[CurvePrediction], sigma: f64) -> Mask {
+/// predicted jump larger than 10 noise scales (at the higher of the two levels): a change of
+/// impact regime (Fig. 9: none, single-sided, double-sided) between neighbouring speeds. A jump
+/// displaced by one grid step would dominate every statistic without saying anything about a
+/// missing effect. `curves[k]` is the curve `preds[k]` predicts.
+fn make_mask(preds: &[CurvePrediction], curves: &[usize], noise: &DiscoveryNoise) -> Mask {
     preds
         .iter()
-        .map(|p| {
+        .zip(curves)
+        .map(|(p, &i)| {
             let n = p.dte_pp_um.len();
             let mut m: Vec<bool> = p.period1.clone();
             for j in 1..n {
@@ -388,7 +411,10 @@ fn make_mask(preds: &[CurvePrediction], sigma: f64) -> Mask {
                 // early kept the point between, 120 um off, which alone made it "unexplained".
                 let regime_changed = p.separated[j] != p.separated[j - 1]
                     || p.back_contact[j] != p.back_contact[j - 1];
-                if regime_changed && (p.dte_pp_um[j] - p.dte_pp_um[j - 1]).abs() > 10.0 * sigma {
+                let (a, b) = (p.dte_pp_um[j - 1], p.dte_pp_um[j]);
+                let top = a.abs().max(b.abs());
+                let scale = noise.scale_at(i, j, top).max(noise.scale_at(i, j - 1, top));
+                if regime_changed && (b - a).abs() > 10.0 * scale {
                     m[j] = false;
                     m[j - 1] = false;
                 }
@@ -562,7 +588,7 @@ fn refit_candidate(
     setup: &Setup,
     train: &[usize],
     mask: &Mask,
-    sigma: f64,
+    (scales, noise): (&Scales, &DiscoveryNoise),
     cand: Candidate,
     m0: &ModelFit,
     delta0: &[f64],
@@ -577,7 +603,7 @@ fn refit_candidate(
             setup,
             &train[..1],
             mask,
-            sigma,
+            scales,
             Some(cand),
             &s1,
             Stop::near(iters),
@@ -594,7 +620,7 @@ fn refit_candidate(
             setup,
             &train[..1],
             mask,
-            sigma,
+            scales,
             None,
             &s1,
             Stop::near(iters),
@@ -608,7 +634,7 @@ fn refit_candidate(
         train[1..]
             .par_iter()
             .zip(&m0.ste_um[1..])
-            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, sigma, g1, effect, e)?.0))
+            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, scales, g1, effect, e)?.0))
             .collect()
     };
     // Stage two's start from the design-load fit with the effect `effect` and the other training
@@ -618,7 +644,7 @@ fn refit_candidate(
         let mut start = vec![g1.zeta, g1.omega_n_hz, ste1];
         start.extend_from_slice(others);
         let preds = predict_many(setup, train, g1, &start[2..], effect)?;
-        let r = rss(&residuals_of(setup, train, &preds, mask, sigma));
+        let r = rss(&residuals_of(setup, train, &preds, mask, scales));
         start.extend_from_slice(&effect.delta);
         Ok((start, r))
     };
@@ -629,7 +655,7 @@ fn refit_candidate(
             setup,
             train,
             mask,
-            sigma,
+            scales,
             Some(cand),
             &start?,
             Stop::near(iters),
@@ -685,7 +711,7 @@ fn refit_candidate(
     let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
     let mut m2 = mask.clone();
     for (k, &i) in train.iter().enumerate() {
-        let own = make_mask(std::slice::from_ref(&preds[k]), sigma);
+        let own = make_mask(std::slice::from_ref(&preds[k]), &[i], noise);
         for (j, keep) in own[0].iter().enumerate() {
             m2[i][j] = m2[i][j] && *keep;
         }
@@ -694,7 +720,7 @@ fn refit_candidate(
         setup,
         train,
         &m2,
-        sigma,
+        scales,
         Some(cand),
         &f2.lm.params.clone(),
         Stop::converged(iters / 2 + 1),
@@ -838,6 +864,35 @@ struct Decision {
     refit_held: Option<Vec<HeldFit>>,
 }
 
+/// A refitted candidate: its index in [`LIBRARY`], the fit and the mask it was fitted on.
+type Refitted = (usize, ModelFit, Mask);
+
+/// The model Jacobian (um per parameter) of refit `f`, fitted on the points `fitted` keeps, on
+/// the rows of M0's `mask` (the training curves' kept points in order): a row the refit did not
+/// fit is zero.
+fn refit_jacobian(
+    f: &ModelFit,
+    train: &[usize],
+    mask: &Mask,
+    fitted: &Mask,
+    scales: &Scales,
+) -> DMatrix<f64> {
+    let j = model_jacobian(&f.lm, &row_scales(train, fitted, scales));
+    let rows: Vec<bool> = train
+        .iter()
+        .flat_map(|&i| (0..mask[i].len()).filter(move |&k| mask[i][k]).map(move |k| fitted[i][k]))
+        .collect();
+    let mut out = DMatrix::zeros(rows.len(), j.ncols());
+    let mut next = 0;
+    for (r, fit_row) in rows.iter().enumerate() {
+        if *fit_row && next < j.nrows() {
+            out.row_mut(r).copy_from(&j.row(next));
+            next += 1;
+        }
+    }
+    out
+}
+
 /// M0 fitted to the training curves with everything the tests need fixed under the null.
 pub(super) struct M0Fit {
     pub m0: ModelFit,
@@ -847,18 +902,102 @@ pub(super) struct M0Fit {
     pub held0: Vec<HeldFit>,
     /// Omega of every point at the fitted omega_n.
     pub omega: Vec<Vec<f64>>,
+    /// The noise (stated, or estimated about this fit) and its scale at every point at M0's
+    /// levels: the weights of every later fit and test.
+    pub noise: DiscoveryNoise,
+    pub scales: Scales,
     /// The linearised statistics at this fit, without candidate probes.
     pub lin: Linearized,
 }
 
+/// Residuals of the curves about predictions, every point (um).
+fn residuals_about(setup: &Setup, preds: &[CurvePrediction]) -> Vec<Vec<f64>> {
+    setup
+        .curves
+        .iter()
+        .zip(preds)
+        .map(|(c, p)| c.dte_pp_um.iter().zip(&p.dte_pp_um).map(|(y, f)| y - f).collect())
+        .collect()
+}
+
+/// The noise of the data about predictions `preds` on the points `mask` keeps: stated, or
+/// estimated from the pseudo-residuals (see [`super::noise`]).
+fn noise_about(
+    setup: &Setup,
+    spec: &NoiseSpec,
+    preds: &[CurvePrediction],
+    mask: &Mask,
+) -> Result<DiscoveryNoise> {
+    match spec {
+        NoiseSpec::Stated(n) => Ok(n.clone()),
+        NoiseSpec::Estimate { floor_min, tails } => {
+            let speeds: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.speeds_rpm.clone()).collect();
+            let levels: Vec<Vec<f64>> = preds.iter().map(|p| p.dte_pp_um.clone()).collect();
+            let residuals = residuals_about(setup, preds);
+            estimate_noise(
+                &PseudoInput {
+                    speeds: &speeds,
+                    residuals: &residuals,
+                    levels: &levels,
+                    mask,
+                },
+                *floor_min,
+                *tails,
+            )
+        }
+    }
+}
+
+/// The noise before any fit: stated, or a constant from the second differences of the curves
+/// (Gasser et al. 1986, median-based), for the first fit's weights.
+fn first_noise(setup: &Setup, spec: &NoiseSpec) -> Result<DiscoveryNoise> {
+    match spec {
+        NoiseSpec::Stated(n) => Ok(n.clone()),
+        NoiseSpec::Estimate { floor_min, .. } => {
+            let measured: Vec<Vec<f64>> =
+                setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+            let s = super::stats::noise_from_differences(&measured)
+                .filter(|s| *s > 0.0)
+                .ok_or_else(|| {
+                    GearError::Numerical("cannot estimate the noise from the curves".into())
+                })?;
+            Ok(DiscoveryNoise::stated(
+                NoiseOrigin::Estimated {
+                    floor_min: *floor_min,
+                },
+                crate::fit::NoiseModel::constant(s.max(*floor_min)),
+            ))
+        }
+    }
+}
+
+/// The model Jacobian (um per parameter) of a fit's kept rows from the Jacobian of its
+/// standardized residuals (y - f) / sigma: row r times -sigma_r.
+pub(super) fn model_jacobian(lm: &LmFit, row_scales: &[f64]) -> DMatrix<f64> {
+    let mut j = lm.jacobian.clone();
+    for (r, s) in row_scales.iter().enumerate() {
+        j.row_mut(r).scale_mut(-s);
+    }
+    j
+}
+
+/// Scales of the rows of a fit on curves `idx`: their kept points in order.
+pub(super) fn row_scales(idx: &[usize], mask: &Mask, scales: &Scales) -> Vec<f64> {
+    idx.iter()
+        .flat_map(|&i| (0..mask[i].len()).filter(move |&j| mask[i][j]).map(move |j| scales[i][j]))
+        .collect()
+}
+
 /// Fit M0: closed-form start at the highest load, then the simulated up-sweeps, first on every
-/// point, then again on the points the mask keeps; held-out STE amplitudes fitted alone.
+/// point weighted by the first noise ([`first_noise`]), then, with the noise estimated about
+/// that fit (or stated), again on the points the mask keeps; held-out STE amplitudes fitted
+/// alone; the noise estimated once more about the final curves (one step of generalised least
+/// squares with an estimated variance function, Carroll & Ruppert 1988, Sec. 2.3).
 pub(super) fn fit_m0(
     setup: &Setup,
     train: &[usize],
     held: &[usize],
-    sigma: f64,
-    fixed_sigma: Option<f64>,
+    spec: &NoiseSpec,
     progress: &dyn Progress,
 ) -> Result<M0Fit> {
     let n_curves = setup.curves.len();
@@ -870,7 +1009,10 @@ pub(super) fn fit_m0(
         .iter()
         .map(|c| vec![true; c.speeds_rpm.len()])
         .collect();
-    let m0 = fit_model(setup, train, &all, sigma, None, &start, Stop::converged(25))?;
+    let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+    let noise0 = first_noise(setup, spec)?;
+    let scales0 = noise0.scales(&measured);
+    let m0 = fit_model(setup, train, &all, &scales0, None, &start, Stop::converged(25))?;
     progress.advance(1);
     // Held-out STE from the quasi-static end for the mask; fitted afterwards.
     let pre_ste: Vec<f64> = (0..n_curves)
@@ -881,17 +1023,24 @@ pub(super) fn fit_m0(
         .collect();
     let every: Vec<usize> = (0..n_curves).collect();
     let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
-    let mask = make_mask(&pre, sigma);
+    let pre_mask = make_mask(&pre, &every, &noise0);
+    let noise1 = noise_about(setup, spec, &pre, &pre_mask)?;
+    let mask = make_mask(&pre, &every, &noise1);
+    let pre_levels: Vec<Vec<f64>> = pre.iter().map(|p| p.dte_pp_um.clone()).collect();
+    let scales1 = noise1.scales(&pre_levels);
     let m0 = fit_model(
         setup,
         train,
         &mask,
-        sigma,
+        &scales1,
         None,
         &m0.lm.params.clone(),
         Stop::converged(30),
     )?;
-    let (f0, held0) = predict_all(setup, &m0, train, held, &mask, sigma, None)?;
+    let (f0, held0) = predict_all(setup, &m0, train, held, &mask, &scales1, None)?;
+    let noise = noise_about(setup, spec, &f0, &mask)?;
+    let levels: Vec<Vec<f64>> = f0.iter().map(|p| p.dte_pp_um.clone()).collect();
+    let scales = noise.scales(&levels);
     progress.advance(1);
     let omega: Vec<Vec<f64>> = setup
         .curves
@@ -903,21 +1052,27 @@ pub(super) fn fit_m0(
                 .collect()
         })
         .collect();
-    let lin = Linearized::at_fit(
-        &f0,
-        &mask,
-        train,
-        &m0.lm.jacobian,
-        &held0,
-        &omega,
-        fixed_sigma,
-    );
+    let lin = Linearized {
+        f0: levels,
+        mask: mask.clone(),
+        speeds: setup.curves.iter().map(|c| c.speeds_rpm.clone()).collect(),
+        train: train.to_vec(),
+        jac_train: model_jacobian(&m0.lm, &row_scales(train, &mask, &scales1)),
+        held_sens: held0.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
+        omega: omega.clone(),
+        windows: windows(),
+        probes: Vec::new(),
+        zero: None,
+        noise: noise.clone(),
+    };
     Ok(M0Fit {
         m0,
         mask,
         f0,
         held0,
         omega,
+        noise,
+        scales,
         lin,
     })
 }
@@ -933,49 +1088,74 @@ pub fn discover(
     discover_setup(&setup, opts, progress)
 }
 
+/// Most bootstrap replicates a run may ask for: 99999 keep a run within minutes (each
+/// replicate re-estimates the noise and projects every probe) and resolve p-values to 1e-5.
+pub const MAX_BOOTSTRAP: usize = 99_999;
+
+/// The options' ranges, checked before any work: alpha in (0, 0.5]; enough replicates that
+/// the smallest Monte Carlo p-value 1 / (B + 1), after Holm over the 8 detection tests, can
+/// fall below alpha / 2; at most [`MAX_BOOTSTRAP`]; a stated noise positive and finite.
+fn check_options(opts: &DiscoverOptions) -> Result<()> {
+    if !(opts.alpha > 0.0 && opts.alpha <= 0.5) {
+        return Err(GearError::param("alpha", opts.alpha, "alpha must be in (0, 0.5]"));
+    }
+    let least = (16.0 / opts.alpha).ceil() as usize;
+    if opts.bootstrap < least || opts.bootstrap > MAX_BOOTSTRAP {
+        return Err(GearError::Unsupported(format!(
+            "--bootstrap {}: the bootstrap needs {least} to {MAX_BOOTSTRAP} replicates at alpha {} (8 / (B + 1) must be below alpha / 2)",
+            opts.bootstrap, opts.alpha
+        )));
+    }
+    if let Some(s) = opts.noise_um {
+        if !(s > 0.0 && s < 1e3) {
+            return Err(GearError::param(
+                "noise_um",
+                s,
+                "a stated noise must be in (0, 1000) um",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// What the run knows of the noise: `--noise-um`, else what the data set states (per-point
+/// column, rig.toml `[noise]`), else an estimate (floor at least a stated reading uncertainty).
+fn noise_spec(setup: &Setup, opts: &DiscoverOptions) -> Result<NoiseSpec> {
+    if let Some(s) = opts.noise_um {
+        return Ok(NoiseSpec::Stated(DiscoveryNoise::stated(
+            NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(s),
+        )));
+    }
+    Ok(match &setup.noise {
+        MunroNoise::PerPoint => {
+            let scales: Option<Scales> = setup.curves.iter().map(|c| c.sd_um.clone()).collect();
+            let scales = scales.ok_or_else(|| {
+                GearError::Numerical("a per-point noise needs dte_pp_sd_um on every point".into())
+            })?;
+            NoiseSpec::Stated(DiscoveryNoise::per_point(scales))
+        }
+        MunroNoise::Stated(m) => {
+            NoiseSpec::Stated(DiscoveryNoise::stated(NoiseOrigin::StatedRig, *m))
+        }
+        MunroNoise::Estimate { floor_min } => NoiseSpec::Estimate {
+            floor_min: *floor_min,
+            tails: opts.tails,
+        },
+    })
+}
+
 /// [`discover`] on an already built setup.
 pub fn discover_setup(
     setup: &Setup,
     opts: &DiscoverOptions,
     progress: &dyn Progress,
 ) -> Result<Discovery> {
-    if !(opts.alpha > 0.0 && opts.alpha < 1.0) || opts.bootstrap < 19 {
-        return Err(GearError::param(
-            "alpha",
-            opts.alpha,
-            "alpha must be in (0, 1) and the bootstrap needs at least 19 replicates",
-        ));
-    }
-    // The smallest Monte Carlo p-value is 1 / (B + 1); after Holm over the 8 detection tests
-    // it must still be able to fall below alpha / 2.
-    if 8.0 / (opts.bootstrap as f64 + 1.0) >= opts.alpha / 2.0 {
-        return Err(GearError::param(
-            "bootstrap",
-            opts.bootstrap as f64,
-            "too few bootstrap replicates: 8 / (B + 1) must be below alpha / 2 (B >= 320 at alpha 0.05)",
-        ));
-    }
+    check_options(opts)?;
     let n_curves = setup.curves.len();
     let (train, held) = split(n_curves);
     let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
-    let (sigma, sigma_source) = match opts.noise_um {
-        Some(s) if s > 0.0 && s.is_finite() => (s, "stated (--noise-um)"),
-        Some(s) => {
-            return Err(GearError::param(
-                "noise_um",
-                s,
-                "stated noise must be positive",
-            ))
-        }
-        None => (
-            super::stats::noise_from_differences(&measured)
-                .filter(|s| *s > 0.0)
-                .ok_or_else(|| {
-                    GearError::Numerical("cannot estimate the noise from the curves".into())
-                })?,
-            "second differences of the curves (Gasser et al. 1986)",
-        ),
-    };
+    let spec = noise_spec(setup, opts)?;
     let probes: Vec<(usize, Vec<f64>)> = LIBRARY
         .iter()
         .enumerate()
@@ -983,14 +1163,16 @@ pub fn discover_setup(
         .collect();
     progress.start(4 + probes.len() as u64, "discovery steps");
 
-    let m0_fit = fit_m0(setup, &train, &held, sigma, opts.noise_um, progress)?;
-    let excluded = excluded_by_load(setup, &m0_fit, &train, sigma)?;
+    let m0_fit = fit_m0(setup, &train, &held, &spec, progress)?;
+    let excluded = excluded_by_load(setup, &m0_fit, &train, &m0_fit.noise)?;
     let M0Fit {
         m0,
         mask,
         f0,
         held0,
         omega,
+        noise,
+        scales,
         mut lin,
     } = m0_fit;
     let ws = lin.windows.clone();
@@ -1013,26 +1195,26 @@ pub fn discover_setup(
             Ok((*c, v))
         })
         .collect();
-    let q_train = &lin.q_train;
-    let mut dict: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
+    let mut raw_probes: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
     let mut dict_delta: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
     // Whether some probe moves the design-load curve (the first kept points of each probe's
     // differences) by the noise: the identifiability rule, on the refit's first stage.
-    let n_design = mask[train[0]].iter().filter(|k| **k).count();
+    let design_scales = row_scales(&train[..1], &mask, &scales);
     let mut seen_at_design = [false; LIBRARY.len()];
     for (pc, (c, d)) in probe_curves.into_iter().zip(&probes) {
         let (_, v) = pc?;
-        let design: f64 = v[..n_design].iter().map(|x| x * x).sum();
-        seen_at_design[*c] |= design >= sigma * sigma;
-        let v = DVector::from_vec(v);
-        dict[*c].push(&v - q_train * (q_train.transpose() * &v));
+        let design: f64 = v.iter().zip(&design_scales).map(|(x, s)| (x / s).powi(2)).sum();
+        seen_at_design[*c] |= design >= 1.0;
+        raw_probes[*c].push(DVector::from_vec(v));
         dict_delta[*c].push(d.clone());
     }
-    lin.probes = dict.clone();
+    lin.probes = raw_probes;
+    // The probes standardized by the data's noise and projected off the weighted M0 Jacobian.
+    let dict = lin.weighted_probes(&scales);
 
     // 3. Observed statistics and the bootstrap under M0.
     let observed = lin.statistics(&measured);
-    let reps = lin.bootstrap(sigma, opts.bootstrap, opts.seed);
+    let reps = lin.bootstrap(opts.bootstrap, opts.seed);
     progress.advance(1);
     let names = detection_names(&ws);
     let detection = detection_tests(&names, &observed, &reps);
@@ -1056,7 +1238,7 @@ pub fn discover_setup(
         .iter()
         .enumerate()
         .map(|(c, &cand)| {
-            let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max) / (observed.sigma * observed.sigma);
+            let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max);
             let (identifiable, note) = if biggest >= 1.0 {
                 (true, None)
             } else if cand == Candidate::Backlash && !back_contact {
@@ -1111,9 +1293,9 @@ pub fn discover_setup(
         refit.push(c);
     }
     // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
-    type Refit = (ModelFit, f64, Option<OtherStart>);
+    type Refit = (ModelFit, Mask, f64, Option<OtherStart>);
     let refit_round =
-        |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<(usize, ModelFit)>| {
+        |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>| {
             let fits: Vec<(usize, Result<Refit>)> = list
                 .par_iter()
                 .map(|&c| {
@@ -1122,7 +1304,7 @@ pub fn discover_setup(
                         setup,
                         &train,
                         &mask,
-                        sigma,
+                        (&scales, &noise),
                         LIBRARY[c],
                         &m0,
                         &dict_delta[c][k],
@@ -1135,18 +1317,18 @@ pub fn discover_setup(
                         for &i in &train {
                             for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
                                 if m2[i][j] {
-                                    r0 += ((y - f0[i].dte_pp_um[j]) / sigma).powi(2);
+                                    r0 += ((y - f0[i].dte_pp_um[j]) / scales[i][j]).powi(2);
                                 }
                             }
                         }
                         let drop = r0 - f.lm.rss;
-                        (f, drop, other)
+                        (f, m2, drop, other)
                     });
                     (c, f)
                 })
                 .collect();
             for (c, f) in fits {
-                let Ok((f, drop, other)) = f else { continue };
+                let Ok((f, m2, drop, other)) = f else { continue };
                 let cand = LIBRARY[c];
                 let est = cand.estimate(&f.effect.delta).0;
                 let mut ci = wald_ci(cand, &f.lm);
@@ -1164,12 +1346,12 @@ pub fn discover_setup(
                 cands[c].refit_zeta = Some(f.globals.zeta);
                 cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
                 cands[c].other_start = other;
-                refits.push((c, f));
+                refits.push((c, f, m2));
             }
         };
 
     // 5. Decide, from the refits so far.
-    let decide = |cands: &[CandidateResult], refits: &[(usize, ModelFit)]| -> Result<Decision> {
+    let decide = |cands: &[CandidateResult], refits: &[Refitted]| -> Result<Decision> {
         let mut d = Decision {
             effect: if detected { "unexplained" } else { "none" }.to_string(),
             ambiguous_with: Vec::new(),
@@ -1180,7 +1362,7 @@ pub fn discover_setup(
             refit_preds: None,
             refit_held: None,
         };
-        let sig: Vec<usize> = refits.iter().map(|(c, _)| *c).collect();
+        let sig: Vec<usize> = refits.iter().map(|(c, _, _)| *c).collect();
         let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
         let Some(&best) = sig.iter().max_by(|&&a, &&b| drop(a).total_cmp(&drop(b))) else {
             return Ok(d);
@@ -1197,12 +1379,12 @@ pub fn discover_setup(
             .into_iter()
             .map(|c| cands[c].name.to_string())
             .collect();
-        let Some((_, f)) = refits.iter().find(|(c, _)| *c == best) else {
+        let Some((_, f, m2)) = refits.iter().find(|(c, _, _)| *c == best) else {
             return Ok(d);
         };
-        let (preds, held1) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
-        d.refit_held = Some(held1);
-        let m1 = make_mask(&preds, sigma);
+        let (preds, held1) = predict_all(setup, f, &train, &held, &mask, &scales, Some(&held0))?;
+        let every: Vec<usize> = (0..preds.len()).collect();
+        let m1 = make_mask(&preds, &every, &noise);
         let zero: Mask = mask
             .iter()
             .zip(&m1)
@@ -1216,6 +1398,8 @@ pub fn discover_setup(
         let lin1 = Linearized {
             f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
             zero: Some(zero),
+            jac_train: refit_jacobian(f, &train, &mask, m2, &scales),
+            held_sens: held1.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
             probes: Vec::new(),
             ..lin.clone()
         };
@@ -1227,8 +1411,9 @@ pub fn discover_setup(
         // 0.267 um) failed this test at p = 0.02 under M0's bootstrap: a statistic of 29
         // on 94 rows that M0's replicates exceeded only 2% of the time, whose noise
         // re-estimate must have come out near twice the data's.
-        let post_reps = lin1.bootstrap(sigma, opts.bootstrap, opts.seed);
+        let post_reps = lin1.bootstrap(opts.bootstrap, opts.seed);
         d.post_fit = detection_tests(&names, &post, &post_reps);
+        d.refit_held = Some(held1);
         d.refit_preds = Some(preds.clone());
         d.after_preds = preds;
         if !d.ambiguous_with.is_empty() {
@@ -1245,13 +1430,20 @@ pub fn discover_setup(
             // the held-out gap, not used to reject the name.
             d.effect = "unexplained".into();
             d.closest = Some(cands[best].name.to_string());
+        } else if !cands[best]
+            .ci95
+            .is_some_and(|ci| cands[best].candidate.excludes_nested(ci))
+        {
+            // The refit explains the curves, but its size is not told apart from M0's
+            // (delta = 0): the effect is not named. What remains is what the tests said.
+            d.closest = Some(cands[best].name.to_string());
         } else {
             d.effect = cands[best].name.to_string();
         }
         Ok(d)
     };
 
-    let mut refits: Vec<(usize, ModelFit)> = Vec::new();
+    let mut refits: Vec<Refitted> = Vec::new();
     refit_round(&refit, &mut cands, &mut refits);
     let mut decision = decide(&cands, &refits)?;
     // Before a discrepancy is called unexplained, every significant candidate is refitted:
@@ -1276,26 +1468,42 @@ pub fn discover_setup(
         refit_preds,
         refit_held,
     } = decision;
-    let explained = LIBRARY.iter().any(|c| c.name() == effect);
-    if !explained {
-        after_preds = f0.clone();
-    }
+    let after_name = LIBRARY
+        .iter()
+        .find(|c| c.name() == effect)
+        .or_else(|| LIBRARY.iter().find(|c| closest.as_deref() == Some(c.name())))
+        .or_else(|| {
+            ambiguous_with
+                .first()
+                .and_then(|a| LIBRARY.iter().find(|c| c.name() == a))
+        })
+        .map(|c| c.name());
+    let gap_after_model = match (after_name, refit_preds.is_some()) {
+        (Some(n), true) => format!("M0 + {n}"),
+        _ => {
+            after_preds = f0.clone();
+            "M0 (no candidate refitted)".to_string()
+        }
+    };
     progress.advance(1);
     progress.finish();
     let gap_set = |preds: &[CurvePrediction]| GapSet {
         training: gap(setup, &train, preds, &compare_mask, &omega, &ws),
         held_out: (!held.is_empty()).then(|| gap(setup, &held, preds, &compare_mask, &omega, &ws)),
     };
-    // The leading candidate's gap even when it did not explain the discrepancy (diagnostics).
-    let gap_leading = refit_preds.as_deref().map(gap_set);
+    let kept_scales = scales
+        .iter()
+        .zip(&mask)
+        .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
+    let noise_range_um = min_max(kept_scales).unwrap_or((0.0, 0.0));
     Ok(Discovery {
         ambiguous_with,
         closest_candidate: closest,
         detected,
         detected_by_tests,
         post_fit,
-        sigma_um: sigma,
-        sigma_source,
+        noise,
+        noise_range_um,
         zeta_m0: m0.globals.zeta,
         omega_n_hz_m0: m0.globals.omega_n_hz,
         training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
@@ -1303,10 +1511,10 @@ pub fn discover_setup(
         held_out_ste_um: held0
             .iter()
             .map(|(i, e0, _)| {
-                let after = match (&refit_held, explained) {
-                    (Some(h), true) => h.iter().find(|x| x.0 == *i).map_or(*e0, |x| x.1),
-                    _ => *e0,
-                };
+                let after = refit_held
+                    .as_ref()
+                    .and_then(|h| h.iter().find(|x| x.0 == *i))
+                    .map_or(*e0, |x| x.1);
                 (setup.curves[*i].load_n, *e0, after)
             })
             .collect(),
@@ -1314,7 +1522,7 @@ pub fn discover_setup(
         excluded_by_load: excluded,
         gap_before: gap_set(&f0),
         gap_after: gap_set(&after_preds),
-        gap_leading,
+        gap_after_model,
         residuals_before: residual_curves(setup, &train, &f0, &compare_mask, &omega),
         residuals_after: residual_curves(
             setup,
@@ -1351,7 +1559,11 @@ mod tests {
             back_contact: vec![false, false, false, true, true, false, false, false, false],
             aperiodic_start: vec![None; 9],
         };
-        let m = make_mask(&[p], 0.15);
+        let noise = super::DiscoveryNoise::stated(
+            super::NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(0.15),
+        );
+        let m = make_mask(&[p], &[0], &noise);
         assert_eq!(
             m[0],
             vec![false, false, false, false, true, true, false, false, false]
