@@ -44,7 +44,9 @@ fn refitted_statistics(setup: &Setup, fit: &M0Fit, train: &[usize], y: &[Vec<f64
         preds[*i] = predict(&sy, *i, m.globals, e, &m.effect).unwrap();
         held_sens.push((
             *i,
-            DVector::from(model_jacobian(&lm, &row_scales(&[*i], &fit.mask, &fit.scales)).column(0)),
+            DVector::from(
+                model_jacobian(&lm, &row_scales(&[*i], &fit.mask, &fit.scales)).column(0),
+            ),
         ));
     }
     Linearized {

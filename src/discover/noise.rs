@@ -33,8 +33,11 @@ const TRIM_ROUNDS: usize = 6;
 /// chi^2_0 and chi^2_1 (Self & Liang 1987), whose 95% point is chi^2_1's 90% point.
 const BOUNDARY_LR_CRITICAL: f64 = 2.705_543_454_095_404;
 /// Degrees of freedom tried for Student-t errors (the likelihood is flat in dof; a grid is
-/// enough for the replicates to draw tails of the right weight).
-const T_DOF_GRID: [f64; 6] = [2.0, 3.0, 4.0, 6.0, 10.0, 20.0];
+/// enough for the replicates to draw tails of the right weight). At least 3, so that the
+/// errors have a standard deviation, which is what the scales of the fits and the intervals
+/// are: a systematic misfit can look like tails of 2 dof or fewer (eps 0.2 hidden in Gaussian
+/// noise gave dof 2), and an infinite variance would make every interval meaningless.
+const T_DOF_GRID: [f64; 5] = [3.0, 4.0, 6.0, 10.0, 20.0];
 
 /// How the noise of a set is known.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -118,32 +121,45 @@ impl DiscoveryNoise {
         matches!(self.origin, NoiseOrigin::Estimated { .. })
     }
 
-    /// Scale of every point at the model levels `levels` (per curve, per point).
-    pub fn scales(&self, levels: &[Vec<f64>]) -> Scales {
-        match &self.per_point {
-            Some(s) => s.clone(),
-            None => levels
-                .iter()
-                .map(|c| c.iter().map(|l| self.model.scale(*l)).collect())
-                .collect(),
+    /// Standard deviation over the model's scale: 1 for Gaussian errors, sqrt(dof / (dof - 2))
+    /// for Student-t ones.
+    fn sd_factor(&self) -> f64 {
+        match self.model.distribution {
+            Distribution::Gaussian => 1.0,
+            Distribution::StudentT { dof } => (dof / (dof - 2.0)).sqrt(),
         }
     }
 
-    /// Scale of point j of curve i at the model level `level`.
+    /// Standard deviation of the noise at every point at the model levels `levels` (per
+    /// curve, per point): the scales of every residual, fit and interval of a run.
+    pub fn scales(&self, levels: &[Vec<f64>]) -> Scales {
+        levels
+            .iter()
+            .enumerate()
+            .map(|(i, c)| {
+                c.iter()
+                    .enumerate()
+                    .map(|(j, l)| self.scale_at(i, j, *l))
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// Standard deviation of the noise at point j of curve i at the model level `level`.
     pub fn scale_at(&self, i: usize, j: usize, level: f64) -> f64 {
         match &self.per_point {
             Some(s) => s[i][j],
-            None => self.model.scale(level),
+            None => self.model.scale(level) * self.sd_factor(),
         }
     }
 
-    /// One replicate error at point (i, j) of scale `scale`: the model's distribution.
-    pub fn draw(&self, scale: f64, rng: &mut Rng) -> f64 {
+    /// One replicate error of standard deviation `sd`, from the model's distribution.
+    pub fn draw(&self, sd: f64, rng: &mut Rng) -> f64 {
         let z = match self.model.distribution {
             Distribution::Gaussian => rng.normal(),
             Distribution::StudentT { dof } => rng.student_t(dof),
         };
-        scale * z
+        sd / self.sd_factor() * z
     }
 
     /// The noise of a replicate data set whose residuals about the null curves are `residuals`
@@ -228,11 +244,9 @@ pub fn pseudo_residuals(input: &PseudoInput) -> Pseudo {
             let b = (x[j] - x[p]) / span;
             let norm = (a * a + b * b + 1.0).sqrt();
             let (r, l) = (&input.residuals[i], &input.levels[i]);
-            out.values
-                .push((a * r[p] + b * r[n] - r[j]) / norm);
-            out.levels.push(
-                ((a * l[p]).powi(2) + (b * l[n]).powi(2) + l[j].powi(2)).sqrt() / norm,
-            );
+            out.values.push((a * r[p] + b * r[n] - r[j]) / norm);
+            out.levels
+                .push(((a * l[p]).powi(2) + (b * l[n]).powi(2) + l[j].powi(2)).sqrt() / norm);
             curve_rows.push([a / norm, -1.0 / norm, b / norm]);
         }
         rows.push(curve_rows);
@@ -459,7 +473,11 @@ mod tests {
             levels: &zeros,
             mask: &mask,
         });
-        assert!((p.kappa - (1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0))).abs() < 2e-3, "{}", p.kappa);
+        assert!(
+            (p.kappa - (1.0 + 2.0 * (4.0 / 9.0 + 1.0 / 36.0))).abs() < 2e-3,
+            "{}",
+            p.kappa
+        );
     }
 
     /// A residual linear in the speed leaves no pseudo-residual, on an uneven grid too.

@@ -22,8 +22,8 @@ pub use linear::{
     stays_in_contact_harmonics,
 };
 pub use munro::{
-    fit_munro_design_load, noise_setting, validate_munro, GeometryValidation, LoadResult, ModelPoint,
-    MunroOptions, MunroValidation, SteMode, SteSource,
+    fit_munro_design_load, noise_setting, validate_munro, GeometryValidation, LoadResult,
+    ModelPoint, MunroOptions, MunroValidation, SteMode, SteSource,
 };
 pub use noise::Rng;
 pub use study::{
