@@ -38,6 +38,10 @@ pub struct Linearized {
     pub jac_train: DMatrix<f64>,
     /// Each held-out curve's STE sensitivity (um per um) on its masked points.
     pub held_sens: Vec<(usize, DVector<f64>)>,
+    /// Each held-out curve's sensitivity to the shared parameters (zeta, omega_n: um per unit,
+    /// um per Hz) on its masked points: a refit on the training loads moves them, and with them
+    /// the held-out predictions. Empty: not accounted for.
+    pub held_globals: Vec<(usize, DMatrix<f64>)>,
     /// Omega of each point (at the M0 omega_n).
     pub omega: Vec<Vec<f64>>,
     pub windows: Vec<Window>,
@@ -88,9 +92,18 @@ fn project_out(q: &DMatrix<f64>, v: &DVector<f64>) -> DVector<f64> {
 /// What one data set's weights make of the fixed pieces: the standardized, projected residuals
 /// and the weighted basis they were projected with.
 struct Weighted {
+    /// The weighted Jacobian and an orthonormal basis of its columns.
+    jw: DMatrix<f64>,
     basis: DMatrix<f64>,
     /// Training-row scales, in row order.
     train_scales: Vec<f64>,
+}
+
+/// The linearised refit of the null model to one data set: per curve, the standardized
+/// residual of its kept points after the refit, and the training rows' as one vector.
+struct Refit {
+    residuals: Vec<Vec<f64>>,
+    train: DVector<f64>,
 }
 
 impl Linearized {
@@ -114,6 +127,7 @@ impl Linearized {
         }
         Weighted {
             basis: column_basis(&jw),
+            jw,
             train_scales,
         }
     }
@@ -171,15 +185,90 @@ impl Linearized {
             .collect()
     }
 
-    /// The noise of data set `y`: re-estimated from its pseudo-residuals about the null curves
-    /// when the data's noise was estimated (the points zeroed after a refit left out), as
-    /// stated otherwise.
+    /// The linearised refit of the null model to standardized residuals `z` (kept points of
+    /// every curve, weights `w`, scales `scales`): the training rows projected off the weighted
+    /// Jacobian (the Gauss-Newton step); each held-out curve shifted by what that step's zeta
+    /// and omega_n do to it, then projected off its own STE sensitivity (its STE is fitted
+    /// alone).
+    fn linear_refit(&self, z: &[Vec<f64>], w: &Weighted, scales: &Scales) -> Refit {
+        let mut residuals = z.to_vec();
+        let zt: Vec<f64> = self.train.iter().flat_map(|&i| z[i].clone()).collect();
+        let zt = DVector::from_vec(zt);
+        let rt = project_out(&w.basis, &zt);
+        let mut k = 0;
+        for &i in &self.train {
+            let n = residuals[i].len();
+            residuals[i] = rt.as_slice()[k..k + n].to_vec();
+            k += n;
+        }
+        // The step of the shared parameters (the first two columns).
+        let step = (!self.held_globals.is_empty())
+            .then(|| w.jw.clone().svd(true, true).solve(&zt, 1e-12).ok())
+            .flatten();
+        for (i, sens) in &self.held_sens {
+            let kept: Vec<usize> = (0..self.mask[*i].len())
+                .filter(|&j| self.mask[*i][j])
+                .collect();
+            let mut v = DVector::from_vec(z[*i].clone());
+            if let (Some(step), Some((_, g))) =
+                (&step, self.held_globals.iter().find(|(h, _)| h == i))
+            {
+                let shift = g * step.rows(0, g.ncols());
+                for (r, &j) in kept.iter().enumerate() {
+                    v[r] -= shift[r] / scales[*i][j];
+                }
+            }
+            let u = DVector::from_iterator(
+                kept.len(),
+                kept.iter()
+                    .zip(sens.iter())
+                    .map(|(&j, d)| d / scales[*i][j]),
+            );
+            let p = if u.norm() > 0.0 {
+                let u = u.normalize();
+                &v - &u * u.dot(&v)
+            } else {
+                v
+            };
+            residuals[*i] = p.as_slice().to_vec();
+        }
+        Refit {
+            residuals,
+            train: rt,
+        }
+    }
+
+    /// Residuals (um) of data set `y` about the linearised refit of the null model to it,
+    /// weighted by the data's noise, at every point (kept or not): what a full refit would
+    /// leave, to first order.
+    fn refit_residuals(&self, y: &[Vec<f64>]) -> Vec<Vec<f64>> {
+        let scales = self.noise.scales(&self.f0);
+        let w = self.weighted(&scales);
+        let z = self.standardized(y, &scales, f64::INFINITY);
+        let fit = self.linear_refit(&z, &w, &scales);
+        y.iter()
+            .enumerate()
+            .map(|(i, c)| {
+                let mut kept = fit.residuals[i].iter();
+                c.iter()
+                    .enumerate()
+                    .map(|(j, v)| match self.mask[i][j] {
+                        true => kept.next().copied().unwrap_or(0.0) * scales[i][j],
+                        false => v - self.f0[i][j],
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The noise of data set `y`: re-estimated from the pseudo-residuals of its residuals about
+    /// the linearised refit ([`Linearized::refit_residuals`]) when the data's noise was
+    /// estimated (the points zeroed after a refit left out), as stated otherwise.
     pub fn noise_of(&self, y: &[Vec<f64>]) -> DiscoveryNoise {
-        let residuals: Vec<Vec<f64>> = y
-            .iter()
-            .zip(&self.f0)
-            .map(|(c, f)| c.iter().zip(f).map(|(a, b)| a - b).collect())
-            .collect();
+        if !self.noise.is_estimated() {
+            return self.noise.clone();
+        }
+        let residuals = self.refit_residuals(y);
         let mask: Vec<Vec<bool>> = match &self.zero {
             None => self.mask.clone(),
             Some(z) => self
@@ -197,9 +286,9 @@ impl Linearized {
         })
     }
 
-    /// Standardized residuals of the kept points of every curve, clipped at [`HUBER_C`] (zero
-    /// where `zero` says).
-    fn standardized(&self, y: &[Vec<f64>], scales: &Scales) -> Vec<Vec<f64>> {
+    /// Standardized residuals of the kept points of every curve, clipped at `clip` (zero where
+    /// `zero` says).
+    fn standardized(&self, y: &[Vec<f64>], scales: &Scales, clip: f64) -> Vec<Vec<f64>> {
         y.iter()
             .enumerate()
             .map(|(i, c)| {
@@ -210,7 +299,7 @@ impl Linearized {
                         if self.zero.as_ref().is_some_and(|z| z[i][j]) {
                             0.0
                         } else {
-                            ((v - self.f0[i][j]) / scales[i][j]).clamp(-HUBER_C, HUBER_C)
+                            ((v - self.f0[i][j]) / scales[i][j]).clamp(-clip, clip)
                         }
                     })
                     .collect()
@@ -223,35 +312,17 @@ impl Linearized {
         let noise = self.noise_of(y);
         let scales = noise.scales(&self.f0);
         let w = self.weighted(&scales);
-        let raw = self.standardized(y, &scales);
-        let mut residuals = raw.clone();
-        // Training rows: project off the weighted M0 Jacobian.
-        let rt: Vec<f64> = self.train.iter().flat_map(|&i| raw[i].clone()).collect();
-        let rt = project_out(&w.basis, &DVector::from_vec(rt));
-        let mut k = 0;
-        for &i in &self.train {
-            let n = residuals[i].len();
-            residuals[i] = rt.as_slice()[k..k + n].to_vec();
-            k += n;
-        }
-        let mut chi_held = 0.0;
-        for (i, sens) in &self.held_sens {
-            let kept: Vec<f64> = (0..self.mask[*i].len())
-                .filter(|&j| self.mask[*i][j])
-                .map(|j| scales[*i][j])
-                .collect();
-            let u = DVector::from_iterator(sens.len(), sens.iter().zip(&kept).map(|(d, s)| d / s));
-            let v = DVector::from_vec(raw[*i].clone());
-            let p = if u.norm() > 0.0 {
-                let u = u.normalize();
-                &v - &u * u.dot(&v)
-            } else {
-                v
-            };
-            chi_held += p.norm_squared();
-            residuals[*i] = p.as_slice().to_vec();
-        }
+        let z = self.standardized(y, &scales, HUBER_C);
+        let Refit {
+            residuals,
+            train: rt,
+        } = self.linear_refit(&z, &w, &scales);
         let chi_train = rt.norm_squared();
+        let chi_held: f64 = self
+            .held_sens
+            .iter()
+            .map(|(i, _)| residuals[*i].iter().map(|v| v * v).sum::<f64>())
+            .sum();
         let runs = -runs_z(&residuals);
         let mut detection = vec![chi_train, chi_held, runs];
         for win in &self.windows {

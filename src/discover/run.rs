@@ -9,7 +9,8 @@ use super::fit::{
     fit_model, fit_ste, linear_start, residuals_of, ste_from_low_speed, Mask, ModelFit,
 };
 use super::forward::{
-    aperiodic_pp_range, fitted_damping_admissible, predict_many, CurvePrediction, Setup, MIN_ZETA,
+    aperiodic_pp_range, fitted_damping_admissible, predict_many, CurvePrediction, Globals, Setup,
+    MIN_ZETA,
 };
 use super::linearized::{detection_names, Linearized, Statistics};
 use super::noise::{
@@ -1034,6 +1035,53 @@ pub(super) fn model_jacobian(lm: &LmFit, row_scales: &[f64]) -> DMatrix<f64> {
     j
 }
 
+/// Each held-out curve's sensitivity to zeta and omega_n at fit `m0` (its STE held at its
+/// own fit), on its kept points: forward differences of the simulated curve with the engine's
+/// steps (1e-4 of the value, at least of the parameter's typical size).
+fn held_globals(
+    setup: &Setup,
+    m0: &ModelFit,
+    held0: &[HeldFit],
+    f0: &[CurvePrediction],
+    mask: &Mask,
+) -> Result<Vec<(usize, DMatrix<f64>)>> {
+    let g = m0.globals;
+    let hz = 1e-4 * g.zeta.max(0.005);
+    let hw = 1e-4 * g.omega_n_hz.max(10.0);
+    held0
+        .par_iter()
+        .map(|(i, e, _)| {
+            let kept: Vec<usize> = (0..mask[*i].len()).filter(|&j| mask[*i][j]).collect();
+            let mut out = DMatrix::zeros(kept.len(), 2);
+            for (col, (gp, h)) in [
+                (
+                    Globals {
+                        zeta: g.zeta + hz,
+                        ..g
+                    },
+                    hz,
+                ),
+                (
+                    Globals {
+                        omega_n_hz: g.omega_n_hz + hw,
+                        ..g
+                    },
+                    hw,
+                ),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let p = super::forward::predict(setup, *i, gp, *e, &m0.effect)?;
+                for (r, &j) in kept.iter().enumerate() {
+                    out[(r, col)] = (p.dte_pp_um[j] - f0[*i].dte_pp_um[j]) / h;
+                }
+            }
+            Ok((*i, out))
+        })
+        .collect()
+}
+
 /// Scales of the rows of a fit on curves `idx`: their kept points in order.
 pub(super) fn row_scales(idx: &[usize], mask: &Mask, scales: &Scales) -> Vec<f64> {
     idx.iter()
@@ -1124,6 +1172,7 @@ pub(super) fn fit_m0(
         train: train.to_vec(),
         jac_train: model_jacobian(&m0.lm, &row_scales(train, &mask, &scales1)),
         held_sens: held0.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
+        held_globals: held_globals(setup, &m0, &held0, &f0, &mask)?,
         omega: omega.clone(),
         windows: windows(),
         probes: Vec::new(),
@@ -1470,6 +1519,7 @@ pub fn discover_setup(
             zero: Some(zero),
             jac_train: refit_jacobian(f, &train, &mask, m2, &scales),
             held_sens: held1.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
+            held_globals: Vec::new(),
             probes: Vec::new(),
             ..lin.clone()
         };
