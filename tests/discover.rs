@@ -164,39 +164,32 @@ fn null_set_gives_none_without_reading_the_truth() {
 
 /// A measured chaotic pp is one observation window of the attractor, and data the fitting
 /// solver did not make (measurements) draw other windows than its prediction. On the shipped
-/// `data/munro` (made by an older solver build) and on a null set made by DOP853 (seed 8), the
-/// largest excluded 945 N point lies beyond M0's predicted pp by more than the rule's margin
-/// (84 um against 71 um; 75 against 67), so comparing with the prediction alone answered
-/// "unexplained". It lies inside the pp M0 produces over 32 later windows: "none".
+/// `data/munro` (made by an older solver build) the largest excluded 945 N point lies beyond
+/// M0's predicted pp by more than the rule's margin (84 um against 73 um), so comparing with the
+/// prediction alone answered "unexplained". It lies inside the pp M0 produces over 32 later
+/// windows: "none". (The rule's false-positive rate on sets made by DOP853 is measured by the
+/// null studies, docs/discover-studies.md.)
 #[test]
 fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
-    let tmp = tempfile::tempdir().unwrap();
-    let dop853 = tmp.path().join("dop853");
-    let mut t = MunroTruth::default_munro();
-    t.seed = 8;
-    t.dop853_rtol = Some(1e-9);
-    synth_munro(&t, &dop853, &NoProgress).unwrap();
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/munro");
-    for dir in [shipped, dop853] {
-        let d = run(&dir);
-        assert_eq!(d.effect, "none", "{}", dir.display());
-        assert_eq!(d.excluded_far_outside(), 0, "{:?}", d.excluded_by_load);
-        let e = d
-            .excluded_by_load
-            .iter()
-            .find(|e| e.load_n == 945.0)
-            .unwrap();
-        let margin = |top: f64| 3.0 * d.noise.scale_at(0, 0, top) + 0.1 * top;
-        let top = e.measured_range_um.1;
-        assert!(
-            top > e.predicted_range_um.1 + margin(e.predicted_range_um.1),
-            "{e:?}"
-        );
-        assert!(
-            top <= e.model_range_um.1 + margin(e.model_range_um.1),
-            "{e:?}"
-        );
-    }
+    let d = run(&shipped);
+    assert_eq!(d.effect, "none");
+    assert_eq!(d.excluded_far_outside(), 0, "{:?}", d.excluded_by_load);
+    let e = d
+        .excluded_by_load
+        .iter()
+        .find(|e| e.load_n == 945.0)
+        .unwrap();
+    let margin = |top: f64| 3.0 * d.noise.scale_at(0, 0, top) + 0.1 * top;
+    let top = e.measured_range_um.1;
+    assert!(
+        top > e.predicted_range_um.1 + margin(e.predicted_range_um.1),
+        "{e:?}"
+    );
+    assert!(
+        top <= e.model_range_um.1 + margin(e.model_range_um.1),
+        "{e:?}"
+    );
 }
 
 /// A second STE harmonic at 40% of the first: named, ratio inside its 95% interval, training

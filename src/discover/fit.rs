@@ -6,14 +6,14 @@
 //! estimation engine's least squares (`crate::fit::least_squares`).
 
 use super::effects::{Candidate, Effect};
-use super::forward::{
-    fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup,
-};
+use super::forward::{fitted_damping_admissible, predict, CurvePrediction, Globals, Setup};
 use super::noise::Scales;
 use crate::error::{GearError, Result};
 use crate::fit::{least_squares, rss, LmFit, Param, Stop};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::Mutex;
 
 /// Points kept per curve (same shape as the curves).
 pub type Mask = Vec<Vec<bool>>;
@@ -101,10 +101,15 @@ pub fn fit_model(
     stop: Stop,
 ) -> Result<ModelFit> {
     let n = idx.len();
+    let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let (g, ste, effect) = unpack(p, n, cand);
         fitted_damping_admissible(setup, idx, g, &effect)?;
-        let preds = predict_many(setup, idx, g, &ste, &effect)?;
+        let preds: Vec<CurvePrediction> = idx
+            .par_iter()
+            .zip(&ste)
+            .map(|(&i, &e)| cache.predict(setup, i, g, e, &effect))
+            .collect::<Result<_>>()?;
         Ok(residuals_of(setup, idx, &preds, mask, scales))
     };
     let lm = least_squares(&f, &discovery_params(n, cand, start), stop)?;
@@ -115,6 +120,49 @@ pub fn fit_model(
         effect,
         lm,
     })
+}
+
+/// The curve predictions of one fit by their exact parameters. A Jacobian column that moves
+/// one curve's STE amplitude leaves the other curves as they were at the point the Jacobian is
+/// taken at: their predictions are reused instead of simulated again (for two training loads
+/// and the stiffness variation, 10 of the 12 simulated sweeps of a Jacobian instead of 12).
+#[derive(Default)]
+struct PredictionCache {
+    map: Mutex<HashMap<Vec<u64>, CurvePrediction>>,
+}
+
+/// Entries kept at most: a Jacobian's base point and columns, many times over.
+const CACHE_ENTRIES: usize = 256;
+
+impl PredictionCache {
+    fn predict(
+        &self,
+        setup: &Setup,
+        i: usize,
+        g: Globals,
+        ste_um: f64,
+        effect: &Effect,
+    ) -> Result<CurvePrediction> {
+        let mut key = vec![
+            i as u64,
+            g.zeta.to_bits(),
+            g.omega_n_hz.to_bits(),
+            ste_um.to_bits(),
+        ];
+        key.extend(effect.delta.iter().map(|d| d.to_bits()));
+        let cached = self.map.lock().ok().and_then(|m| m.get(&key).cloned());
+        if let Some(p) = cached {
+            return Ok(p);
+        }
+        let p = predict(setup, i, g, ste_um, effect)?;
+        if let Ok(mut m) = self.map.lock() {
+            if m.len() >= CACHE_ENTRIES {
+                m.clear();
+            }
+            m.insert(key, p.clone());
+        }
+        Ok(p)
+    }
 }
 
 /// Relative STE amplitudes scanned around the start of [`fit_ste`].
