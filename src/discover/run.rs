@@ -103,7 +103,7 @@ pub struct CandidateResult {
     pub other_start: Option<OtherStart>,
 }
 
-/// The fit a phase-carrying candidate's refit reached from the opposite phase and did not keep
+/// The fit a phase-carrying candidate's refit reached from the other phase basin and did not keep
 /// (see `refit_candidate`): where it ended, and how much worse it fits the training loads.
 /// When the two are distinct minima within chi2(0.95; 1) of each other, the candidate's
 /// reported interval is the hull of both fits' intervals: the likelihood-ratio confidence set
@@ -569,11 +569,13 @@ fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
 /// probe (held there when `seen_at_design` is false: no probe moves the design-load curve by
 /// the noise, so that stage cannot fit it), then the other training loads' STE alone, then
 /// everything; finally once more with the points around the refitted model's own jumps also
-/// dropped. Returns the fit, its mask and the start not kept.
+/// dropped, with the noise estimated about the refit ([`refit_scales`]). Returns the fit, its
+/// mask, the start not kept and the last stage's scales.
 ///
-/// A phase-carrying effect starts the second stage from the best phase of a profile at the
-/// design-load fit ([`phase_profile`]), and a second time from the opposite phase; the
-/// lower residual sum of squares of the two goes on to the last stage. The design load (small
+/// A phase-carrying effect starts the second stage from the best amplitude and phase of a
+/// profile at the design-load fit ([`polar_profile`]), and a second time from the best of the
+/// other phase basin (more than 90 degrees away); the lower residual sum of squares of the two
+/// goes on to the last stage. The design load (small
 /// STE) sets the amplitude but hardly the phase, and the all-load fit hardly moves it either:
 /// the pp response jumps with the phase (a jump moves by a grid step), so Levenberg-Marquardt
 /// stops within a few degrees of where it starts. On an r2 0.4 set (true phase 0, 50 rpm grid,
@@ -593,13 +595,14 @@ fn refit_candidate(
     setup: &Setup,
     train: &[usize],
     mask: &Mask,
-    (scales, noise): (&Scales, &DiscoveryNoise),
+    w: RunNoise,
     cand: Candidate,
     m0: &ModelFit,
     delta0: &[f64],
     seen_at_design: bool,
     iters: usize,
-) -> Result<(ModelFit, Mask, Option<OtherStart>)> {
+) -> Result<(ModelFit, Mask, Option<OtherStart>, Scales)> {
+    let scales = w.scales;
     let mut s1 = vec![m0.globals.zeta, m0.globals.omega_n_hz, m0.ste_um[0]];
     // The design-load stage: its globals, its STE and the effect it hands on.
     let (g1, ste1, effect1) = if seen_at_design {
@@ -673,16 +676,16 @@ fn refit_candidate(
         // the r2 0.4 set above from three probe phases. A phase shift leaves the damping as it
         // is, admissible with `effect1`.
         let phased = fitted_others(&effect1).and_then(|others| {
-            phase_profile(cand, &effect1.delta, &|e: &Effect| scored(e, &others))
+            polar_profile(cand, &effect1.delta, &|e: &Effect| scored(e, &others))
         });
         match phased {
-            Ok(best) => {
-                let opposite = Effect::of(cand, best.iter().map(|d| -d).collect());
-                [Effect::of(cand, best), opposite]
-                    .par_iter()
-                    .map(|e| from(start_at(e).map(|s| s.0)))
-                    .collect()
-            }
+            Ok((best, other)) => std::iter::once(best)
+                .chain(other)
+                .map(|d| Effect::of(cand, d))
+                .collect::<Vec<_>>()
+                .par_iter()
+                .map(|e| from(start_at(e).map(|s| s.0)))
+                .collect(),
             Err(e) => vec![Err(e)],
         }
     } else if seen_at_design {
@@ -708,29 +711,33 @@ fn refit_candidate(
             first_error.unwrap_or_else(|| GearError::Numerical("a refit needs a start".into()))
         );
     };
-    let other = converged.next().map(|o| OtherStart {
-        rss_increase: o.lm.rss - f2.lm.rss,
-        ci95: wald_ci(cand, &o.lm),
-        delta: o.effect.delta,
-    });
     let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
     let mut m2 = mask.clone();
     for (k, &i) in train.iter().enumerate() {
-        let own = make_mask(std::slice::from_ref(&preds[k]), &[i], noise);
+        let own = make_mask(std::slice::from_ref(&preds[k]), &[i], w.noise);
         for (j, keep) in own[0].iter().enumerate() {
             m2[i][j] = m2[i][j] && *keep;
         }
     }
+    let scales3 = refit_scales(setup, w, train, &preds, &m2)?;
+    let other = converged.next().map(|o| OtherStart {
+        rss_increase: o.lm.rss - f2.lm.rss,
+        ci95: wald_ci(
+            cand,
+            &restandardized(&o.lm, train, mask, w.scales, &scales3),
+        ),
+        delta: o.effect.delta,
+    });
     let f3 = fit_model(
         setup,
         train,
         &m2,
-        scales,
+        &scales3,
         Some(cand),
         &f2.lm.params.clone(),
         Stop::converged(iters / 2 + 1),
     )?;
-    Ok((f3, m2, other))
+    Ok((f3, m2, other, scales3))
 }
 
 /// A stage-two start (parameter layout of [`ModelFit::lm`]) and the residual sum of squares
@@ -741,7 +748,7 @@ type ScoredStart = (Vec<f64>, f64);
 /// (the probes are 2-10 scales apart).
 const PROFILE_REFINE: [f64; 4] = [-2.0, -1.0, 1.0, 2.0];
 
-/// Phases of [`phase_profile`]: shifts of the design-load fit's phase 30 deg apart (the
+/// Phases of [`polar_profile`]: shifts of the design-load fit's phase 30 deg apart (the
 /// all-load fit moves a phase by less than that)...
 const PHASE_PROFILE_STEP_DEG: f64 = 30.0;
 /// ...then these steps around the best (the coarse shifts leave a phase up to 15 deg from the
@@ -780,29 +787,115 @@ fn profile_start(
     Ok(best_of_profile(cand, cand.probes(), &refine, start_at)?.1)
 }
 
-/// The delta a phase-carrying candidate's all-load stage starts from: the best of the
-/// design-load fit's delta `delta1` with all phases shifted by multiples of
-/// [`PHASE_PROFILE_STEP_DEG`], then by [`PHASE_REFINE_DEG`] around the best, each scored by
-/// `score` (as in [`profile_start`]). The amplitudes stay the design-load fit's.
-fn phase_profile(
+/// The starts of a phase-carrying candidate's all-load stage: a profile over the amplitude and
+/// the phase of its first (cos, sin) pair at the design-load fit, each value scored by `score`
+/// (the residual sum of squares of all training loads, the other loads' STE held): the
+/// amplitudes [`Candidate::profile_amplitudes`] and the design-load fit's own, times phases
+/// [`PHASE_PROFILE_STEP_DEG`] apart, then steps of [`PHASE_REFINE_DEG`] and
+/// [`AMPLITUDE_REFINE`] around the best. Returns the best, and the best at a phase more than
+/// 90 degrees from it (refined the same way), the start of the other basin.
+///
+/// The phase alone at the design-load fit's amplitude is not enough: the response is far from
+/// linear in the amplitude. On a set with eps 0.2 at 191 degrees (relative noise, seed 2) the
+/// training RMS at the true globals is 0.44 um at the true phase and amplitude, 0.77-4.6 um at
+/// amplitude 0.2 and other phases, and 6.1-8.2 um at every phase at amplitude 0.1; the
+/// design-load fit's amplitude (0.09) and its best phase led to eps 0.09 at -3 degrees.
+fn polar_profile(
     cand: Candidate,
     delta1: &[f64],
     score: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
-) -> Result<Vec<f64>> {
+) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
     let steps = (360.0 / PHASE_PROFILE_STEP_DEG).round() as usize;
-    let coarse = (0..steps)
-        .map(|k| {
-            let deg = k as f64 * PHASE_PROFILE_STEP_DEG;
-            Candidate::phase_shifted(delta1, deg.to_radians())
+    let a1 = delta1[0].hypot(delta1[1]);
+    let mut amps = cand.profile_amplitudes().to_vec();
+    if a1 > 0.0 {
+        amps.push(a1);
+    }
+    let coarse: Vec<Vec<f64>> = amps
+        .iter()
+        .flat_map(|&a| {
+            (0..steps).map(move |k| {
+                let deg = k as f64 * PHASE_PROFILE_STEP_DEG;
+                Candidate::with_first_amplitude(
+                    &Candidate::phase_shifted(delta1, deg.to_radians()),
+                    a,
+                )
+            })
         })
         .collect();
-    let refine = |best: &[f64]| -> Vec<Vec<f64>> {
-        PHASE_REFINE_DEG
+    let scored = scored_deltas(cand, coarse, score)?;
+    let refine = |d: &[f64]| -> Vec<Vec<f64>> {
+        let a = d[0].hypot(d[1]);
+        let mut v: Vec<Vec<f64>> = PHASE_REFINE_DEG
             .iter()
-            .map(|deg| Candidate::phase_shifted(best, deg.to_radians()))
-            .collect()
+            .map(|deg| Candidate::phase_shifted(d, deg.to_radians()))
+            .collect();
+        v.extend(
+            AMPLITUDE_REFINE
+                .iter()
+                .map(|f| Candidate::with_first_amplitude(d, f * a)),
+        );
+        v
     };
-    Ok(best_of_profile(cand, coarse, &refine, score)?.0)
+    let refined = |start: &(Vec<f64>, f64)| -> Vec<f64> {
+        scored_deltas(cand, refine(&start.0), score)
+            .ok()
+            .and_then(|r| r.into_iter().min_by(|a, b| a.1.total_cmp(&b.1)))
+            .filter(|r| r.1 < start.1)
+            .map_or_else(|| start.0.clone(), |r| r.0)
+    };
+    let lowest = |it: &mut dyn Iterator<Item = &(Vec<f64>, f64)>| {
+        it.min_by(|a, b| a.1.total_cmp(&b.1)).cloned()
+    };
+    let best = lowest(&mut scored.iter())
+        .ok_or_else(|| GearError::Numerical("no profile value gives a finite residual".into()))?;
+    let best = refined(&best);
+    let phase = Candidate::first_phase(&best);
+    let apart = |d: &[f64]| {
+        let mut diff = (Candidate::first_phase(d) - phase).abs();
+        if diff > std::f64::consts::PI {
+            diff = 2.0 * std::f64::consts::PI - diff;
+        }
+        diff > std::f64::consts::FRAC_PI_2
+    };
+    let other = lowest(&mut scored.iter().filter(|(d, _)| apart(d))).map(|o| refined(&o));
+    Ok((best, other))
+}
+
+/// Steps of the amplitude around the polar profile's best value, as factors.
+const AMPLITUDE_REFINE: [f64; 2] = [0.85, 1.15];
+
+/// `score`'s residual sum of squares at every delta of `deltas` (in parallel); values it
+/// rejects or scores as non-finite are left out, and it fails only when every value is.
+fn scored_deltas(
+    cand: Candidate,
+    deltas: Vec<Vec<f64>>,
+    score: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
+) -> Result<Vec<(Vec<f64>, f64)>> {
+    let all: Vec<(Vec<f64>, Result<ScoredStart>)> = deltas
+        .into_par_iter()
+        .map(|d| {
+            let r = score(&Effect::of(cand, d.clone()));
+            (d, r)
+        })
+        .collect();
+    let mut first_error = None;
+    let mut out = Vec::new();
+    for (d, r) in all {
+        match r {
+            Ok((_, rss)) if rss.is_finite() => out.push((d, rss)),
+            Ok(_) => {}
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    if out.is_empty() {
+        return Err(first_error.unwrap_or_else(|| {
+            GearError::Numerical("no profile value gives a finite residual".into())
+        }));
+    }
+    Ok(out)
 }
 
 /// The (delta, start) with the lowest score of `start_at` over `coarse`, then over
@@ -869,9 +962,84 @@ struct Decision {
     refit_held: Option<Vec<HeldFit>>,
 }
 
-/// A refitted candidate: its index in [`LIBRARY`], the fit, the mask it was fitted on (M0's
-/// with the points around its own jumps dropped) and its predictions of the training curves.
-type Refitted = (usize, ModelFit, Mask, Vec<CurvePrediction>);
+/// A refitted candidate.
+struct Refitted {
+    /// Its index in [`LIBRARY`].
+    cand: usize,
+    fit: ModelFit,
+    /// The points it was fitted on: M0's with the points around its own jumps dropped.
+    mask: Mask,
+    /// Its predictions of the training curves.
+    train_preds: Vec<CurvePrediction>,
+    /// The noise scales of its last stage (the noise estimated about the refit, see
+    /// [`refit_scales`]).
+    scales: Scales,
+}
+
+/// The noise of a run as the refits use it: the scales at M0's levels, the noise model that
+/// gave them, and what was known of it before any fit.
+#[derive(Clone, Copy)]
+struct RunNoise<'a> {
+    scales: &'a Scales,
+    noise: &'a DiscoveryNoise,
+    spec: &'a NoiseSpec,
+}
+
+/// The scales of a refit's last stage: on the training curves, the noise estimated anew about
+/// the refit's predictions `preds` on the points `fitted` keeps (stated noise: its scales at
+/// the refit's levels); elsewhere the run's. About M0, a missing effect's misfit at the
+/// resonances inflates the estimate (eps 0.2 hidden in Gaussian noise of floor 0.15 um: floor
+/// 0.21 um and Student-t tails of 3 dof, standard deviations 2.4 times the true ones), which
+/// would widen the refit's interval by as much.
+fn refit_scales(
+    setup: &Setup,
+    w: RunNoise,
+    train: &[usize],
+    preds: &[CurvePrediction],
+    fitted: &Mask,
+) -> Result<Scales> {
+    let mut levels: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+    let mut mask: Mask = levels.iter().map(|l| vec![false; l.len()]).collect();
+    let mut full: Vec<CurvePrediction> = setup
+        .curves
+        .iter()
+        .map(|c| {
+            let n = c.dte_pp_um.len();
+            CurvePrediction {
+                dte_pp_um: c.dte_pp_um.clone(),
+                period1: vec![true; n],
+                separated: vec![false; n],
+                back_contact: vec![false; n],
+                aperiodic_start: vec![None; n],
+            }
+        })
+        .collect();
+    for (k, &i) in train.iter().enumerate() {
+        levels[i] = preds[k].dte_pp_um.clone();
+        mask[i] = fitted[i].clone();
+        full[i] = preds[k].clone();
+    }
+    let noise = noise_about(setup, w.spec, &full, &mask)?;
+    let fresh = noise.scales(&levels);
+    let mut scales = w.scales.clone();
+    for &i in train {
+        scales[i] = fresh[i].clone();
+    }
+    Ok(scales)
+}
+
+/// A fit's Jacobian of standardized residuals with each row r re-standardized from scale
+/// `old[r]` to `new[r]` (rows: the points `mask` keeps of the curves `idx`, in order).
+fn restandardized(lm: &LmFit, idx: &[usize], mask: &Mask, old: &Scales, new: &Scales) -> LmFit {
+    let (o, n) = (row_scales(idx, mask, old), row_scales(idx, mask, new));
+    let mut out = lm.clone();
+    for (r, (a, b)) in o.iter().zip(&n).enumerate() {
+        if r < out.jacobian.nrows() {
+            out.jacobian.row_mut(r).scale_mut(a / b);
+        }
+    }
+    out
+}
 
 /// Each refit's drop in the residual sum of squares from M0 (standardized residuals), on the
 /// training points that every refit and M0 keep. Refits are compared on the same points: each
@@ -886,7 +1054,7 @@ fn common_drops(
     scales: &Scales,
     refits: &[Refitted],
 ) -> Vec<(usize, f64)> {
-    let kept = |i: usize, j: usize| refits.iter().all(|(_, _, m, _)| m[i][j]);
+    let kept = |i: usize, j: usize| refits.iter().all(|r| r.mask[i][j]);
     let rss_of = |preds: &dyn Fn(usize) -> f64, i: usize| -> f64 {
         let c = &setup.curves[i];
         (0..c.dte_pp_um.len())
@@ -900,13 +1068,13 @@ fn common_drops(
         .sum();
     refits
         .iter()
-        .map(|(c, _, _, preds)| {
+        .map(|r| {
             let rss: f64 = train
                 .iter()
                 .enumerate()
-                .map(|(k, &i)| rss_of(&|j| preds[k].dte_pp_um[j], i))
+                .map(|(k, &i)| rss_of(&|j| r.train_preds[k].dte_pp_um[j], i))
                 .sum();
-            (*c, rss0 - rss)
+            (r.cand, rss0 - rss)
         })
         .collect()
 }
@@ -1415,7 +1583,13 @@ pub fn discover_setup(
         refit.push(c);
     }
     // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
-    type Refit = (ModelFit, Mask, Vec<CurvePrediction>, Option<OtherStart>);
+    type Refit = (
+        ModelFit,
+        Mask,
+        Vec<CurvePrediction>,
+        Option<OtherStart>,
+        Scales,
+    );
     let refit_round =
         |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>| {
             let fits: Vec<(usize, Result<Refit>)> = list
@@ -1426,22 +1600,26 @@ pub fn discover_setup(
                         setup,
                         &train,
                         &mask,
-                        (&scales, &noise),
+                        RunNoise {
+                            scales: &scales,
+                            noise: &noise,
+                            spec: &spec,
+                        },
                         LIBRARY[c],
                         &m0,
                         &dict_delta[c][k],
                         seen_at_design[c],
                         opts.refit_iterations,
                     )
-                    .and_then(|(f, m2, other)| {
+                    .and_then(|(f, m2, other, s3)| {
                         let preds = predict_many(setup, &train, f.globals, &f.ste_um, &f.effect)?;
-                        Ok((f, m2, preds, other))
+                        Ok((f, m2, preds, other, s3))
                     });
                     (c, f)
                 })
                 .collect();
             for (c, f) in fits {
-                let Ok((f, m2, preds, other)) = f else {
+                let Ok((f, m2, preds, other, s3)) = f else {
                     continue;
                 };
                 let cand = LIBRARY[c];
@@ -1460,7 +1638,13 @@ pub fn discover_setup(
                 cands[c].refit_zeta = Some(f.globals.zeta);
                 cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
                 cands[c].other_start = other;
-                refits.push((c, f, m2, preds));
+                refits.push(Refitted {
+                    cand: c,
+                    fit: f,
+                    mask: m2,
+                    train_preds: preds,
+                    scales: s3,
+                });
             }
             // Every refit's drop on the points all of them and M0 keep.
             let drops = common_drops(setup, &train, &f0, &scales, refits);
@@ -1481,7 +1665,7 @@ pub fn discover_setup(
             refit_preds: None,
             refit_held: None,
         };
-        let sig: Vec<usize> = refits.iter().map(|(c, ..)| *c).collect();
+        let sig: Vec<usize> = refits.iter().map(|r| r.cand).collect();
         let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
         let Some(&best) = sig.iter().max_by(|&&a, &&b| drop(a).total_cmp(&drop(b))) else {
             return Ok(d);
@@ -1498,9 +1682,10 @@ pub fn discover_setup(
             .into_iter()
             .map(|c| cands[c].name.to_string())
             .collect();
-        let Some((_, f, m2, _)) = refits.iter().find(|(c, ..)| *c == best) else {
+        let Some(chosen) = refits.iter().find(|r| r.cand == best) else {
             return Ok(d);
         };
+        let f = &chosen.fit;
         let (preds, held1) = predict_all(setup, f, &train, &held, &mask, &scales, Some(&held0))?;
         let every: Vec<usize> = (0..preds.len()).collect();
         let m1 = make_mask(&preds, &every, &noise);
@@ -1517,10 +1702,13 @@ pub fn discover_setup(
         let lin1 = Linearized {
             f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
             zero: Some(zero),
-            jac_train: refit_jacobian(f, &train, &mask, m2, &scales),
+            jac_train: refit_jacobian(f, &train, &mask, &chosen.mask, &chosen.scales),
             held_sens: held1.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
             held_globals: Vec::new(),
             probes: Vec::new(),
+            // The noise about the refit: its tails and relative part chosen anew, where M0's
+            // misfit no longer inflates them.
+            noise: noise_about(setup, &spec, &preds, &d.compare_mask)?,
             ..lin.clone()
         };
         let post = lin1.statistics(&measured);
@@ -1665,7 +1853,7 @@ pub fn discover_setup(
 
 #[cfg(test)]
 mod tests {
-    use super::{make_mask, phase_profile, profile_start, OtherStart};
+    use super::{make_mask, polar_profile, profile_start, OtherStart};
     use crate::discover::effects::{Candidate, Effect};
     use crate::discover::forward::CurvePrediction;
     use crate::error::GearError;
@@ -1718,27 +1906,34 @@ mod tests {
         assert!(profile_start(Candidate::Backlash, &none).is_err());
     }
 
-    /// The phase profile shifts every (cos, sin) pair alike and keeps the amplitudes: with a
-    /// minimum 100 degrees from the design-load phase it takes the coarse shift of 90 degrees
-    /// (120 is 20 away), then the step of 10 degrees on from it.
+    /// The polar profile scans the first pair's amplitude and phase (every pair turned alike,
+    /// the others' amplitudes kept): with a minimum at amplitude 0.35 and 100 degrees from the
+    /// design-load phase it takes the grid's 0.35 at the coarse shift of 90 degrees (120 is 20
+    /// away), then the step of 10 degrees on; the other basin is the best value more than 90
+    /// degrees from that (the shift 0, 100 degrees away; 180 is only 80 away), refined by its
+    /// step of 10 degrees toward the minimum.
     #[test]
-    fn phase_profile_refines_the_best_shift_and_keeps_the_amplitudes() {
-        let d1 = [0.4, 0.0, 0.0, 0.1];
+    fn polar_profile_finds_amplitude_and_phase_and_the_other_basin() {
+        let d1 = [0.1, 0.0, 0.0, 0.1];
         let target = 100f64.to_radians();
         let score = |e: &Effect| -> crate::error::Result<(Vec<f64>, f64)> {
-            let off = 1.0 - (Candidate::first_phase(&e.delta) - target).cos();
+            let a = e.delta[0].hypot(e.delta[1]);
+            let off = 1.0 - (Candidate::first_phase(&e.delta) - target).cos() + (a - 0.35).powi(2);
             Ok((e.delta.clone(), off))
         };
-        let best = phase_profile(Candidate::SteHarmonics, &d1, &score).unwrap();
+        let (best, other) = polar_profile(Candidate::SteHarmonics, &d1, &score).unwrap();
         let deg = |x: f64, y: f64| y.atan2(x).to_degrees();
         assert!((deg(best[0], best[1]) - 100.0).abs() < 1e-9, "{best:?}");
-        assert!((best[0].hypot(best[1]) - 0.4).abs() < 1e-12);
-        // The third harmonic's pair (phase 90) turned by the same 100 degrees.
+        assert!((best[0].hypot(best[1]) - 0.35).abs() < 1e-12, "{best:?}");
+        // The third harmonic's pair (phase 90) turned by the same 100 degrees, its amplitude kept.
         assert!(
             (deg(best[2], best[3]) - 190.0 + 360.0).abs() < 1e-9,
             "{best:?}"
         );
         assert!((best[2].hypot(best[3]) - 0.1).abs() < 1e-12);
+        let other = other.unwrap();
+        assert!((deg(other[0], other[1]) - 10.0).abs() < 1e-9, "{other:?}");
+        assert!((other[0].hypot(other[1]) - 0.35).abs() < 1e-12, "{other:?}");
     }
 
     /// A distinct minimum (phase 180 degrees away) within 3.84 sigma^2 leaves the phase
