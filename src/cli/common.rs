@@ -232,3 +232,18 @@ impl NoiseArgs {
         Ok(n)
     }
 }
+
+/// The speed grid of a study's sets from `--grid` and `--speed-step`: uniform (1000-5000 rpm in
+/// steps of `step_rpm`) or nonuniform (81 speeds drawn at random in 1000-5000 rpm, one fixed
+/// draw, so that every seed and every study sees the same gaps and clusters).
+pub fn parse_grid(grid: &str, step_rpm: f64) -> anyhow::Result<geardyn::validate::SpeedGrid> {
+    use geardyn::validate::SpeedGrid;
+    match grid {
+        "uniform" => Ok(SpeedGrid::Uniform { step_rpm }),
+        "nonuniform" => Ok(SpeedGrid::NonUniform {
+            points: 81,
+            seed: 7_777,
+        }),
+        g => anyhow::bail!("unknown --grid '{g}': uniform or nonuniform"),
+    }
+}

@@ -1,6 +1,8 @@
 //! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
 
-use super::common::{check_out_dir, commit, parse_load_ste, print_text, stage, NoiseArgs};
+use super::common::{
+    check_out_dir, commit, parse_grid, parse_load_ste, print_text, stage, NoiseArgs,
+};
 use super::limits::real;
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand};
@@ -105,6 +107,10 @@ struct MunroArgs {
     /// [default: 3780:0.3,2835:1.5,1890:2.5,945:3.5].
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
+    /// Speed grid, START:STOP:STEP in rpm (Munro's: 1000:5000:50), or `nonuniform` for 81
+    /// speeds drawn at random in 1000-5000 rpm (the studies' fixed draw).
+    #[arg(long, default_value = "1000:5000:50")]
+    speeds: String,
     /// Make the curves with DOP853 at this relative tolerance (dimensionless) instead of the
     /// exact solver: chaotic points then differ from what the exact solver fits (as real data
     /// would), in [1e-14, 0.01].
@@ -132,6 +138,25 @@ struct KuboArgs {
     hidden: Hidden,
 }
 
+/// `--speeds START:STOP:STEP` in rpm: 0 < START <= STOP <= 1e6, STEP > 0, at most 100000 speeds.
+fn parse_speeds(text: &str) -> anyhow::Result<(f64, f64, f64)> {
+    let v: Vec<f64> = text
+        .split(':')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| {
+            anyhow::anyhow!("--speeds '{text}': expected START:STOP:STEP in rpm, e.g. 1000:5000:50")
+        })?;
+    let [a, b, c] = v[..] else {
+        anyhow::bail!("--speeds '{text}': expected START:STOP:STEP in rpm, e.g. 1000:5000:50");
+    };
+    let ok = a > 0.0 && a <= b && b <= 1e6 && c > 0.0 && (b - a) / c <= 1e5;
+    if !(ok && [a, b, c].iter().all(|x| x.is_finite())) {
+        anyhow::bail!("--speeds '{text}': need 0 < START <= STOP <= 1e6 rpm and STEP > 0, at most 100000 speeds");
+    }
+    Ok((a, b, c))
+}
+
 pub fn run(a: Args) -> anyhow::Result<()> {
     let out = match a.which {
         Which::Munro(m) => {
@@ -146,6 +171,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             }
             t.hidden = m.hidden.effects();
             t.dop853_rtol = m.dop853_rtol;
+            if m.speeds == "nonuniform" {
+                t.speed_list = Some(parse_grid("nonuniform", 0.0)?.speeds()?);
+            } else {
+                t.speeds_rpm = parse_speeds(&m.speeds)?;
+            }
             check_out_dir("--out", &m.out)?;
             let stage = stage("--out", &m.out)?;
             synth_munro(&t, stage.dir(), &Bar::new())?;

@@ -1,15 +1,16 @@
 //! `geardyn validate-study --noise FAMILY --seeds N`: interval coverage of `validate munro`
 //! on seeded synthetic design-load curves (Wilson 95% intervals of the rates).
 
-use super::common::{check_out_file, print_text, NoiseArgs};
+use super::common::{check_out_file, parse_grid, print_text, NoiseArgs};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
 use geardyn::error::GearError;
 use geardyn::fit::Robust;
+use geardyn::validate::SpeedGrid;
 use geardyn::validate::{
-    run_validate_study, SpeedGrid, ValidateSeed, ValidateStudyOptions, ValidateStudySummary,
+    run_validate_study, ValidateSeed, ValidateStudyOptions, ValidateStudySummary,
 };
 use std::path::PathBuf;
 
@@ -64,16 +65,7 @@ pub fn parse_robust(s: &str) -> anyhow::Result<Robust> {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_file("--out", &a.out)?;
-    let grid = match a.grid.as_str() {
-        "uniform" => SpeedGrid::Uniform {
-            step_rpm: a.speed_step,
-        },
-        "nonuniform" => SpeedGrid::NonUniform {
-            points: 81,
-            seed: 7_777,
-        },
-        g => anyhow::bail!("unknown --grid '{g}': uniform or nonuniform"),
-    };
+    let grid = parse_grid(&a.grid, a.speed_step)?;
     if !(a.dop853_rtol >= 0.0 && a.dop853_rtol < 1e-2) {
         anyhow::bail!("--dop853-rtol must be in [0, 0.01): 0 for the exact solver");
     }

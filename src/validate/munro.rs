@@ -560,7 +560,7 @@ struct LoadExcitation {
 /// deviation (`dte_pp_sd_um`); the model of rig.toml's `[noise]` when it states a floor (with
 /// its relative part, 0 when not given); else estimated jointly with the fit, the floor never
 /// below a stated reading uncertainty.
-fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
+pub fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
     if !data.points.is_empty() && data.points.iter().all(|p| p.sd_um.is_some()) {
         return Ok(MunroNoise::PerPoint);
     }
