@@ -853,7 +853,7 @@ impl Refit<'_> {
 /// The STE amplitudes (um, >= 0, phase 0) whose sum with the complex amplitude `w` (um) has
 /// the magnitude `a`: |ste + w| = a gives ste = -Re w +- sqrt(a^2 - (Im w)^2). Where no
 /// non-negative root exists, the amplitude that comes closest, max(-Re w, 0).
-fn ste_roots(a: f64, w: (f64, f64)) -> Vec<f64> {
+pub(super) fn ste_roots(a: f64, w: (f64, f64)) -> Vec<f64> {
     let disc = a * a - w.1 * w.1;
     let mut roots: Vec<f64> = if disc >= 0.0 {
         [-w.0 - disc.sqrt(), -w.0 + disc.sqrt()]
