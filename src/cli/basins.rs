@@ -1,7 +1,9 @@
 //! `geardyn basins`: the map of which steady state each initial condition reaches (Figs 3, 6, 14).
 
+use super::attractor_report;
 use super::common::{
-    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, ModelArgs, SolverArgs,
+    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, EscapeArgs, ModelArgs,
+    SolverArgs,
 };
 use super::limits::{real, OMEGA};
 use super::progress_bar::Bar;
@@ -23,6 +25,8 @@ pub struct Args {
     ic_grid: String,
     #[command(flatten)]
     solver: SolverArgs,
+    #[command(flatten)]
+    escape: EscapeArgs,
     /// Output folder for basins.csv, attractors.json and the basin map (PNG + SVG).
     #[arg(long)]
     out: PathBuf,
@@ -33,7 +37,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let grid = IcGrid::parse(&a.ic_grid)?;
     let model = a.model.model(a.omega)?;
     let flow = a.solver.flow(&model)?;
-    let opts = a.solver.options()?;
+    let mut opts = a.solver.options()?;
+    opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
 
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -78,12 +83,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         })
         .collect();
     let summary = json!({
-        "attractors": map.attractors.iter().map(|at| json!({
-            "period": at.steady.period, "settled": at.steady.settled, "motion": at.steady.motion, "impact": at.steady.impact,
-            "qa": at.steady.qa, "qm": at.steady.qm, "basin_fraction": at.basin_fraction,
-            "basin_count": at.basin_count, "example_ic": at.example_ic, "poincare": at.steady.poincare,
-            "lyapunov": at.steady.lyapunov, "floquet": at.steady.floquet,
-        })).collect::<Vec<_>>(),
+        "attractors": map.attractors.iter().map(|at| attractor_report::entry(at, &map)).collect::<Vec<_>>(),
+        "basin": map.basin_time,
+        "basin_at_periods": map.horizon,
         "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
         "integrator": flow.method(),
         "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},

@@ -1,5 +1,6 @@
 //! Command definitions (design.md section 3) and dispatch.
 
+mod attractor_report;
 mod attractors;
 mod basins;
 mod bench;

@@ -1,6 +1,8 @@
 //! `geardyn sweep`: steady states over a frequency range (carried up/down, or all attractors).
 
-use super::common::{check_out_dir, commit, parse_range, print_text, stage, ModelArgs, SolverArgs};
+use super::common::{
+    check_out_dir, commit, parse_range, print_text, stage, EscapeArgs, ModelArgs, SolverArgs,
+};
 use super::limits::{real, STATE};
 use super::progress_bar::Bar;
 use super::response_plot::{sweep_csv, write_response_plot, ResponseRow};
@@ -32,6 +34,8 @@ pub struct Args {
     v0: f64,
     #[command(flatten)]
     solver: SolverArgs,
+    #[command(flatten)]
+    escape: EscapeArgs,
     /// Output format on standard output.
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -74,7 +78,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         );
     }
     let model = a.model.model(omegas[0])?;
-    let opts = a.solver.options()?;
+    let mut opts = a.solver.options()?;
+    opts.escape = a.escape.budget(EscapeArgs::SWEEP_EXPOSURE);
     let factory = a.solver.factory();
     let branches: &[Branch] = match a.direction {
         Direction::Up => &[Branch::Up],

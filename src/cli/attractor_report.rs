@@ -1,0 +1,131 @@
+//! The JSON entry and the text line of one steady state of an attractor search, shared by
+//! `attractors` and `basins` (design.md section 3: every entry carries its kind).
+
+use geardyn::sim::{Attractor, AttractorMap, SetKind};
+use serde_json::{json, Value};
+
+/// JSON entry of attractor `at` of `map`.
+pub fn entry(at: &Attractor, map: &AttractorMap) -> Value {
+    let s = &at.steady;
+    let mut v = json!({
+        "kind": at.kind,
+        "period": s.period, "settled": s.settled, "motion": s.motion, "impact": s.impact,
+        "case": s.impact.case(),
+        "qa": s.qa, "qm": s.qm, "q_min": s.q_min, "q_max": s.q_max, "dte_pp": s.dte_pp,
+        "dl_max": s.dl_max, "lyapunov": s.lyapunov, "floquet": s.floquet,
+        "floquet_rate": s.floquet_rate,
+        "basin_fraction": at.basin_fraction, "basin_count": at.basin_count,
+        "basin": map.basin_time, "basin_at_periods": map.horizon,
+        "basin_fraction_asymptotic": at.basin_fraction_asymptotic,
+        "example_ic": at.example_ic, "poincare": s.poincare,
+    });
+    if let Some(r) = &at.escape {
+        let destinations: Vec<Value> = r
+            .destinations
+            .iter()
+            .map(|&(k, n)| {
+                let d = &map.attractors[k].steady;
+                json!({"attractor": k, "period": d.period, "impact": d.impact, "qa": d.qa, "escapes": n})
+            })
+            .collect();
+        v["escape_rate_per_period"] = json!(r.rate);
+        v["escape_rate_ci95"] = json!([r.rate_ci95.0, r.rate_ci95.1]);
+        v["mean_lifetime_periods"] = json!(r.mean_lifetime());
+        v["escapes"] = json!(r.escapes);
+        v["followed"] = json!({
+            "trajectories": r.entered, "from_periods": r.start_periods,
+            "to_periods": r.end_periods, "exposure_periods": r.exposure,
+        });
+        v["survival"] = json!(r
+            .survival
+            .iter()
+            .map(|p| [p.periods, p.alive])
+            .collect::<Vec<_>>());
+        v["destinations"] = json!(destinations);
+    }
+    v
+}
+
+/// Kind in words.
+pub fn kind_name(k: SetKind) -> &'static str {
+    match k {
+        SetKind::Attractor => "attractor",
+        SetKind::ChaoticTransient => "chaotic transient",
+        SetKind::Transient => "transient",
+    }
+}
+
+/// One line of text for attractor `i` of `map`.
+pub fn line(i: usize, at: &Attractor, map: &AttractorMap) -> String {
+    let s = &at.steady;
+    let mut t = format!(
+        "  #{i}: {}, period {} ({:?}), impact {}, qa {:.5}, qm {:.5}, basin {:.1}%",
+        kind_name(at.kind),
+        s.period.map_or("none".into(), |p| p.to_string()),
+        s.motion,
+        s.impact.name(),
+        s.qa,
+        s.qm,
+        100.0 * at.basin_fraction
+    );
+    if let Some(f) = at.basin_fraction_asymptotic {
+        if map.basin_time == geardyn::sim::BasinTime::FiniteTime {
+            t.push_str(&format!(" (asymptotic {:.1}%)", 100.0 * f));
+        }
+    }
+    if let Some(l) = s.lyapunov.filter(|_| s.period.is_none()) {
+        t.push_str(&format!(", lyapunov {l:.4}"));
+    }
+    if let Some(r) = s.floquet_rate {
+        t.push_str(&format!(", floquet rate {r:.4}"));
+    }
+    if let Some(r) = &at.escape {
+        if r.escapes > 0 {
+            let dest: Vec<String> = r
+                .destinations
+                .iter()
+                .map(|&(k, n)| format!("{n} to #{k}"))
+                .collect();
+            t.push_str(&format!(
+                "\n      escape rate {:.3e} per period (95% {:.3e}-{:.3e}), mean lifetime {:.0} \
+                 periods; {} of {} followed from period {} to {} escaped ({})",
+                r.rate,
+                r.rate_ci95.0,
+                r.rate_ci95.1,
+                1.0 / r.rate,
+                r.escapes,
+                r.entered,
+                r.start_periods,
+                r.end_periods,
+                dest.join(", ")
+            ));
+        } else {
+            t.push_str(&format!(
+                "\n      no escape: {} trajectories followed from period {} to {}, escape rate \
+                 below {:.2e} per period (95%)",
+                r.entered, r.start_periods, r.end_periods, r.rate_ci95.1
+            ));
+        }
+    }
+    t.push('\n');
+    t
+}
+
+/// The header line of a map's text report.
+pub fn header(map: &AttractorMap) -> String {
+    let g = &map.grid;
+    let basin = match map.basin_time {
+        geardyn::sim::BasinTime::Asymptotic => "asymptotic basins".to_string(),
+        geardyn::sim::BasinTime::FiniteTime => {
+            format!("basins at {} periods (finite time)", map.horizon)
+        }
+    };
+    format!(
+        "{} steady state(s) from {}x{} initial conditions in [{}, {}]^2, {basin}\n",
+        map.attractors.len(),
+        g.n,
+        g.n,
+        g.lo,
+        g.hi
+    )
+}
