@@ -114,7 +114,6 @@ fn qa_bounds(fah: f64, zeta: f64, omega: f64) -> (f64, f64) {
 struct Solver {
     method: DfMethod,
     fm: f64,
-    fah: f64,
     zeta: f64,
     tables: Vec<Table>,
 }
@@ -138,7 +137,6 @@ impl Solver {
         Ok(Solver {
             method,
             fm,
-            fah,
             zeta,
             tables: branches
                 .iter()
@@ -147,8 +145,9 @@ impl Solver {
         })
     }
 
-    fn at(&self, omega: f64) -> Vec<DfSolution> {
-        let (qa1, qm1) = cases::case1(self.fm, self.fah, self.zeta, omega);
+    /// Every solution at `omega` for the STE amplitude `fah` (eq. 10).
+    fn at(&self, omega: f64, fah: f64) -> Vec<DfSolution> {
+        let (qa1, qm1) = cases::case1(self.fm, fah, self.zeta, omega);
         let case1 = DfSolution {
             omega,
             qa: qa1,
@@ -157,15 +156,15 @@ impl Solver {
             case: Impact::None,
             stable: Some(true),
         };
-        if self.fah == 0.0 {
+        if fah == 0.0 {
             // q_a = 0: the static equilibrium q = F_m + 1, case I, for either method.
             return vec![case1];
         }
-        let (lo, hi) = qa_bounds(self.fah, self.zeta, omega);
+        let (lo, hi) = qa_bounds(fah, self.zeta, omega);
         let mut out: Vec<DfSolution> = self
             .tables
             .iter()
-            .flat_map(|t| t.roots(self.fah, self.zeta, omega, lo, hi))
+            .flat_map(|t| t.roots(fah, self.zeta, omega, lo, hi))
             .collect();
         if self.method == DfMethod::Truncated && cases::case1_valid(qm1, qa1) {
             out.push(case1);
@@ -189,7 +188,28 @@ pub fn df_solutions(
     validate(fm, fah, zeta)?;
     validate_omega(omega)?;
     let (lo, hi) = qa_bounds(fah, zeta, omega);
-    Ok(Solver::new(fm, fah, zeta, method, lo, hi)?.at(omega))
+    Ok(Solver::new(fm, fah, zeta, method, lo, hi)?.at(omega, fah))
+}
+
+/// The forcing of the describing-function solution.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum DfForcing {
+    /// The STE excitation of eq. 5: force F_ah Omega^2 sin(Omega t).
+    Ste,
+    /// An external torque of eq. 4's form: force F_T sin(Omega t), independent of frequency. The
+    /// ansatz and eq. 10 are those of eq. 5 with F_ah = F_T / Omega^2.
+    Torque,
+}
+
+impl DfForcing {
+    /// The STE amplitude of eq. 10 that gives this forcing's force amplitude `amp` at `omega`.
+    pub fn ste_amplitude(self, amp: f64, omega: f64) -> f64 {
+        match self {
+            DfForcing::Ste => amp,
+            DfForcing::Torque => amp / (omega * omega),
+        }
+    }
 }
 
 /// The describing-function frequency response (Fig. 10, 15-18): every solution at every Omega of
@@ -204,20 +224,37 @@ pub fn df_response(
     omegas: &[f64],
     method: DfMethod,
 ) -> Result<Vec<DfSolution>> {
-    validate(fm, fah, zeta)?;
+    df_response_forced(fm, fah, zeta, omegas, method, DfForcing::Ste)
+}
+
+/// [`df_response`] for either forcing: `amp` is F_ah (STE, eq. 5) or F_T (torque, eq. 4's form).
+///
+/// Errors: as [`df_solutions`], for any entry of `omegas`.
+pub fn df_response_forced(
+    fm: f64,
+    amp: f64,
+    zeta: f64,
+    omegas: &[f64],
+    method: DfMethod,
+    forcing: DfForcing,
+) -> Result<Vec<DfSolution>> {
+    validate(fm, amp, zeta)?;
     for &w in omegas {
         validate_omega(w)?;
     }
     let (lo, hi) = omegas
         .iter()
-        .map(|&w| qa_bounds(fah, zeta, w))
+        .map(|&w| qa_bounds(forcing.ste_amplitude(amp, w), zeta, w))
         .fold((f64::INFINITY, 0.0f64), |(l, h), (a, b)| {
             (l.min(a), h.max(b))
         });
     if omegas.is_empty() {
         return Ok(Vec::new());
     }
-    let solver = Solver::new(fm, fah, zeta, method, lo, hi)?;
-    let per_omega: Vec<Vec<DfSolution>> = omegas.par_iter().map(|&w| solver.at(w)).collect();
+    let solver = Solver::new(fm, amp, zeta, method, lo, hi)?;
+    let per_omega: Vec<Vec<DfSolution>> = omegas
+        .par_iter()
+        .map(|&w| solver.at(w, forcing.ste_amplitude(amp, w)))
+        .collect();
     Ok(per_omega.into_iter().flatten().collect())
 }

@@ -53,6 +53,70 @@ pub fn transition_frequencies(fm: f64, fah: f64, zeta: f64) -> Result<(Option<f6
     })
 }
 
+/// The largest linear (case I) amplitude over frequency, and where it is reached, for the STE
+/// excitation of eq. 5 (force F_ah Omega^2, eq. 13a) and for an external torque of the same
+/// amplitude (eq. 4, force F_ah): both peaks are F_ah / (2 zeta sqrt(1 - zeta^2)), at
+/// Omega^2 = 1 / (1 - 2 zeta^2) and Omega^2 = 1 - 2 zeta^2 (the maxima of Omega^2 / |D| and
+/// 1 / |D|, |D|^2 = (1 - Omega^2)^2 + (2 zeta Omega)^2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearPeak {
+    /// Peak amplitude q_a.
+    pub qa: f64,
+    /// Frequency of the peak under the STE excitation (eq. 5).
+    pub omega_ste: f64,
+    /// Frequency of the peak under the torque excitation (eq. 4).
+    pub omega_torque: f64,
+}
+
+/// [`LinearPeak`] of a forcing amplitude `fah` at damping `zeta` (0 < zeta < 1/sqrt(2), where
+/// the resonance has a peak).
+///
+/// Errors: `InvalidParameter` unless F_ah >= 0 and 0 < zeta < 1/sqrt(2), finite.
+pub fn linear_peak(fah: f64, zeta: f64) -> Result<LinearPeak> {
+    validate(1.0, fah, zeta)?;
+    let b = 1.0 - 2.0 * zeta * zeta;
+    if b <= 0.0 {
+        return Err(crate::error::GearError::param(
+            "zeta",
+            zeta,
+            "the linear response has a resonance peak only for zeta < 1/sqrt(2)",
+        ));
+    }
+    Ok(LinearPeak {
+        qa: fah / (2.0 * zeta * (1.0 - zeta * zeta).sqrt()),
+        omega_ste: (1.0 / b).sqrt(),
+        omega_torque: b.sqrt(),
+    })
+}
+
+/// Transition frequencies of eq. 14 for an external torque of amplitude F_T (eq. 4's forcing,
+/// without the Omega^2 of eq. 5): where q_aI = F_T / |D| reaches F_m. With x = Omega^2 and
+/// r = F_T / F_m this is x^2 - 2 (1 - 2 zeta^2) x + 1 - r^2 = 0 (eq. 14 with x replaced by
+/// 1 / x). Case I fails between the two roots; for r >= 1 only the upper root is positive (case I
+/// is lost at low frequency, where q_aI -> F_T >= F_m), returned as `(None, Some(t2))`.
+///
+/// Errors: `InvalidParameter` unless F_m > 0, F_T >= 0, 0 < zeta < 1, all finite.
+pub fn torque_transition_frequencies(
+    fm: f64,
+    ft: f64,
+    zeta: f64,
+) -> Result<(Option<f64>, Option<f64>)> {
+    validate(fm, ft, zeta)?;
+    let r = ft / fm;
+    let b = 1.0 - 2.0 * zeta * zeta;
+    let c = 1.0 - r * r;
+    let disc = b * b - c;
+    if disc < 0.0 {
+        return Ok((None, None));
+    }
+    let s = disc.sqrt();
+    // Larger root without cancellation, the smaller from the product of the roots c.
+    let x2 = b + s;
+    let x1 = if x2 > 0.0 { c / x2 } else { b - s };
+    let omega = |x: f64| (x.is_finite() && x > 0.0).then(|| x.sqrt());
+    Ok((omega(x1), omega(x2)))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -71,6 +135,34 @@ mod tests {
         for t in [t1, t2] {
             assert!((case1(0.1, 0.05, 0.05, t).0 - 0.1).abs() < 1e-12);
         }
+    }
+
+    /// The peak of eq. 13a found by a fine scan equals the closed form (F_hat 10, zeta 0.05:
+    /// 0.01 / (0.1 sqrt(0.9975)) = 0.1001252, issue 23's grazing depth 1.25e-4 over F_m); at
+    /// the torque transitions the eq. 4 amplitude F_T / |D| equals F_m.
+    #[test]
+    fn linear_peak_and_torque_transitions() {
+        let p = linear_peak(0.01, 0.05).unwrap();
+        assert!((p.qa - 0.100_125_2).abs() < 1e-7, "{}", p.qa);
+        let scan = (0..=200_000)
+            .map(|i| 0.9 + 2e-6 * i as f64)
+            .map(|w| (case1(0.1, 0.01, 0.05, w).0, w))
+            .fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+        assert!((scan.0 - p.qa).abs() < 1e-10 && (scan.1 - p.omega_ste).abs() < 1e-5);
+        let torque_qa = |w: f64| 0.01 / ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
+        assert!((torque_qa(p.omega_torque) - p.qa).abs() < 1e-12);
+        let (t1, t2) = torque_transition_frequencies(0.1, 0.01, 0.05).unwrap();
+        let (t1, t2) = (t1.unwrap(), t2.unwrap());
+        assert!(t1 < p.omega_torque && p.omega_torque < t2);
+        for t in [t1, t2] {
+            assert!((torque_qa(t) - 0.1).abs() < 1e-9, "{t}");
+        }
+        // The eq. 4 roots are the reciprocals of eq. 14's.
+        let (s1, s2) = transition_frequencies(0.1, 0.01, 0.05).unwrap();
+        assert!((t1 * s2.unwrap() - 1.0).abs() < 1e-9 && (t2 * s1.unwrap() - 1.0).abs() < 1e-9);
+        // F_T > F_m: case I only above t2.
+        let (lo, hi) = torque_transition_frequencies(0.1, 0.2, 0.05).unwrap();
+        assert!(lo.is_none() && hi.is_some());
     }
 
     #[test]

@@ -309,7 +309,7 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
         "Verdicts ({} claims): {count_text}.",
         r.claims.len()
     ));
-    page.paragraph("Verdicts: agree = geardyn's number supports the claim within the stated tolerance; differ = it does not; more than the paper = the paper's attractors plus further coexisting ones, each found again by the independent DOP853 integrator (rtol 1e-11) with q_a within 1e-6 in the same run; not testable (synthetic data) = a claim about agreement with measurements, which synthetic data cannot test.");
+    page.paragraph("Verdicts: agree = geardyn's number supports the claim within the stated tolerance; differ = it does not; more than the paper = the paper's attractors plus further coexisting ones, each found again by the independent DOP853 integrator (rtol 1e-11) with q_a within 1e-6 in the same run; beyond the paper (transient chaos) = what the paper saw holds over the few hundred periods it integrated, but followed further (up to 40,000 periods) the chaotic set loses its trajectories to a periodic orbit at a measured escape rate: a chaotic transient, not a strange attractor, a finding of geardyn beyond the paper (the rate is measured again with DOP853 in the same run); not testable (synthetic data) = a claim about agreement with measurements, which synthetic data cannot test.");
     page.heading("Claims");
     let rows: Vec<Vec<String>> = r
         .claims
@@ -336,6 +336,17 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
         ],
         &rows,
     );
+    for t in &r.tables {
+        page.heading(&t.heading);
+        page.paragraph(&t.intro);
+        let header: Vec<&str> = t.header.iter().map(String::as_str).collect();
+        let rows: Vec<Vec<String>> = t
+            .rows
+            .iter()
+            .map(|row| row.iter().map(|c| cell(c)).collect())
+            .collect();
+        page.table(&header, &rows);
+    }
     page.heading("Figures");
     let index = figure_index_of(r);
     let frows: Vec<Vec<String>> = index
@@ -383,6 +394,7 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
                     "resolution": res.name,
                     "verdict_counts": counts.iter().map(|(v, n)| (v.name().to_string(), *n)).collect::<std::collections::BTreeMap<_, _>>(),
                     "claims": r.claims,
+                    "tables": r.tables,
                 }))
                 .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?
             ),
