@@ -19,6 +19,14 @@ pub fn entry(at: &Attractor, map: &AttractorMap) -> Value {
         "basin_fraction_asymptotic": at.basin_fraction_asymptotic,
         "example_ic": at.example_ic, "poincare": s.poincare,
     });
+    if let Some(k) = map
+        .attractors
+        .iter()
+        .position(|b| std::ptr::eq(b, at))
+        .and_then(|i| map.floquet_match(i))
+    {
+        v["lyapunov_is_floquet_rate_of"] = json!(k);
+    }
     if let Some(r) = &at.escape {
         let destinations: Vec<Value> = r
             .destinations
@@ -75,6 +83,11 @@ pub fn line(i: usize, at: &Attractor, map: &AttractorMap) -> String {
     }
     if let Some(l) = s.lyapunov.filter(|_| s.period.is_none()) {
         t.push_str(&format!(", lyapunov {l:.4}"));
+        if let Some(k) = map.floquet_match(i) {
+            t.push_str(&format!(
+                " (the Floquet rate of #{k}: a slow approach to that orbit)"
+            ));
+        }
     }
     if let Some(r) = s.floquet_rate {
         t.push_str(&format!(", floquet rate {r:.4}"));

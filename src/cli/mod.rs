@@ -10,6 +10,7 @@ mod digitize;
 mod digitize_parse;
 mod discover;
 mod discover_study;
+mod escape;
 mod hbm;
 mod limits;
 mod mesh;
@@ -55,6 +56,9 @@ enum Command {
     Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
     Sweep(sweep::Args),
+    /// Transient chaos at one point: every initial condition followed to a long horizon by both
+    /// integrators; survival curves, escape rates with 95% intervals (PNG, SVG, CSV, JSON).
+    Escape(escape::Args),
     /// Figure image (PNG) to CSV: the curve of one colour, with axis calibration (Figs 19-23).
     Digitize(digitize::Args),
     /// Harmonic balance (df-exact, AFT) and simulation overlaid, with the steady states each
@@ -117,6 +121,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Attractors(a) => attractors::run(a),
         Command::Sweep(a) => sweep::run(a),
+        Command::Escape(a) => escape::run(a),
         Command::Basins(a) => basins::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Hbm(a) => hbm::run(a),

@@ -74,6 +74,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "dl_max": s.dl_max,
             "lyapunov": s.lyapunov,
             "floquet": s.floquet,
+            "floquet_rate": s.floquet_rate,
             "poincare": s.poincare,
             "transient_periods": s.transient_periods,
             "integrator": flow.method(),
@@ -89,8 +90,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s.qa,
             s.qm,
             s.dte_pp,
-            s.lyapunov
-                .map_or(String::new(), |l| format!(", lyapunov {l:.5}"))
+            match (s.floquet_rate, s.lyapunov) {
+                (Some(r), _) => format!(", floquet rate {r:.5}"),
+                (None, Some(l)) => format!(", lyapunov {l:.5}"),
+                (None, None) => String::new(),
+            }
         ))?;
     }
     Ok(())

@@ -83,6 +83,28 @@ pub struct AttractorMap {
     pub basin_time: BasinTime,
 }
 
+/// Relative agreement for a negative Lyapunov exponent to be read as a Floquet rate.
+const FLOQUET_MATCH: f64 = 0.1;
+
+impl AttractorMap {
+    /// For a non-periodic entry `i` with a negative largest Lyapunov exponent, the stable
+    /// periodic orbit whose Floquet rate it equals (within 10%): the entry is then a slow
+    /// approach to that orbit, and its "Lyapunov exponent" is the orbit's Floquet rate.
+    pub fn floquet_match(&self, i: usize) -> Option<usize> {
+        let a = self.attractors.get(i)?;
+        let l = a
+            .steady
+            .lyapunov
+            .filter(|l| *l < 0.0 && a.steady.period.is_none())?;
+        self.attractors.iter().position(|b| {
+            b.steady.is_stable_periodic()
+                && b.steady
+                    .floquet_rate
+                    .is_some_and(|r| (r - l).abs() <= FLOQUET_MATCH * r.abs())
+        })
+    }
+}
+
 /// Initial conditions integrated in parallel before their results are merged.
 const PHASE2_CHUNK: usize = 2048;
 /// Seeds per axis integrated fully before the rest of the grid is matched against them.
@@ -477,5 +499,114 @@ mod tests {
             p[0] += 5.0;
         }
         assert_eq!(merge(&mut found, apart, [2.0, 0.0]), 1);
+    }
+
+    /// A periodic orbit as a steady state: `points` its section points, `rho` its multiplier.
+    fn orbit(points: Vec<State>, rho: f64) -> SteadyState {
+        SteadyState {
+            period: Some(points.len() as u32),
+            motion: Motion::Periodic,
+            floquet: Some([(rho, 0.0), (0.1, 0.0)]),
+            floquet_rate: Some(rho.abs().ln() / (points.len() as f64 * 6.283)),
+            poincare: points,
+            lyapunov: None,
+            cloud: Vec::new(),
+            ..sample(0.2, 1.0)
+        }
+    }
+
+    fn record(entered: usize, escapes: usize, alive: usize, to: usize) -> EscapeRecord {
+        EscapeRecord {
+            entered,
+            start_periods: 1000,
+            end_periods: 5000,
+            survival: vec![
+                crate::sim::SurvivalPoint {
+                    periods: 1000,
+                    alive: entered,
+                },
+                crate::sim::SurvivalPoint {
+                    periods: 5000,
+                    alive,
+                },
+            ],
+            escapes,
+            exposure: 1e5,
+            rate: escapes as f64 / 1e5,
+            rate_ci95: (0.0, 1.0),
+            destinations: vec![(to, escapes)],
+        }
+    }
+
+    /// Orbit identity: a period-4 label on the points of a period-2 orbit run twice is that
+    /// orbit, and the least period is kept.
+    #[test]
+    fn an_orbit_counts_once_under_any_period_label() {
+        let p2 = orbit(vec![[1.0, 0.5], [0.2, -0.3]], 0.5);
+        let p4 = orbit(vec![[0.2, -0.3], [1.0, 0.5], [0.2, -0.3], [1.0, 0.5]], 0.25);
+        assert!(same_attractor(&p2, &p4));
+        let mut found = Vec::new();
+        merge(&mut found, p4, [0.0, 0.0]);
+        merge(&mut found, p2, [1.0, 0.0]);
+        assert_eq!(found.len(), 1);
+        assert_eq!(found[0].0.period, Some(2));
+        let other = orbit(vec![[1.0, 0.5 + 1e-3], [0.2, -0.3]], 0.5);
+        assert!(!same_attractor(&found[0].0, &other));
+    }
+
+    /// A chaotic set that loses trajectories is a chaotic transient, listed even when empty; a
+    /// non-chaotic set every trajectory left is dropped (a slow approach, not a set); the
+    /// asymptotic basins share the survivors by the observed destinations.
+    #[test]
+    fn followed_sets_are_classified_and_basins_projected() {
+        let grid = IcGrid::new(-1.0, 1.0, 2).unwrap();
+        let p2 = orbit(vec![[1.0, 0.5], [0.2, -0.3]], 0.5);
+        let chaos = sample(-1.1, 2.7);
+        let mut slow = sample(-0.5, 1.0);
+        slow.motion = Motion::Converging;
+        slow.lyapunov = Some(-0.01);
+        let found = vec![(p2.clone(), [0.0; 2]), (chaos, [0.0; 2]), (slow, [0.0; 2])];
+        // Two ICs on the orbit, two still on the chaotic set; the slow set emptied.
+        let labels = vec![0, 0, 1, 1];
+        let records = vec![(1, record(3, 1, 2, 0)), (2, record(1, 1, 0, 0))];
+        let m = order(&grid, found.clone(), labels.clone(), records.clone());
+        assert_eq!(m.attractors.len(), 2);
+        assert_eq!(m.attractors[0].kind, SetKind::Attractor);
+        assert_eq!(
+            m.attractors[1].kind,
+            SetKind::Attractor,
+            "one escape: not yet a transient"
+        );
+        let records = vec![(1, record(6, 4, 2, 0)), (2, record(1, 1, 0, 0))];
+        let m = order(&grid, found, labels, records);
+        assert_eq!(m.attractors[1].kind, SetKind::ChaoticTransient);
+        assert_eq!(m.basin_time, BasinTime::FiniteTime);
+        assert_eq!(m.horizon, 5000);
+        assert_eq!(m.attractors[0].basin_fraction, 0.5);
+        assert_eq!(m.attractors[0].basin_fraction_asymptotic, Some(1.0));
+        assert_eq!(m.attractors[1].basin_fraction_asymptotic, Some(0.0));
+        assert_eq!(
+            m.attractors[1].escape.as_ref().unwrap().destinations,
+            vec![(0, 4)]
+        );
+    }
+
+    /// A negative exponent equal to an orbit's Floquet rate names that orbit.
+    #[test]
+    fn negative_exponent_is_matched_to_a_floquet_rate() {
+        let grid = IcGrid::new(-1.0, 1.0, 2).unwrap();
+        let p2 = orbit(vec![[1.0, 0.5], [0.2, -0.3]], 0.9);
+        let rate = p2.floquet_rate.unwrap();
+        let mut slow = sample(-0.5, 1.0);
+        slow.motion = Motion::Converging;
+        slow.lyapunov = Some(1.05 * rate);
+        let m = order(
+            &grid,
+            vec![(p2, [0.0; 2]), (slow, [0.0; 2])],
+            vec![0, 0, 1, 1],
+            vec![],
+        );
+        assert_eq!(m.floquet_match(1), Some(0));
+        assert_eq!(m.floquet_match(0), None);
     }
 }

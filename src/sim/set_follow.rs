@@ -56,7 +56,10 @@ pub(crate) fn follow_sets<F: PeriodFlow + ?Sized>(
 ) -> Result<Vec<(usize, EscapeRecord)>> {
     let budget = opts.escape;
     budget.validate()?;
-    let Some(start) = members.iter().map(|m| m.age).max() else {
+    // The observation starts one block after the last analysis ended: trajectories that left
+    // the set during their Lyapunov run are still approaching their orbit for up to a few
+    // hundred periods, and would otherwise count as early escapes.
+    let Some(start) = members.iter().map(|m| m.age + budget.block).max() else {
         return Ok(Vec::new());
     };
     if start >= budget.horizon {

@@ -552,4 +552,21 @@ mod tests {
             assert!((re.hypot(im) - rho).abs() < 1e-10);
         }
     }
+
+    /// Fig. 8(a)'s point from rest: a slow approach to the period-8 orbit (multiplier -0.898,
+    /// issue 23's independent shooting), once reported as period-16 or aperiodic with a
+    /// "Lyapunov exponent" -0.0021. It is the period-8 orbit, and -0.0021 is its Floquet rate,
+    /// ln(0.898) / (8 T).
+    #[test]
+    fn slow_approach_is_reported_as_the_orbit() {
+        let m = GearPair::paper(0.1, 0.2, 0.05, 1.0).unwrap();
+        let f = ExactFlow::new(&m).unwrap();
+        let s = steady_state(&f, [0.0, 0.0], &SteadyOptions::default()).unwrap();
+        assert_eq!((s.period, s.motion), (Some(8), Motion::Periodic));
+        let mu = s.floquet.unwrap()[1].0;
+        assert!((mu + 0.898).abs() < 1e-3, "{mu}");
+        let rate = s.floquet_rate.unwrap();
+        assert!((rate - 0.898f64.ln() / (8.0 * m.period())).abs() < 1e-5);
+        assert!((rate + 0.0021).abs() < 1e-4);
+    }
 }
