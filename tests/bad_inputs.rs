@@ -260,6 +260,26 @@ fn table() -> Vec<Case> {
             "--zeta",
         ),
         cli(
+            "horizon beyond the limit",
+            &format!("attractors {M} --omega 1.0 --horizon 2000000"),
+            "--horizon",
+        ),
+        cli(
+            "max exposure 1e12",
+            &format!("basins {M} --omega 1.0 --max-exposure 1e12 --out out"),
+            "--max-exposure",
+        ),
+        cli(
+            "target escapes 0",
+            &format!("sweep {M} --omega 1.0 --direction all --target-escapes 0 --out out"),
+            "--target-escapes",
+        ),
+        cli(
+            "escape horizon 10",
+            &format!("escape {M} --omega 1.0 --horizon 10 --out out"),
+            "--horizon",
+        ),
+        cli(
             "rtol 0",
             &format!("simulate {M} --omega 0.5 --integrator dop853 --rtol 0"),
             "--rtol",

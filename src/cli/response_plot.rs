@@ -23,6 +23,8 @@ pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
         "dte_pp",
         "dl_max",
         "lyapunov",
+        "kind",
+        "escape_rate_per_period",
     ])?;
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.10}"));
     for p in points {
@@ -42,6 +44,8 @@ pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
             format!("{:.10}", s.dte_pp),
             opt(s.dl_max),
             opt(s.lyapunov),
+            p.kind.map_or("", |k| k.name()).to_string(),
+            p.escape_rate.map_or(String::new(), |r| format!("{r:.4e}")),
         ])?;
     }
     Ok(String::from_utf8(w.into_inner()?)?)

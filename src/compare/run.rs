@@ -161,15 +161,7 @@ pub fn compare(settings: &CompareSettings, progress: &dyn Progress) -> Result<Co
             Ok(map
                 .attractors
                 .into_iter()
-                .map(|a| {
-                    let p = SweepPoint {
-                        omega: w,
-                        branch: Branch::All,
-                        steady: a.steady,
-                        basin_fraction: Some(a.basin_fraction),
-                    };
-                    sim_point(&p, Source::Attractors)
-                })
+                .map(|a| sim_point(&SweepPoint::from_attractor(w, a), Source::Attractors))
                 .collect())
         })
         .collect();

@@ -33,6 +33,17 @@ pub enum SetKind {
     Transient,
 }
 
+impl SetKind {
+    /// The name used in JSON and CSV: "attractor", "chaotic_transient", "transient".
+    pub fn name(self) -> &'static str {
+        match self {
+            SetKind::Attractor => "attractor",
+            SetKind::ChaoticTransient => "chaotic_transient",
+            SetKind::Transient => "transient",
+        }
+    }
+}
+
 /// Whether basin fractions are final.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]

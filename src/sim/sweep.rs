@@ -2,7 +2,7 @@
 //! (the procedure behind Fig. 13, which finds one branch only), or every attractor at each
 //! frequency from a grid of initial conditions.
 
-use super::attractors::find_attractors;
+use super::attractors::{find_attractors, Attractor, SetKind};
 use super::flow::{PeriodFlow, State};
 use super::ic_grid::IcGrid;
 use super::steady::{steady_state, SteadyOptions, SteadyState};
@@ -45,6 +45,24 @@ pub struct SweepPoint {
     pub steady: SteadyState,
     /// Share of the initial-condition grid reaching it (all-attractor sweeps only).
     pub basin_fraction: Option<f64>,
+    /// Attractor or transient set (all-attractor sweeps only).
+    pub kind: Option<SetKind>,
+    /// Escape rate per forcing period of a followed non-periodic set that trajectories left.
+    pub escape_rate: Option<f64>,
+}
+
+impl SweepPoint {
+    /// A point of an all-attractor search at `omega`.
+    pub fn from_attractor(omega: f64, a: Attractor) -> Self {
+        SweepPoint {
+            omega,
+            branch: Branch::All,
+            escape_rate: a.escape.as_ref().filter(|r| r.escapes > 0).map(|r| r.rate),
+            kind: Some(a.kind),
+            steady: a.steady,
+            basin_fraction: Some(a.basin_fraction),
+        }
+    }
 }
 
 /// Builds the period map for the model at one frequency (exact or Runge-Kutta).
@@ -127,6 +145,8 @@ pub fn sweep(
                     branch: plan.branch,
                     steady,
                     basin_fraction: None,
+                    kind: None,
+                    escape_rate: None,
                 });
                 progress.advance(1);
             }
@@ -136,12 +156,11 @@ pub fn sweep(
             for &om in &plan.omegas {
                 let flow = factory(&model.at_omega(om)?)?;
                 let map = find_attractors(flow.as_ref(), &plan.grid, &plan.opts, progress)?;
-                out.extend(map.attractors.into_iter().map(|a| SweepPoint {
-                    omega: om,
-                    branch: Branch::All,
-                    steady: a.steady,
-                    basin_fraction: Some(a.basin_fraction),
-                }));
+                out.extend(
+                    map.attractors
+                        .into_iter()
+                        .map(|a| SweepPoint::from_attractor(om, a)),
+                );
             }
         }
     }
