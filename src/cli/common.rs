@@ -134,6 +134,12 @@ impl SolverArgs {
 /// Parse START:STOP:STEP into the list of frequencies (START and STOP in [0.001, 100], at
 /// most 100000 values).
 pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
+    parse_range_in(flag, text, OMEGA)
+}
+
+/// Parse START:STOP:STEP (or a single value) into the list of values, START and STOP in
+/// `bounds`, at most 100000 values.
+pub fn parse_range_in(flag: &str, text: &str, bounds: (f64, f64)) -> anyhow::Result<Vec<f64>> {
     let parts: Vec<&str> = text.split(':').collect();
     let num = |s: &str, what: &str| -> anyhow::Result<f64> {
         s.trim().parse::<f64>().map_err(|_| {
@@ -144,7 +150,7 @@ pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
     };
     let bounded = |s: &str, what: &str| -> anyhow::Result<f64> {
         let v = num(s, what)?;
-        check_range(&format!("{flag} '{text}'"), what, v, OMEGA)?;
+        check_range(&format!("{flag} '{text}'"), what, v, bounds)?;
         Ok(v)
     };
     match parts.as_slice() {

@@ -4,6 +4,7 @@ mod attractor_report;
 mod attractors;
 mod basins;
 mod bench;
+mod bifurcation;
 mod common;
 mod compare;
 mod digitize;
@@ -56,6 +57,9 @@ enum Command {
     Bench(bench::Args),
     /// Frequency sweep: carried up / down (Fig. 13) or every attractor at each Omega.
     Sweep(sweep::Args),
+    /// Bifurcation diagram: Poincare points against Omega, F_hat or zeta (IC grid and carried
+    /// sweep), chaotic transients apart, folds and period doublings marked (CSV, PNG, SVG).
+    Bifurcation(bifurcation::Args),
     /// Transient chaos at one point: every initial condition followed to a long horizon by both
     /// integrators; survival curves, escape rates with 95% intervals (PNG, SVG, CSV, JSON).
     Escape(escape::Args),
@@ -122,6 +126,7 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Attractors(a) => attractors::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Escape(a) => escape::run(a),
+        Command::Bifurcation(a) => bifurcation::run(a),
         Command::Basins(a) => basins::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Hbm(a) => hbm::run(a),

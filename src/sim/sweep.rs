@@ -117,6 +117,32 @@ pub struct SweepPlan {
     pub opts: SteadyOptions,
 }
 
+/// Steady states of `models` in order, each integrated from the first section point of the
+/// previous one's steady state (the first from `x0`): the procedure behind Fig. 13, which follows
+/// one branch and misses the states it does not lead to.
+pub fn carry(
+    factory: FlowFactory<'_>,
+    models: &[GearPair],
+    x0: State,
+    opts: &SteadyOptions,
+    progress: &dyn Progress,
+) -> Result<Vec<SteadyState>> {
+    progress.start(models.len() as u64, "carried steady states");
+    let mut x = x0;
+    let mut out = Vec::with_capacity(models.len());
+    for m in models {
+        let flow = factory(m)?;
+        let steady = steady_state(flow.as_ref(), x, opts)?;
+        if let Some(p) = steady.poincare.first() {
+            x = *p;
+        }
+        out.push(steady);
+        progress.advance(1);
+    }
+    progress.finish();
+    Ok(out)
+}
+
 /// Sweep `model` over the plan's frequencies along its branch.
 pub fn sweep(
     factory: FlowFactory<'_>,
@@ -127,30 +153,28 @@ pub fn sweep(
     let mut out = Vec::new();
     match plan.branch {
         Branch::Up | Branch::Down => {
-            progress.start(plan.omegas.len() as u64, "frequencies");
             let mut ordered = plan.omegas.clone();
             if plan.branch == Branch::Down {
                 ordered.reverse();
             }
-            let mut x = plan.x0;
-            for om in ordered {
-                let flow = factory(&model.at_omega(om)?)?;
-                let steady = steady_state(flow.as_ref(), x, &plan.opts)?;
-                // Carry the phase-0 state of this steady state to the next frequency.
-                if let Some(p) = steady.poincare.first() {
-                    x = *p;
-                }
-                out.push(SweepPoint {
-                    omega: om,
-                    branch: plan.branch,
-                    steady,
-                    basin_fraction: None,
-                    kind: None,
-                    escape_rate: None,
-                });
-                progress.advance(1);
-            }
-            progress.finish();
+            let models = ordered
+                .iter()
+                .map(|&om| model.at_omega(om))
+                .collect::<Result<Vec<_>>>()?;
+            let states = carry(factory, &models, plan.x0, &plan.opts, progress)?;
+            out.extend(
+                ordered
+                    .into_iter()
+                    .zip(states)
+                    .map(|(om, steady)| SweepPoint {
+                        omega: om,
+                        branch: plan.branch,
+                        steady,
+                        basin_fraction: None,
+                        kind: None,
+                        escape_rate: None,
+                    }),
+            );
         }
         Branch::All => {
             for &om in &plan.omegas {
