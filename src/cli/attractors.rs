@@ -1,7 +1,9 @@
 //! `geardyn attractors`: every coexisting steady state from a grid of initial conditions.
 
 use super::attractor_report;
-use super::common::{print_json, print_text, unsettled_warning, EscapeArgs, ModelArgs, SolverArgs};
+use super::common::{
+    print_json, print_text, unsettled_warning, with_omega, EscapeArgs, ModelArgs, SolverArgs,
+};
 use super::limits::{real, OMEGA};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
@@ -53,7 +55,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "basin_at_periods": map.horizon,
             "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
             "integrator": flow.method(),
-            "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
+            "parameters": with_omega(a.model.json(), a.omega),
         }))?;
     } else {
         let mut text = attractor_report::header(&map);

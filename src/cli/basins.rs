@@ -2,8 +2,8 @@
 
 use super::attractor_report;
 use super::common::{
-    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, EscapeArgs, ModelArgs,
-    SolverArgs,
+    check_out_dir, commit, print_text, stage, unsettled_warning, with_omega, write_text,
+    EscapeArgs, ModelArgs, SolverArgs,
 };
 use super::limits::{real, OMEGA};
 use super::progress_bar::Bar;
@@ -88,13 +88,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         "basin_at_periods": map.horizon,
         "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
         "integrator": flow.method(),
-        "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega},
+        "parameters": with_omega(a.model.json(), a.omega),
     });
     let cat = CategoryMap {
         title: format!("Domains of attraction, Omega_h = {}", a.omega),
         caption: Some(format!(
-            "F_m = {}, F_ah = {}, zeta = {}, {}x{} initial conditions",
-            a.model.fm, a.model.fah, a.model.zeta, grid.n, grid.n
+            "{}, {}x{} initial conditions",
+            a.model.caption(),
+            grid.n,
+            grid.n
         )),
         x_label: "q(0)".into(),
         y_label: "q'(0)".into(),

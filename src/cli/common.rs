@@ -8,7 +8,7 @@ use geardyn::report::Staged;
 use geardyn::sim::{EscapeBudget, ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
 use std::path::{Path, PathBuf};
 
-/// Parameters of eq. 5 (the paper's model).
+/// Parameters of eq. 5 (the paper's model), with an optional external torque of eq. 4.
 #[derive(ClapArgs, Debug, Clone)]
 pub struct ModelArgs {
     /// Dimensionless mean load F_m, in [0, 1e4].
@@ -20,11 +20,45 @@ pub struct ModelArgs {
     /// Damping ratio zeta, in [0.001, 0.9].
     #[arg(long, allow_hyphen_values = true, value_parser = real(ZETA.0, ZETA.1, false))]
     pub zeta: f64,
+    /// Dimensionless external torque amplitude F_aT of eq. 4 (force F_aT sin(Omega t) at the
+    /// mesh frequency, Omega_T = Omega_h as in Sec. 8.1), in [0, 1e3]; with --fah 0 the model is
+    /// eq. 4 alone, with both the excitations act together.
+    #[arg(long = "fat", default_value_t = 0.0, allow_hyphen_values = true,
+          value_parser = real(FAH.0, FAH.1, false))]
+    pub fat: f64,
 }
 
 impl ModelArgs {
     pub fn model(&self, omega: f64) -> anyhow::Result<GearPair> {
-        Ok(GearPair::paper(self.fm, self.fah, self.zeta, omega)?)
+        Ok(GearPair::excited(
+            self.fm, self.fah, self.fat, self.zeta, omega,
+        )?)
+    }
+
+    /// The forcing of the describing-function solution.
+    pub fn forcing(&self) -> geardyn::hb::DfForcing {
+        geardyn::hb::DfForcing {
+            ste: self.fah,
+            torque: self.fat,
+        }
+    }
+
+    /// The parameters as JSON.
+    pub fn json(&self) -> serde_json::Value {
+        serde_json::json!({"fm": self.fm, "fah": self.fah, "fat": self.fat, "zeta": self.zeta})
+    }
+
+    /// "F_m = .., F_ah = .., [F_aT = .., ]zeta = .." for captions.
+    pub fn caption(&self) -> String {
+        let torque = if self.fat > 0.0 {
+            format!(", F_aT = {}", self.fat)
+        } else {
+            String::new()
+        };
+        format!(
+            "F_m = {}, F_ah = {}{torque}, ζ = {}",
+            self.fm, self.fah, self.zeta
+        )
     }
 }
 
@@ -216,6 +250,12 @@ pub fn commit(stage: Staged, written: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>
     let paths = written.iter().map(|p| stage.final_path(p)).collect();
     stage.commit_merge()?;
     Ok(paths)
+}
+
+/// `params` (a JSON object) with "omega" added.
+pub fn with_omega(mut params: serde_json::Value, omega: f64) -> serde_json::Value {
+    params["omega"] = serde_json::json!(omega);
+    params
 }
 
 /// The warning printed for a steady state that did not settle within its transient budget.

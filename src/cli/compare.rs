@@ -42,6 +42,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let settings = CompareSettings {
         fm: a.model.fm,
         fah: a.model.fah,
+        fat: a.model.fat,
         zeta: a.model.zeta,
         omegas: parse_range("--omega", &a.omega)?,
         grid: IcGrid::parse(&a.ic_grid)?,

@@ -46,6 +46,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let opts = EscapeStudyOptions {
         fm: a.model.fm,
         fah: a.model.fah,
+        fat: a.model.fat,
         zeta: a.model.zeta,
         omega: a.omega,
         grid,

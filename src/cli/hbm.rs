@@ -6,7 +6,8 @@ use super::progress_bar::Bar;
 use super::response_plot::{write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::hb::{
-    continue_branch, df_response, transition_frequencies, AftOptions, ContinuationOptions, DfMethod,
+    continue_branch, df_response_forced, forced_transition_frequencies, AftOptions,
+    ContinuationOptions, DfMethod,
 };
 use std::path::PathBuf;
 
@@ -69,7 +70,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         "period_doubling",
     ])?;
     let mut rows = Vec::new();
-    let (t1, t2) = transition_frequencies(a.model.fm, a.model.fah, a.model.zeta)?;
+    let transitions = forced_transition_frequencies(a.model.fm, a.model.forcing(), a.model.zeta)?;
     let method_name = match a.method {
         Method::DfExact | Method::DfTruncated => {
             let method = if a.method == Method::DfExact {
@@ -77,7 +78,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             } else {
                 DfMethod::Truncated
             };
-            let sols = df_response(a.model.fm, a.model.fah, a.model.zeta, &omegas, method)?;
+            let sols =
+                df_response_forced(a.model.fm, a.model.forcing(), a.model.zeta, &omegas, method)?;
             for s in &sols {
                 w.write_record([
                     format!("{}", s.omega),
@@ -145,15 +147,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     };
     let csv_text = String::from_utf8(w.into_inner()?)?;
-    let fmt = |t: Option<f64>| t.map_or("none".to_string(), |v| format!("{v:.4}"));
     let caption = format!(
-        "F_m = {}, F_ah = {}, zeta = {}, {}; eq. 14 transitions {} and {}",
-        a.model.fm,
-        a.model.fah,
-        a.model.zeta,
+        "{}, {}; case I ends / resumes at Ω {} (eq. 14)",
+        a.model.caption(),
         method_name,
-        fmt(t1),
-        fmt(t2)
+        if transitions.is_empty() {
+            "none".to_string()
+        } else {
+            transitions
+                .iter()
+                .map(|t| format!("{t:.4}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
     );
     let stage = stage("--out", &a.out)?;
     let d = stage.dir().to_path_buf();

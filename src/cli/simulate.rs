@@ -1,6 +1,6 @@
 //! `geardyn simulate`: the steady state from one initial condition.
 
-use super::common::{check_out_dir, print_json, print_text, ModelArgs, SolverArgs};
+use super::common::{check_out_dir, print_json, print_text, with_omega, ModelArgs, SolverArgs};
 use super::limits::{real, OMEGA, STATE};
 use clap::Args as ClapArgs;
 use geardyn::sim::steady_state;
@@ -46,8 +46,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let written = match &a.out {
         Some(dir) => {
             let caption = format!(
-                "F_m = {}, F_ah = {}, zeta = {}, Omega_h = {}, q(0) = {}, q'(0) = {}",
-                a.model.fm, a.model.fah, a.model.zeta, a.omega, a.q0, a.v0
+                "{}, Ω = {}, q(0) = {}, q'(0) = {}",
+                a.model.caption(),
+                a.omega,
+                a.q0,
+                a.v0
             );
             super::simulate_figures::write(flow.as_ref(), &s, &caption, dir)?
         }
@@ -60,6 +63,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("{}", super::common::unsettled_warning(s.transient_periods));
     }
     if a.json {
+        let mut params = with_omega(a.model.json(), a.omega);
+        params["q0"] = json!(a.q0);
+        params["v0"] = json!(a.v0);
         print_json(&json!({
             "period": s.period,
             "settled": s.settled,
@@ -78,7 +84,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "poincare": s.poincare,
             "transient_periods": s.transient_periods,
             "integrator": flow.method(),
-            "parameters": {"fm": a.model.fm, "fah": a.model.fah, "zeta": a.model.zeta, "omega": a.omega, "q0": a.q0, "v0": a.v0},
+            "parameters": params,
         }))?;
     } else {
         print_text(&format!(

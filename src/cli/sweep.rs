@@ -100,10 +100,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let csv = sweep_csv(&points)?;
     let caption = format!(
-        "F_m = {}, F_ah = {}, zeta = {}, sweep {:?}, integrator {}",
-        a.model.fm,
-        a.model.fah,
-        a.model.zeta,
+        "{}, sweep {:?}, integrator {}",
+        a.model.caption(),
         a.direction,
         a.solver.integrator_name()
     );

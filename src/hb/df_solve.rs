@@ -191,24 +191,43 @@ pub fn df_solutions(
     Ok(Solver::new(fm, fah, zeta, method, lo, hi)?.at(omega, fah))
 }
 
-/// The forcing of the describing-function solution.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum DfForcing {
-    /// The STE excitation of eq. 5: force F_ah Omega^2 sin(Omega t).
-    Ste,
-    /// An external torque of eq. 4's form: force F_T sin(Omega t), independent of frequency. The
-    /// ansatz and eq. 10 are those of eq. 5 with F_ah = F_T / Omega^2.
-    Torque,
+/// The forcing of the describing-function solution: the STE excitation of eq. 5 (force
+/// F_ah Omega^2 sin(Omega t)) and an external torque of eq. 4 at the same frequency and phase
+/// (force F_aT sin(Omega t)). Their sum is one sinusoid, so the ansatz and eq. 10 are those of
+/// eq. 5 with the STE amplitude F_ah + F_aT / Omega^2.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DfForcing {
+    /// STE amplitude F_ah (eq. 5).
+    pub ste: f64,
+    /// Torque amplitude F_aT (eq. 4).
+    pub torque: f64,
 }
 
 impl DfForcing {
-    /// The STE amplitude of eq. 10 that gives this forcing's force amplitude `amp` at `omega`.
-    pub fn ste_amplitude(self, amp: f64, omega: f64) -> f64 {
-        match self {
-            DfForcing::Ste => amp,
-            DfForcing::Torque => amp / (omega * omega),
+    /// The STE excitation of eq. 5 alone.
+    pub fn ste(fah: f64) -> Self {
+        DfForcing {
+            ste: fah,
+            torque: 0.0,
         }
+    }
+
+    /// The external torque of eq. 4 alone.
+    pub fn torque(fat: f64) -> Self {
+        DfForcing {
+            ste: 0.0,
+            torque: fat,
+        }
+    }
+
+    /// The STE amplitude of eq. 10 that gives this forcing's force amplitude at `omega`.
+    pub fn ste_amplitude(self, omega: f64) -> f64 {
+        self.ste + self.torque / (omega * omega)
+    }
+
+    /// Force amplitude F_ah Omega^2 + F_aT at `omega`.
+    pub fn force(self, omega: f64) -> f64 {
+        self.ste * omega * omega + self.torque
     }
 }
 
@@ -224,37 +243,43 @@ pub fn df_response(
     omegas: &[f64],
     method: DfMethod,
 ) -> Result<Vec<DfSolution>> {
-    df_response_forced(fm, fah, zeta, omegas, method, DfForcing::Ste)
+    df_response_forced(fm, DfForcing::ste(fah), zeta, omegas, method)
 }
 
-/// [`df_response`] for either forcing: `amp` is F_ah (STE, eq. 5) or F_T (torque, eq. 4's form).
+/// [`df_response`] for the STE excitation of eq. 5, an external torque of eq. 4, or both.
 ///
-/// Errors: as [`df_solutions`], for any entry of `omegas`.
+/// Errors: as [`df_solutions`] (F_aT like F_ah), for any entry of `omegas`.
 pub fn df_response_forced(
     fm: f64,
-    amp: f64,
+    forcing: DfForcing,
     zeta: f64,
     omegas: &[f64],
     method: DfMethod,
-    forcing: DfForcing,
 ) -> Result<Vec<DfSolution>> {
-    validate(fm, amp, zeta)?;
+    validate(fm, forcing.ste, zeta)?;
+    check(
+        "F_aT",
+        forcing.torque,
+        forcing.torque >= 0.0,
+        "torque amplitude must be finite and >= 0",
+    )?;
     for &w in omegas {
         validate_omega(w)?;
     }
     let (lo, hi) = omegas
         .iter()
-        .map(|&w| qa_bounds(forcing.ste_amplitude(amp, w), zeta, w))
+        .map(|&w| qa_bounds(forcing.ste_amplitude(w), zeta, w))
         .fold((f64::INFINITY, 0.0f64), |(l, h), (a, b)| {
             (l.min(a), h.max(b))
         });
     if omegas.is_empty() {
         return Ok(Vec::new());
     }
+    let amp = forcing.ste.max(forcing.torque);
     let solver = Solver::new(fm, amp, zeta, method, lo, hi)?;
     let per_omega: Vec<Vec<DfSolution>> = omegas
         .par_iter()
-        .map(|&w| solver.at(w, forcing.ste_amplitude(amp, w)))
+        .map(|&w| solver.at(w, forcing.ste_amplitude(w)))
         .collect();
     Ok(per_omega.into_iter().flatten().collect())
 }

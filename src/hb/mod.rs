@@ -36,7 +36,7 @@ pub use df_solve::{df_response, df_response_forced, df_solutions, DfForcing, DfS
 pub use resample::{branch_at, branch_from_start, branches_covering};
 pub use response_ranges::{response_ranges, ResponseRanges};
 pub use transitions::{
-    linear_peak, torque_transition_frequencies, transition_frequencies, LinearPeak,
+    forced_transition_frequencies, linear_peak, transition_frequencies, LinearPeak,
 };
 
 #[cfg(test)]

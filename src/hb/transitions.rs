@@ -7,7 +7,7 @@
 //!
 //! whose roots are eq. 14: x = ((1 - 2 zeta^2) -+ sqrt((1 - 2 zeta^2)^2 - (1 - r^2))) / (1 - r^2).
 
-use super::df_solve::validate;
+use super::df_solve::{validate, DfForcing};
 use crate::error::Result;
 
 /// Transition frequencies (Omega_t1, Omega_t2) of eq. 14: where the case I amplitude q_aI of
@@ -89,32 +89,47 @@ pub fn linear_peak(fah: f64, zeta: f64) -> Result<LinearPeak> {
     })
 }
 
-/// Transition frequencies of eq. 14 for an external torque of amplitude F_T (eq. 4's forcing,
-/// without the Omega^2 of eq. 5): where q_aI = F_T / |D| reaches F_m. With x = Omega^2 and
-/// r = F_T / F_m this is x^2 - 2 (1 - 2 zeta^2) x + 1 - r^2 = 0 (eq. 14 with x replaced by
-/// 1 / x). Case I fails between the two roots; for r >= 1 only the upper root is positive (case I
-/// is lost at low frequency, where q_aI -> F_T >= F_m), returned as `(None, Some(t2))`.
+/// Transition frequencies of eq. 14 for any [`DfForcing`]: where the case I amplitude
+/// F / |D| (F = F_ah Omega^2 + F_aT, |D|^2 = (1 - Omega^2)^2 + (2 zeta Omega)^2) reaches F_m.
+/// With x = Omega^2 this is
 ///
-/// Errors: `InvalidParameter` unless F_m > 0, F_T >= 0, 0 < zeta < 1, all finite.
-pub fn torque_transition_frequencies(
-    fm: f64,
-    ft: f64,
-    zeta: f64,
-) -> Result<(Option<f64>, Option<f64>)> {
-    validate(fm, ft, zeta)?;
-    let r = ft / fm;
-    let b = 1.0 - 2.0 * zeta * zeta;
-    let c = 1.0 - r * r;
-    let disc = b * b - c;
-    if disc < 0.0 {
-        return Ok((None, None));
+///   (F_ah^2 - F_m^2) x^2 + 2 (F_ah F_aT + F_m^2 (1 - 2 zeta^2)) x + F_aT^2 - F_m^2 = 0,
+///
+/// eq. 14 for the STE alone and eq. 14 with x replaced by 1 / x for the torque of eq. 4 alone.
+/// Returns the positive roots as frequencies, increasing; case I holds where F / |D| < F_m.
+///
+/// Errors: `InvalidParameter` unless F_m > 0, F_ah >= 0, F_aT >= 0, 0 < zeta < 1, all finite.
+pub fn forced_transition_frequencies(fm: f64, f: DfForcing, zeta: f64) -> Result<Vec<f64>> {
+    validate(fm, f.ste, zeta)?;
+    validate(fm, f.torque, zeta)?;
+    let m2 = fm * fm;
+    let a = f.ste * f.ste - m2;
+    let b = 2.0 * (f.ste * f.torque + m2 * (1.0 - 2.0 * zeta * zeta));
+    let c = f.torque * f.torque - m2;
+    let mut xs = Vec::new();
+    if a == 0.0 {
+        if b != 0.0 {
+            xs.push(-c / b);
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 {
+            // Without cancellation: q = -(b + sign(b) sqrt(disc)) / 2, roots q / a and c / q.
+            let q = -0.5 * (b + disc.sqrt().copysign(b));
+            xs.push(q / a);
+            if q != 0.0 {
+                xs.push(c / q);
+            }
+        }
     }
-    let s = disc.sqrt();
-    // Larger root without cancellation, the smaller from the product of the roots c.
-    let x2 = b + s;
-    let x1 = if x2 > 0.0 { c / x2 } else { b - s };
-    let omega = |x: f64| (x.is_finite() && x > 0.0).then(|| x.sqrt());
-    Ok((omega(x1), omega(x2)))
+    let mut out: Vec<f64> = xs
+        .into_iter()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .map(f64::sqrt)
+        .collect();
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -151,8 +166,8 @@ mod tests {
         assert!((scan.0 - p.qa).abs() < 1e-10 && (scan.1 - p.omega_ste).abs() < 1e-5);
         let torque_qa = |w: f64| 0.01 / ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
         assert!((torque_qa(p.omega_torque) - p.qa).abs() < 1e-12);
-        let (t1, t2) = torque_transition_frequencies(0.1, 0.01, 0.05).unwrap();
-        let (t1, t2) = (t1.unwrap(), t2.unwrap());
+        let t = forced_transition_frequencies(0.1, DfForcing::torque(0.01), 0.05).unwrap();
+        let (t1, t2) = (t[0], t[1]);
         assert!(t1 < p.omega_torque && p.omega_torque < t2);
         for t in [t1, t2] {
             assert!((torque_qa(t) - 0.1).abs() < 1e-9, "{t}");
@@ -160,9 +175,22 @@ mod tests {
         // The eq. 4 roots are the reciprocals of eq. 14's.
         let (s1, s2) = transition_frequencies(0.1, 0.01, 0.05).unwrap();
         assert!((t1 * s2.unwrap() - 1.0).abs() < 1e-9 && (t2 * s1.unwrap() - 1.0).abs() < 1e-9);
-        // F_T > F_m: case I only above t2.
-        let (lo, hi) = torque_transition_frequencies(0.1, 0.2, 0.05).unwrap();
-        assert!(lo.is_none() && hi.is_some());
+        // F_T > F_m: case I only above the one root.
+        let t = forced_transition_frequencies(0.1, DfForcing::torque(0.2), 0.05).unwrap();
+        assert_eq!(t.len(), 1);
+        assert!((torque_qa(t[0]) * 20.0 - 0.1).abs() < 1e-9);
+        // The STE alone gives eq. 14's roots; STE and torque together the roots of F / |D| = F_m.
+        let s = forced_transition_frequencies(0.1, DfForcing::ste(0.05), 0.05).unwrap();
+        let (e1, e2) = transition_frequencies(0.1, 0.05, 0.05).unwrap();
+        assert!((s[0] - e1.unwrap()).abs() < 1e-12 && (s[1] - e2.unwrap()).abs() < 1e-12);
+        let both = DfForcing {
+            ste: 0.03,
+            torque: 0.02,
+        };
+        for w in forced_transition_frequencies(0.1, both, 0.05).unwrap() {
+            let d = ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
+            assert!((both.force(w) / d - 0.1).abs() < 1e-9, "{w}");
+        }
     }
 
     #[test]

@@ -46,6 +46,7 @@ pub(crate) fn run_comparisons(
             let s = CompareSettings {
                 fm: 0.1,
                 fah,
+                fat: 0.0,
                 zeta: 0.05,
                 omegas: omegas.clone(),
                 grid,

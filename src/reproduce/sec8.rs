@@ -5,7 +5,7 @@ use super::claims::{agree_if, fmt_range, Claim};
 use super::sec4_6::{fhat10_grazing, fmt_range4, MARGINAL_GRAZING, OMEGA_TOL};
 use super::summary_values::{flag, list, num, range};
 use crate::error::{GearError, Result};
-use crate::hb::torque_transition_frequencies;
+use crate::hb::{forced_transition_frequencies, DfForcing};
 use crate::study::StudyOutput;
 use serde_json::Value;
 
@@ -66,8 +66,8 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
     // Both linear peaks are F_ah / (2 zeta sqrt(1 - zeta^2)) and graze the backlash by the same
     // depth as S6-01, on bands narrower than the AFT grid step (closed forms).
     let (depth, _, band5) = fhat10_grazing()?;
-    let band4 = match torque_transition_frequencies(0.1, 0.01, 0.05)? {
-        (Some(a), Some(b)) => Some((a, b)),
+    let band4 = match forced_transition_frequencies(0.1, DfForcing::torque(0.01), 0.05)?[..] {
+        [a, b] => Some((a, b)),
         _ => None,
     };
     let marginal = depth / 0.1 <= MARGINAL_GRAZING;

@@ -29,6 +29,8 @@ pub struct EscapeStudyOptions {
     pub fm: f64,
     /// STE amplitude F_ah.
     pub fah: f64,
+    /// External torque amplitude F_aT of eq. 4 at the mesh frequency (0: eq. 5 alone).
+    pub fat: f64,
     /// Damping ratio.
     pub zeta: f64,
     /// Mesh frequency Omega.
@@ -47,6 +49,7 @@ impl EscapeStudyOptions {
         Ok(EscapeStudyOptions {
             fm: 0.1,
             fah: 0.2,
+            fat: 0.0,
             zeta: 0.02,
             omega: 1.0,
             grid: IcGrid::new(-2.0, 2.0, 21)?,
@@ -71,7 +74,7 @@ pub struct EscapeStudy {
 
 /// Run the study.
 pub fn escape_study(opts: &EscapeStudyOptions, progress: &dyn Progress) -> Result<EscapeStudy> {
-    let model = GearPair::paper(opts.fm, opts.fah, opts.zeta, opts.omega)?;
+    let model = GearPair::excited(opts.fm, opts.fah, opts.fat, opts.zeta, opts.omega)?;
     let steady = SteadyOptions {
         escape: EscapeBudget {
             horizon: opts.horizon,
@@ -96,8 +99,13 @@ pub fn escape_study(opts: &EscapeStudyOptions, progress: &dyn Progress) -> Resul
             find_attractors(&rk as &dyn PeriodFlow, &opts.grid, &steady, progress)?,
         ));
     }
+    let torque = if opts.fat > 0.0 {
+        format!(", F_aT = {}", opts.fat)
+    } else {
+        String::new()
+    };
     let caption = format!(
-        "F_m = {}, F_ah = {} (F_hat = {}), ζ = {}, Ω = {}, {}x{} initial conditions",
+        "F_m = {}, F_ah = {} (F_hat = {}){torque}, ζ = {}, Ω = {}, {}x{} initial conditions",
         opts.fm,
         opts.fah,
         opts.fm / opts.fah,
@@ -204,7 +212,7 @@ fn summary(opts: &EscapeStudyOptions, maps: &[(String, AttractorMap)]) -> Value 
         _ => Value::Null,
     };
     json!({
-        "parameters": {"fm": opts.fm, "fah": opts.fah, "zeta": opts.zeta, "omega": opts.omega},
+        "parameters": {"fm": opts.fm, "fah": opts.fah, "fat": opts.fat, "zeta": opts.zeta, "omega": opts.omega},
         "grid": {"lo": opts.grid.lo, "hi": opts.grid.hi, "n": opts.grid.n},
         "horizon_periods": opts.horizon,
         "sets": per,
