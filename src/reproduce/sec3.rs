@@ -269,11 +269,15 @@ fn specs() -> Vec<Spec> {
 
 /// Sec. 3 claims and figures. `searches` holds the exact maps; points whose extra attractors need
 /// confirmation are searched again with DOP853 here.
+/// What Sec. 3 contributes: claims, figures, the DOP853 confirmations (used by Sec. 5) and the
+/// evidence tables.
+pub(crate) type Sec3Outputs = (Vec<Claim>, Vec<Artifact>, Confirmations, Vec<ReportTable>);
+
 pub(crate) fn build(
     res: &Resolution,
     searches: &Searches,
     progress: &dyn Progress,
-) -> Result<(Vec<Claim>, Vec<Artifact>, Confirmations, Vec<ReportTable>)> {
+) -> Result<Sec3Outputs> {
     let g = IcGrid::new(-2.0, 2.0, res.ic_n)?;
     let b = IcGrid::new(-2.0, 2.0, res.basin_n)?;
     let get = |pt: Point, grid: &IcGrid| -> Result<&AttractorMap> {

@@ -734,23 +734,37 @@ fn fig14_claim(fr: &[(f64, f64)]) -> Claim {
 /// from the linear one by about the depth, far below what a figure or a measurement resolves.
 pub(crate) const MARGINAL_GRAZING: f64 = 0.01;
 
+/// How far the linear resonance peak at F_hat 10 reaches past the backlash.
+pub(crate) struct Grazing {
+    /// Peak q_a - F_m (positive: the teeth separate).
+    pub(crate) depth: f64,
+    /// The peak.
+    pub(crate) peak: LinearPeak,
+    /// The eq. 14 band where q_a > F_m.
+    pub(crate) band: Option<(f64, f64)>,
+}
+
 /// The grazing of the linear resonance peak at F_hat 10 (F_m 0.1, F_ah 0.01, zeta 0.05), from
 /// the closed forms: peak q_a = F_ah / (2 zeta sqrt(1 - zeta^2)) and the eq. 14 band where it
-/// exceeds F_m. `(depth, band)`, depth = peak - F_m.
-pub(crate) fn fhat10_grazing() -> Result<(f64, LinearPeak, Option<(f64, f64)>)> {
+/// exceeds F_m.
+pub(crate) fn fhat10_grazing() -> Result<Grazing> {
     let (fm, fah, zeta) = (0.1, 0.01, 0.05);
     let peak = linear_peak(fah, zeta)?;
     let band = match transition_frequencies(fm, fah, zeta)? {
         (Some(a), Some(b)) => Some((a, b)),
         _ => None,
     };
-    Ok((peak.qa - fm, peak, band))
+    Ok(Grazing {
+        depth: peak.qa - fm,
+        peak,
+        band,
+    })
 }
 
 /// S6-01: complete contact at F_hat 10, with the grazing of the peak measured from the closed
 /// form (the df grid of the study, `grid_band`, may step over the 0.005-wide band).
 fn linear_claim(grid_band: Option<(f64, f64)>) -> Claim {
-    let Ok((depth, peak, band)) = fhat10_grazing() else {
+    let Ok(Grazing { depth, peak, band }) = fhat10_grazing() else {
         return Claim::new(
             "S6-01",
             "6",

@@ -65,7 +65,8 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
     let close_below = r05.is_some_and(|r| (r - 1.0).abs() < 0.2);
     // Both linear peaks are F_ah / (2 zeta sqrt(1 - zeta^2)) and graze the backlash by the same
     // depth as S6-01, on bands narrower than the AFT grid step (closed forms).
-    let (depth, _, band5) = fhat10_grazing()?;
+    let g = fhat10_grazing()?;
+    let (depth, band5) = (g.depth, g.band);
     let band4 = match forced_transition_frequencies(0.1, DfForcing::torque(0.01), 0.05)?[..] {
         [a, b] => Some((a, b)),
         _ => None,

@@ -180,7 +180,7 @@ pub fn find_attractors<F: PeriodFlow + ?Sized>(
                 Watched::Stopped(k) => k,
                 Watched::Steady(s) => {
                     members.extend(member(i, &s));
-                    merge(&mut found, s, points[i])
+                    merge(&mut found, *s, points[i])
                 }
             };
         }
@@ -518,7 +518,7 @@ mod tests {
             period: Some(points.len() as u32),
             motion: Motion::Periodic,
             floquet: Some([(rho, 0.0), (0.1, 0.0)]),
-            floquet_rate: Some(rho.abs().ln() / (points.len() as f64 * 6.283)),
+            floquet_rate: Some(rho.abs().ln() / (points.len() as f64 * std::f64::consts::TAU)),
             poincare: points,
             lyapunov: None,
             cloud: Vec::new(),

@@ -189,7 +189,7 @@ pub fn steady_state<F: PeriodFlow + ?Sized>(
     opts: &SteadyOptions,
 ) -> Result<SteadyState> {
     match steady_state_watched::<F, ()>(flow, x0, opts, &mut |_| Ok(None))? {
-        Watched::Steady(s) => Ok(s),
+        Watched::Steady(s) => Ok(*s),
         Watched::Stopped(_) => unreachable_stop(),
     }
 }
@@ -205,7 +205,7 @@ pub(crate) enum Watched<T> {
     /// The watcher recognised the trajectory during the transient and stopped it.
     Stopped(T),
     /// The trajectory was integrated to its steady state and analysed.
-    Steady(SteadyState),
+    Steady(Box<SteadyState>),
 }
 
 /// Where a transient ended: the state, the periods integrated, and the stable orbit it was
@@ -236,7 +236,7 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
     };
     let s = analyse(flow, end.x, end.orbit, end.used, opts)?;
     if s.motion != Motion::Converging {
-        return Ok(Watched::Steady(s));
+        return Ok(Watched::Steady(Box::new(s)));
     }
     // A negative largest Lyapunov exponent without an orbit: the motion contracts onto a stable
     // orbit more slowly than the transient allowed. Continue for the time the exponent needs
@@ -247,14 +247,14 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
         .min(MAX_TRANSIENT.saturating_sub(s.age));
     match run_transient(flow, s.end, more, opts.settle, watch)? {
         Err((t, _)) => Ok(Watched::Stopped(t)),
-        Ok(e) if e.orbit.is_some() => Ok(Watched::Steady(analyse(
+        Ok(e) if e.orbit.is_some() => Ok(Watched::Steady(Box::new(analyse(
             flow,
             e.x,
             e.orbit,
             s.age + e.used,
             opts,
-        )?)),
-        Ok(_) => Ok(Watched::Steady(s)),
+        )?))),
+        Ok(_) => Ok(Watched::Steady(Box::new(s))),
     }
 }
 

@@ -166,8 +166,8 @@ fn summary(opts: &EscapeStudyOptions, maps: &[(String, AttractorMap)]) -> Value 
             let alive_at = |n: usize| {
                 r.survival
                     .iter()
-                    .filter(|p| p.periods <= n)
-                    .last()
+                    .rev()
+                    .find(|p| p.periods <= n)
                     .map(|p| json!({"periods": p.periods, "alive": p.alive}))
             };
             per.push(json!({
