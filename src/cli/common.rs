@@ -50,14 +50,12 @@ impl ModelArgs {
 
     /// "F_m = .., F_ah = .., [F_aT = .., ]zeta = .." for captions.
     pub fn caption(&self) -> String {
-        let torque = if self.fat > 0.0 {
-            format!(", F_aT = {}", self.fat)
-        } else {
-            String::new()
-        };
         format!(
-            "F_m = {}, F_ah = {}{torque}, ζ = {}",
-            self.fm, self.fah, self.zeta
+            "F_m = {}, F_ah = {}{}, ζ = {}",
+            self.fm,
+            self.fah,
+            GearPair::torque_caption(self.fat),
+            self.zeta
         )
     }
 }

@@ -8,11 +8,7 @@ use crate::study::figures::{branch_series, panel};
 /// sweeps up and down and every attractor (non-period-1 attractors as crosses).
 pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
     let s = &c.settings;
-    let torque = if s.fat > 0.0 {
-        format!(", F_aT = {}", s.fat)
-    } else {
-        String::new()
-    };
+    let torque = crate::model::GearPair::torque_caption(s.fat);
     let caption = format!(
         "F_m = {}, F_ah = {} (F_hat = {:.3}){torque}, ζ = {}, AFT H = {}, IC grid {}:{}:{}",
         s.fm,

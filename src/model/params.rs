@@ -95,6 +95,15 @@ impl GearPair {
         m.validated()
     }
 
+    /// ", F_aT = .." for a caption when an external torque of eq. 4 acts, else nothing.
+    pub fn torque_caption(torque_amplitude: f64) -> String {
+        if torque_amplitude > 0.0 {
+            format!(", F_aT = {torque_amplitude}")
+        } else {
+            String::new()
+        }
+    }
+
     /// Return the same model at another fundamental frequency (used by sweeps).
     pub fn at_omega(&self, omega: f64) -> Result<Self> {
         GearPair {

@@ -99,11 +99,7 @@ pub fn escape_study(opts: &EscapeStudyOptions, progress: &dyn Progress) -> Resul
             find_attractors(&rk as &dyn PeriodFlow, &opts.grid, &steady, progress)?,
         ));
     }
-    let torque = if opts.fat > 0.0 {
-        format!(", F_aT = {}", opts.fat)
-    } else {
-        String::new()
-    };
+    let torque = GearPair::torque_caption(opts.fat);
     let caption = format!(
         "F_m = {}, F_ah = {} (F_hat = {}){torque}, ζ = {}, Ω = {}, {}x{} initial conditions",
         opts.fm,
