@@ -72,10 +72,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .enumerate()
         .map(|(i, at)| {
             let s = &at.steady;
+            let what = match (s.period, at.kind) {
+                (Some(p), _) => format!("period-{p}"),
+                (None, geardyn::sim::SetKind::Attractor) => "non-periodic".to_string(),
+                (None, k) => attractor_report::kind_name(k).to_string(),
+            };
             format!(
-                "#{i} {} {} impact, q_a {:.3} ({:.1}%)",
-                s.period
-                    .map_or("non-periodic".to_string(), |p| format!("period-{p}")),
+                "#{i} {what}, {}, q_a {:.3} ({:.1}%)",
                 s.impact.name(),
                 s.qa,
                 100.0 * at.basin_fraction
@@ -91,12 +94,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         "parameters": with_omega(a.model.json(), a.omega),
     });
     let cat = CategoryMap {
-        title: format!("Domains of attraction, Omega_h = {}", a.omega),
+        title: format!("Domains of attraction, Ω = {}", a.omega),
         caption: Some(format!(
-            "{}, {}x{} initial conditions",
+            "{}, {}x{} initial conditions{}",
             a.model.caption(),
             grid.n,
-            grid.n
+            grid.n,
+            if map.basin_time == geardyn::sim::BasinTime::FiniteTime {
+                format!(", basins at {} periods (transients remain)", map.horizon)
+            } else {
+                String::new()
+            }
         )),
         x_label: "q(0)".into(),
         y_label: "q'(0)".into(),

@@ -67,7 +67,7 @@ pub fn figure_index() -> Vec<FigureEntry> {
             "7",
             "time histories for F_hat 0.75, 1, 1.5",
             &[s3("fig07-time-histories")],
-            "dominant attractor at Omega 1.0, plus F_hat 0.5",
+            "chaotic set (else the dominant attractor) at Omega 1.0, plus F_hat 0.5",
         ),
         entry(
             "8",

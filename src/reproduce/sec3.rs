@@ -417,7 +417,7 @@ pub(crate) fn build(
     figs.push(chaos_figure(light(1.0), get(light(1.0), &g)?)?);
     figs.push(histories(
         "fig07-time-histories",
-        "Fig. 7: time histories (dominant attractor), F_ah = 0.2, zeta = 0.02, Omega_h = 1.0",
+        "Fig. 7: time histories (chaotic set, else dominant attractor), F_ah = 0.2, ζ = 0.02, Ω = 1.0",
         &FIG7_FM
             .iter()
             .map(|&f| {
@@ -787,16 +787,24 @@ fn chaos_figure(pt: Point, m: &AttractorMap) -> Result<Artifact> {
         .or_else(|| dominant(m));
     let panels = match a {
         Some(a) => {
-            let f = steady_figures(&flow, &a.steady, &pt.caption())?;
-            let what = format!(
-                " ({}, Lyapunov {:+.4})",
+            // What the motion is goes into the caption: the panel titles stay short enough
+            // not to run into each other.
+            let escape = a
+                .escape
+                .as_ref()
+                .filter(|r| r.escapes > 0)
+                .map_or(String::new(), |r| format!(", κ = {:.1e}/period", r.rate));
+            let caption = format!(
+                "F_m {}, F_ah {}, ζ {}, Ω {}; {}, λ = {:+.4}{escape}",
+                pt.fm,
+                pt.fah,
+                pt.zeta,
+                pt.omega,
                 motion_name(a),
                 a.steady.lyapunov.unwrap_or(f64::NAN)
             );
-            let (mut h, mut p) = (f.history, f.poincare);
-            h.title.push_str(&what);
-            p.title.push_str(&what);
-            vec![h, p]
+            let f = steady_figures(&flow, &a.steady, &caption)?;
+            vec![f.history, f.poincare]
         }
         None => Vec::new(),
     };
@@ -809,7 +817,8 @@ fn chaos_figure(pt: Point, m: &AttractorMap) -> Result<Artifact> {
     })
 }
 
-/// Time histories of the attractor of the stated period (else the dominant one) at each point.
+/// Time histories of the attractor of the stated period (else the chaotic set, else the dominant
+/// attractor) at each point.
 fn histories(
     stem: &str,
     title: &str,
@@ -817,9 +826,16 @@ fn histories(
 ) -> Result<Artifact> {
     let mut panels = Vec::new();
     for (pt, m, want) in maps {
-        let a = want
-            .and_then(|p| m.attractors.iter().find(|a| a.steady.period == Some(p)))
-            .or_else(|| dominant(m));
+        // The stated period; else the chaotic set when there is one (what the paper drew, a
+        // transient or not), else the largest basin.
+        let a = match want {
+            Some(p) => m.attractors.iter().find(|a| a.steady.period == Some(*p)),
+            None => m
+                .attractors
+                .iter()
+                .find(|a| a.steady.motion == Motion::Chaotic),
+        }
+        .or_else(|| dominant(m));
         if let Some(a) = a {
             let flow = flow_of(pt)?;
             let n = periods_to_draw(&a.steady).max(8);
