@@ -26,6 +26,10 @@ pub enum GearError {
     /// A numerical method failed to produce a trustworthy answer.
     #[error("numerical failure: {0}")]
     Numerical(String),
+    /// A fit to a data set ended where its result cannot be used (a parameter run to a bound,
+    /// an infinite interval, a non-finite residual): nothing is predicted or written from it.
+    #[error("the fit to {data} failed: {reason}", data = data.display())]
+    FitFailed { data: PathBuf, reason: String },
     /// File system errors while reading inputs or writing outputs.
     #[error("{path}: {source}", path = path.display())]
     Io {

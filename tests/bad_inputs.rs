@@ -4,6 +4,7 @@
 //! is expected stays as it was, and no staging folder is left behind. Each case runs in its own
 //! temporary folder (also the working directory, so default output folders would show up there).
 //! tests/cli_bad_input.rs and tests/data_errors.rs cover other bad inputs; none is repeated here.
+//! A last test interrupts a long run (Ctrl-C) and checks that nothing is left behind.
 
 use std::path::Path;
 use std::process::Command;
@@ -85,6 +86,37 @@ fn rig(name: &'static str, from: &str, to: &str, needle: &str) -> Case {
         needle,
         Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.replace(from, to)),
     )
+}
+
+/// A design-load curve without a resonance: 1 um +- 0.1 um (a fixed pseudo-random pattern)
+/// from 1000 to 5000 rpm, which no damping ratio in the plausible range explains.
+fn flat_curve() -> String {
+    (0..81)
+        .map(|i| {
+            let wiggle = ((i * 37) % 11) as f64 / 50.0 - 0.1;
+            format!("3780,{},{:.4}\n", 1000 + 50 * i, 1.0 + wiggle)
+        })
+        .collect()
+}
+
+/// The shipped Munro curves at 3780 and 945 N, the lighter one measured only at 1000 rpm (pp
+/// DTE 0) and from 2000 rpm on: its STE must be read from that one low-speed point.
+fn zero_dte_at_lowest_speed() -> String {
+    let shipped =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/munro/dte.csv"))
+            .expect("shipped data");
+    let mut rows = String::new();
+    for line in shipped.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let speed: f64 = f[1].parse().expect("speed");
+        match f[0] {
+            "3780" => rows.push_str(&format!("{line}\n")),
+            "945" if speed == 1000.0 => rows.push_str("945,1000,0\n"),
+            "945" if speed >= 2000.0 => rows.push_str(&format!("{line}\n")),
+            _ => {}
+        }
+    }
+    rows
 }
 
 fn table() -> Vec<Case> {
@@ -217,6 +249,35 @@ fn table() -> Vec<Case> {
             "[source]\n",
             "[ste]\nload_n = [3780.0]\namplitude_um = [1e300]\n\n[source]\n",
             "field 'ste.amplitude_um'",
+        ),
+        rig(
+            "zeta given to validate munro",
+            "backlash_mm = 0.1",
+            "backlash_mm = 0.1\nzeta = 0.02",
+            "rig.toml:10: field 'rig.zeta': zeta = 0.02: validate munro fits zeta",
+        ),
+        rig(
+            "omega_n given to validate munro",
+            "backlash_mm = 0.1",
+            "backlash_mm = 0.1\nomega_n_hz = 1600",
+            "rig.toml:10: field 'rig.omega_n_hz'",
+        ),
+        rig(
+            "required keys missing",
+            "module_mm = 6.35\npressure_angle_deg = 20.0\n",
+            "",
+            "field 'rig.module_mm': missing in [rig]: module_mm, pressure_angle_deg",
+        ),
+        // Fits that fail: the reason, status 2, nothing written.
+        csv(
+            "flat design-load curve (no resonance)",
+            &flat_curve(),
+            "the fit to data failed: design-load fit: zeta",
+        ),
+        csv(
+            "zero DTE where a load's STE is read",
+            &zero_dte_at_lowest_speed(),
+            "c.csv:83: field 'dte_pp_um': the STE at 945 N is read from its lowest speed",
         ),
         // Command-line edge values: each names the option.
         cli(
@@ -355,6 +416,80 @@ fn table() -> Vec<Case> {
             "--basin-grid",
         ),
         cli(
+            "speed without a rig",
+            &format!("simulate {M} --speed-rpm 1000"),
+            "--rig",
+        ),
+        cli(
+            "a load in newtons without a rig",
+            &format!("basins {M} --omega 0.5 --load-n 945 --out out"),
+            "--load-n is in the rig's units and needs --rig",
+        ),
+        cli(
+            "a torque in newtons without a rig",
+            &format!("sweep {M} --omega 0.5:0.7:0.1 --torque-n 100 --out out"),
+            "--torque-n is in the rig's units and needs --rig",
+        ),
+        cli(
+            "rig and a dimensionless torque",
+            "simulate --rig rig.toml --fat 0.1 --speed-rpm 1000",
+            "--fat",
+        ),
+        case(
+            "torque 1e8 N: F_aT above its range",
+            "simulate --rig data/rig.toml --ste-um 2.5 --zeta 0.02 --omega-n-hz 1600 --speed-rpm 3000 --torque-n 1e8",
+            "--torque-n: gives F_aT",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
+        ),
+        cli(
+            "rig and a dimensionless load",
+            "simulate --rig rig.toml --fm 0.1 --speed-rpm 1000",
+            "--fm",
+        ),
+        cli(
+            "load 0 N",
+            "sweep --rig rig.toml --load-n 0 --speed-rpm 1000:2000:100 --out out",
+            "--load-n",
+        ),
+        cli(
+            "STE 1e6 um",
+            "sweep --rig rig.toml --ste-um 1e6 --speed-rpm 1000:2000:100 --out out",
+            "--ste-um",
+        ),
+        cli(
+            "natural frequency 0 Hz",
+            "hbm --rig rig.toml --omega-n-hz 0 --speed-rpm 1000:2000:100 --out out",
+            "--omega-n-hz",
+        ),
+        case(
+            "speed 1 rpm: Omega below its range",
+            "sweep --rig data/rig.toml --ste-um 2.5 --zeta 0.02 --omega-n-hz 1600 --speed-rpm 1:100:1 --out out",
+            "--speed-rpm: 1 rpm is Ω_h",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
+        ),
+        case(
+            "rig without zeta, no --zeta",
+            "compare --rig data/rig.toml --ste-um 2.5 --omega-n-hz 1600 --speed-rpm 1000:2000:500 --out out",
+            "--zeta is needed with --rig",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
+        ),
+        case(
+            "init-data over an existing set",
+            "init-data data",
+            "data/rig.toml exists",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
+        ),
+        cli(
+            "reproduce without the data sets",
+            "reproduce --quick --out out",
+            "--data data: data/munro/rig.toml not found",
+        ),
+        cli(
+            "validate without data outside the repository",
+            "validate munro --fits fits --reports reports",
+            "give your data set with --data DIR",
+        ),
+        cli(
             "mesh 1e9 samples",
             "mesh --rig rig.toml --load-n 945 --tip-relief-um 10 --samples 1000000000 --out out",
             "--samples",
@@ -467,6 +602,40 @@ fn bad_inputs_fail_cleanly_and_write_nothing() {
         cases.len(),
         failures.join("\n")
     );
+}
+
+/// Ctrl-C during a long run: exit status 130, and the staged outputs, scratch folder and
+/// per-seed file under construction are removed (nothing half-written is left).
+#[test]
+fn interrupt_leaves_nothing_behind() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let child = Command::new(env!("CARGO_BIN_EXE_geardyn"))
+        .args([
+            "validate-study",
+            "--seeds",
+            "2000",
+            "--out",
+            "out/summary.json",
+        ])
+        .current_dir(dir.path())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("runs");
+    // Long enough for the study to have written its scratch set and first seeds (2000 seeds
+    // take minutes).
+    std::thread::sleep(std::time::Duration::from_secs(3));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    let out = child.wait_with_output().expect("waits");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert_eq!(out.status.code(), Some(130), "{err}");
+    assert!(err.contains("interrupted"), "{err}");
+    let left = entries(&dir.path().join("out"));
+    assert!(left.is_empty(), "left behind: {left:?}");
 }
 
 /// The limits are in `--help`.

@@ -245,13 +245,20 @@ fn roundtrip(t: &Truth) {
     let worst = check_line(&f, t, &line).unwrap();
     assert!(worst <= 1.5, "worst miss {worst} px");
 
-    // Without the crop the legend sample in the margin spoils the columns it shares.
+    // Without the crop the legend sample in the margin shares columns with the curve: each
+    // column keeps the run nearest the previous point, so the curve's own columns stay on it.
     let all = digitize(
         &f.img,
         &options(&f, LINE, Mode::Line { multi: false }, false),
     )
     .unwrap();
-    assert!(check_line(&f, t, &all).is_err());
+    let shared: Vec<(f64, f64)> = all
+        .iter()
+        .copied()
+        .filter(|p| line.iter().any(|q| q.0 == p.0))
+        .collect();
+    assert!(shared.len() >= line.len() * 9 / 10);
+    assert!(check_line(&f, t, &shared).unwrap() <= 1.5);
 
     let filled = Mode::Markers(MarkerFilter {
         min_area: 20,
@@ -348,11 +355,12 @@ fn cli_writes_csv_and_check_plot() {
     let pts: Vec<(f64, f64)> = rows.iter().map(|r| (r[1], r[2])).collect();
     assert!(rows.iter().all(|r| r[0] == 1890.0));
     check_markers(&f, &LINEAR, &pts, LINEAR.filled);
-    for ext in ["png", "svg"] {
-        assert!(dir
-            .path()
-            .join(format!("munro/load_1890_check.{ext}"))
-            .is_file());
+    for file in [
+        "load_1890_check.png",
+        "load_1890_plot.png",
+        "load_1890_plot.svg",
+    ] {
+        assert!(dir.path().join("munro").join(file).is_file(), "{file}");
     }
 
     let mut args = base.to_vec();

@@ -94,7 +94,7 @@ pub fn bifurcation_csv(b: &Bifurcation) -> (String, String) {
             p.kind.name(),
             p.period.map_or(String::new(), |k| k.to_string()),
             p.impact.name(),
-            format!("{:?}", p.motion).to_lowercase(),
+            p.motion.name(),
         ));
     }
     let mut marks = String::from("parameter,value,what,source\n");

@@ -1,11 +1,14 @@
 //! The JSON entry and the text line of one steady state of an attractor search, shared by
-//! `attractors` and `basins` (design.md section 3: every entry carries its kind).
+//! `attractors` and `basins` (design.md section 3: every entry carries its kind), with the rig's
+//! units when the model came from `--rig`.
 
-use geardyn::sim::{Attractor, AttractorMap, SetKind};
+use super::model_args::{num, Model, SteadyInRigUnits};
+use geardyn::reproduce::attractor_name;
+use geardyn::sim::{Attractor, AttractorMap};
 use serde_json::{json, Value};
 
-/// JSON entry of attractor `at` of `map`.
-pub fn entry(at: &Attractor, map: &AttractorMap) -> Value {
+/// JSON entry of attractor `at` of `map`, found at frequency `omega` of model `m`.
+pub fn entry(at: &Attractor, map: &AttractorMap, m: &Model, omega: f64) -> Value {
     let s = &at.steady;
     let mut v = json!({
         "kind": at.kind,
@@ -18,6 +21,7 @@ pub fn entry(at: &Attractor, map: &AttractorMap) -> Value {
         "basin": map.basin_time, "basin_at_periods": map.horizon,
         "basin_fraction_asymptotic": at.basin_fraction_asymptotic,
         "example_ic": at.example_ic, "poincare": s.poincare,
+        "rig_units": SteadyInRigUnits::json(&SteadyInRigUnits::new(m, omega, s)),
     });
     if let Some(k) = map
         .attractors
@@ -54,24 +58,12 @@ pub fn entry(at: &Attractor, map: &AttractorMap) -> Value {
     v
 }
 
-/// Kind in words.
-pub fn kind_name(k: SetKind) -> &'static str {
-    match k {
-        SetKind::Attractor => "attractor",
-        SetKind::ChaoticTransient => "chaotic transient",
-        SetKind::Transient => "transient",
-    }
-}
-
-/// One line of text for attractor `i` of `map`.
-pub fn line(i: usize, at: &Attractor, map: &AttractorMap) -> String {
+/// One line of text for attractor `i` of `map` (with its escape, when followed, on a second).
+pub fn line(i: usize, at: &Attractor, map: &AttractorMap, m: &Model, omega: f64) -> String {
     let s = &at.steady;
     let mut t = format!(
-        "  #{i}: {}, period {} ({:?}), impact {}, qa {:.5}, qm {:.5}, basin {:.1}%",
-        kind_name(at.kind),
-        s.period.map_or("none".into(), |p| p.to_string()),
-        s.motion,
-        s.impact.name(),
+        "  #{i}: {}, q_a {:.5}, q_m {:.5}, basin {:.1}%",
+        attractor_name(at),
         s.qa,
         s.qm,
         100.0 * at.basin_fraction
@@ -91,6 +83,9 @@ pub fn line(i: usize, at: &Attractor, map: &AttractorMap) -> String {
     }
     if let Some(r) = s.floquet_rate {
         t.push_str(&format!(", floquet rate {r:.4}"));
+    }
+    if let Some(r) = SteadyInRigUnits::new(m, omega, s) {
+        t.push_str(&format!("; {}", r.text(false)));
     }
     if let Some(r) = &at.escape {
         if r.escapes > 0 {
@@ -124,8 +119,8 @@ pub fn line(i: usize, at: &Attractor, map: &AttractorMap) -> String {
     t
 }
 
-/// The header line of a map's text report.
-pub fn header(map: &AttractorMap) -> String {
+/// The header line of a map's text report at frequency `omega`.
+pub fn header(map: &AttractorMap, omega: f64) -> String {
     let g = &map.grid;
     let basin = match map.basin_time {
         geardyn::sim::BasinTime::Asymptotic => "asymptotic basins".to_string(),
@@ -134,8 +129,10 @@ pub fn header(map: &AttractorMap) -> String {
         }
     };
     format!(
-        "{} steady state(s) from {}x{} initial conditions in [{}, {}]^2, {basin}\n",
+        "{} steady state(s) at Ω_h = {} from {}x{} initial conditions in [{}, {}]^2 (q and q' \
+         dimensionless), {basin}\n",
         map.attractors.len(),
+        num(omega),
         g.n,
         g.n,
         g.lo,

@@ -2,9 +2,9 @@
 
 use super::attractor_report;
 use super::common::{
-    print_json, print_text, unsettled_warning, with_omega, EscapeArgs, ModelArgs, SolverArgs,
+    print_json, print_text, unsettled_warning, with_omega, EscapeArgs, SolverArgs,
 };
-use super::limits::{real, OMEGA};
+use super::model_args::{Frequency, ModelArgs};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::sim::{find_attractors, IcGrid};
@@ -14,10 +14,10 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
-    omega: f64,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
+    #[command(flatten)]
+    frequency: Frequency,
+    /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
+    /// values per axis, at most 501).
     #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]
@@ -31,7 +31,10 @@ pub struct Args {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let model = a.model.model(a.omega)?;
+    let m = a.model.resolve()?;
+    let omega = a.frequency.omega(&m)?;
+    m.print_conversion(omega);
+    let model = m.at(omega)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);
@@ -47,7 +50,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let list: Vec<_> = map
             .attractors
             .iter()
-            .map(|at| attractor_report::entry(at, &map))
+            .map(|at| attractor_report::entry(at, &map, &m, omega))
             .collect();
         print_json(&json!({
             "attractors": list,
@@ -55,12 +58,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "basin_at_periods": map.horizon,
             "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
             "integrator": flow.method(),
-            "parameters": with_omega(a.model.json(), a.omega),
+            "parameters": with_omega(m.json(), omega),
         }))?;
     } else {
-        let mut text = attractor_report::header(&map);
+        let mut text = attractor_report::header(&map, omega);
         for (i, at) in map.attractors.iter().enumerate() {
-            text.push_str(&attractor_report::line(i, at, &map));
+            text.push_str(&attractor_report::line(i, at, &map, &m, omega));
         }
         print_text(&text)?;
     }

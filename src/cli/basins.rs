@@ -3,12 +3,13 @@
 use super::attractor_report;
 use super::common::{
     check_out_dir, commit, print_text, stage, unsettled_warning, with_omega, write_text,
-    EscapeArgs, ModelArgs, SolverArgs,
+    EscapeArgs, SolverArgs,
 };
-use super::limits::{real, OMEGA};
+use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::plot::{write_category_map, CategoryMap};
+use geardyn::reproduce::describe_attractor;
 use geardyn::sim::{find_attractors, IcGrid};
 use serde_json::json;
 use std::path::PathBuf;
@@ -17,10 +18,10 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
-    omega: f64,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
+    #[command(flatten)]
+    frequency: Frequency,
+    /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
+    /// values per axis, at most 501).
     #[arg(long, default_value = "-2:2:101", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]
@@ -35,7 +36,10 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let model = a.model.model(a.omega)?;
+    let m = a.model.resolve()?;
+    let omega = a.frequency.omega(&m)?;
+    m.print_conversion(omega);
+    let model = m.at(omega)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);
@@ -60,7 +64,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             l.to_string(),
             s.period.map_or(String::new(), |p| p.to_string()),
             s.impact.name().to_string(),
-            format!("{:?}", s.motion).to_lowercase(),
+            s.motion.name().to_string(),
             format!("{:.8}", s.qa),
             format!("{:.8}", s.qm),
         ])?;
@@ -71,33 +75,31 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         .iter()
         .enumerate()
         .map(|(i, at)| {
-            let s = &at.steady;
-            let what = match (s.period, at.kind) {
-                (Some(p), _) => format!("period-{p}"),
-                (None, geardyn::sim::SetKind::Attractor) => "non-periodic".to_string(),
-                (None, k) => attractor_report::kind_name(k).to_string(),
-            };
-            format!(
-                "#{i} {what}, {}, q_a {:.3} ({:.1}%)",
-                s.impact.name(),
-                s.qa,
-                100.0 * at.basin_fraction
-            )
+            let units = SteadyInRigUnits::new(&m, omega, &at.steady)
+                .map_or(String::new(), |r| format!(" [{}]", r.text(false)));
+            format!("#{i} {}{units}", describe_attractor(at))
         })
         .collect();
     let summary = json!({
-        "attractors": map.attractors.iter().map(|at| attractor_report::entry(at, &map)).collect::<Vec<_>>(),
+        "attractors": map.attractors.iter().map(|at| attractor_report::entry(at, &map, &m, omega)).collect::<Vec<_>>(),
         "basin": map.basin_time,
         "basin_at_periods": map.horizon,
         "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
         "integrator": flow.method(),
-        "parameters": with_omega(a.model.json(), a.omega),
+        "parameters": with_omega(m.json(), omega),
     });
     let cat = CategoryMap {
-        title: format!("Domains of attraction, Ω = {}", a.omega),
+        title: match &m.rig {
+            Some(op) => format!(
+                "Domains of attraction, {} rpm (Ω_h = {})",
+                num(op.speed_rpm(omega)),
+                num(omega)
+            ),
+            None => format!("Domains of attraction, Ω_h = {}", num(omega)),
+        },
         caption: Some(format!(
             "{}, {}x{} initial conditions{}",
-            a.model.caption(),
+            m.caption(),
             grid.n,
             grid.n,
             if map.basin_time == geardyn::sim::BasinTime::FiniteTime {

@@ -2,10 +2,9 @@
 //! an IC grid and from a carried sweep, with chaotic transients drawn apart and folds / period
 //! doublings marked (CSV, PNG, SVG).
 
-use super::common::{
-    check_out_dir, commit, parse_range_in, print_text, stage, write_text, EscapeArgs, SolverArgs,
-};
+use super::common::{check_out_dir, commit, print_text, stage, write_text, EscapeArgs, SolverArgs};
 use super::limits::{real, FAH, FM, OMEGA, ZETA};
+use super::model_args::parse_range;
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::bifurcation::{
@@ -82,7 +81,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let need = |v: Option<f64>, flag: &str, unless: &str| {
         v.ok_or_else(|| anyhow::anyhow!("{flag} is needed unless --vary {unless}"))
     };
-    let values = parse_range_in("--range", &a.range, bounds)?;
+    let values = parse_range("--range", &a.range, bounds)?;
     if values.len() > geardyn::bifurcation::MAX_VALUES {
         anyhow::bail!(
             "--range '{}' gives {} values: at most {}",

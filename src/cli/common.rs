@@ -1,64 +1,12 @@
-//! Options shared by several commands: the model parameters and the integrator choice.
+//! Options shared by several commands (the integrator choice, noise) and output helpers.
 
-use super::limits::{check_range, real, whole, FAH, FM, OMEGA, RTOL, ZETA};
+use super::limits::{real, whole, RTOL};
 use anyhow::Context;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::model::GearPair;
 use geardyn::report::Staged;
 use geardyn::sim::{EscapeBudget, ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
 use std::path::{Path, PathBuf};
-
-/// Parameters of eq. 5 (the paper's model), with an optional external torque of eq. 4.
-#[derive(ClapArgs, Debug, Clone)]
-pub struct ModelArgs {
-    /// Dimensionless mean load F_m, in [0, 1e4].
-    #[arg(long = "fm", allow_hyphen_values = true, value_parser = real(FM.0, FM.1, false))]
-    pub fm: f64,
-    /// Dimensionless STE amplitude F_ah (force ratio F_hat = F_m / F_ah), in [0, 1e3].
-    #[arg(long = "fah", allow_hyphen_values = true, value_parser = real(FAH.0, FAH.1, false))]
-    pub fah: f64,
-    /// Damping ratio zeta, in [0.001, 0.9].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(ZETA.0, ZETA.1, false))]
-    pub zeta: f64,
-    /// Dimensionless external torque amplitude F_aT of eq. 4 (force F_aT sin(Omega t) at the
-    /// mesh frequency, Omega_T = Omega_h as in Sec. 8.1), in [0, 1e3]; with --fah 0 the model is
-    /// eq. 4 alone, with both the excitations act together.
-    #[arg(long = "fat", default_value_t = 0.0, allow_hyphen_values = true,
-          value_parser = real(FAH.0, FAH.1, false))]
-    pub fat: f64,
-}
-
-impl ModelArgs {
-    pub fn model(&self, omega: f64) -> anyhow::Result<GearPair> {
-        Ok(GearPair::excited(
-            self.fm, self.fah, self.fat, self.zeta, omega,
-        )?)
-    }
-
-    /// The forcing of the describing-function solution.
-    pub fn forcing(&self) -> geardyn::hb::DfForcing {
-        geardyn::hb::DfForcing {
-            ste: self.fah,
-            torque: self.fat,
-        }
-    }
-
-    /// The parameters as JSON.
-    pub fn json(&self) -> serde_json::Value {
-        serde_json::json!({"fm": self.fm, "fah": self.fah, "fat": self.fat, "zeta": self.zeta})
-    }
-
-    /// "F_m = .., F_ah = .., [F_aT = .., ]zeta = .." for captions.
-    pub fn caption(&self) -> String {
-        format!(
-            "F_m = {}, F_ah = {}{}, ζ = {}",
-            self.fm,
-            self.fah,
-            GearPair::torque_caption(self.fat),
-            self.zeta
-        )
-    }
-}
 
 /// Integration and steady-state options.
 #[derive(ClapArgs, Debug, Clone)]
@@ -76,7 +24,8 @@ pub struct SolverArgs {
     /// (any model; the independent cross-check).
     #[arg(long, value_enum, default_value_t = Integrator::Exact)]
     pub integrator: Integrator,
-    /// Relative tolerance of DOP853, in [1e-14, 0.01] (1e-10 gives Poincare points to ~1e-9).
+    /// Relative tolerance of DOP853 (dimensionless), in [1e-14, 0.01] (1e-10 gives Poincaré
+    /// points to ~1e-9).
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true,
           value_parser = real(RTOL.0, RTOL.1, false))]
     pub rtol: f64,
@@ -160,42 +109,6 @@ impl SolverArgs {
             Integrator::Exact => "exact",
             Integrator::Dop853 => "dop853",
         }
-    }
-}
-
-/// Parse START:STOP:STEP into the list of frequencies (START and STOP in [0.001, 100], at
-/// most 100000 values).
-pub fn parse_range(flag: &str, text: &str) -> anyhow::Result<Vec<f64>> {
-    parse_range_in(flag, text, OMEGA)
-}
-
-/// Parse START:STOP:STEP (or a single value) into the list of values, START and STOP in
-/// `bounds`, at most 100000 values.
-pub fn parse_range_in(flag: &str, text: &str, bounds: (f64, f64)) -> anyhow::Result<Vec<f64>> {
-    let parts: Vec<&str> = text.split(':').collect();
-    let num = |s: &str, what: &str| -> anyhow::Result<f64> {
-        s.trim().parse::<f64>().map_err(|_| {
-            anyhow::anyhow!(
-                "{flag} '{text}': {what} '{s}' is not a number; expected START:STOP:STEP"
-            )
-        })
-    };
-    let bounded = |s: &str, what: &str| -> anyhow::Result<f64> {
-        let v = num(s, what)?;
-        check_range(&format!("{flag} '{text}'"), what, v, bounds)?;
-        Ok(v)
-    };
-    match parts.as_slice() {
-        [one] => {
-            let w = bounded(one, "value")?;
-            Ok(geardyn::sim::frequency_range(w, w, 1.0)?)
-        }
-        [a, b, c] => Ok(geardyn::sim::frequency_range(
-            bounded(a, "START")?,
-            bounded(b, "STOP")?,
-            num(c, "STEP")?,
-        )?),
-        _ => anyhow::bail!("{flag} '{text}': expected START:STOP:STEP, e.g. 0.3:1.5:0.01"),
     }
 }
 
@@ -317,20 +230,21 @@ pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
 pub struct NoiseArgs {
     /// Noise family: constant (Gaussian), relative (Gaussian, floor plus 3% of the level),
     /// student-t (3 degrees of freedom, floor plus 3%), quantized (floor plus 3%, read to a
-    /// 0.25 um grid).
+    /// 0.25 µm grid).
     #[arg(long, default_value = "constant")]
     pub noise: String,
-    /// Noise floor (the standard deviation of the constant family), um, in [0, 1000].
+    /// Noise floor (the standard deviation of the constant family), µm, in [0, 1000].
     #[arg(long, default_value_t = 0.15, allow_hyphen_values = true,
           value_parser = real(0.0, 1000.0, false))]
     pub noise_um: f64,
-    /// Relative part of the level-dependent families, in [0, 0.99] (default 0.03).
+    /// Relative part of the level-dependent families, a fraction of the level (dimensionless),
+    /// in [0, 0.99] (default 0.03).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 0.99, false))]
     pub noise_relative: Option<f64>,
-    /// Degrees of freedom of the student-t family, in [1, 1000] (default 3).
+    /// Degrees of freedom of the student-t family (dimensionless), in [1, 1000] (default 3).
     #[arg(long, allow_hyphen_values = true, value_parser = real(1.0, 1000.0, false))]
     pub noise_dof: Option<f64>,
-    /// Reading grid of the quantized family, um, in (0, 1000] (default 0.25).
+    /// Reading grid of the quantized family, µm, in (0, 1000] (default 0.25).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     pub noise_quantum_um: Option<f64>,
 }
@@ -362,5 +276,20 @@ impl NoiseArgs {
             n.quantum_um = Some(q);
         }
         Ok(n)
+    }
+}
+
+/// The speed grid of a study's sets from `--grid` and `--speed-step`: uniform (1000-5000 rpm in
+/// steps of `step_rpm`) or nonuniform (81 speeds drawn at random in 1000-5000 rpm, one fixed
+/// draw, so that every seed and every study sees the same gaps and clusters).
+pub fn parse_grid(grid: &str, step_rpm: f64) -> anyhow::Result<geardyn::validate::SpeedGrid> {
+    use geardyn::validate::SpeedGrid;
+    match grid {
+        "uniform" => Ok(SpeedGrid::Uniform { step_rpm }),
+        "nonuniform" => Ok(SpeedGrid::NonUniform {
+            points: 81,
+            seed: 7_777,
+        }),
+        g => anyhow::bail!("unknown --grid '{g}': uniform or nonuniform"),
     }
 }

@@ -1,8 +1,9 @@
 //! `geardyn compare`: harmonic balance and simulation overlaid for the same parameters
 //! (Figs 11-13), with where each method finds steady states the other misses.
 
-use super::common::{check_out_dir, commit, parse_range, print_json, stage, write_text, ModelArgs};
+use super::common::{check_out_dir, commit, print_json, stage, write_text};
 use super::limits::{real, whole};
+use super::model_args::{FrequencyRange, ModelArgs};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::compare::{compare, compare_panels, CompareSettings};
@@ -14,11 +15,11 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequency range START:STOP:STEP (START, STOP in [0.001, 100]; at most 100000 values).
-    #[arg(long, allow_hyphen_values = true)]
-    omega: String,
-    /// Grid of initial conditions of the all-attractor search: LO:HI:N (at most 501 per axis,
-    /// and at most 2000000 initial conditions over all frequencies).
+    #[command(flatten)]
+    frequencies: FrequencyRange,
+    /// Grid of initial conditions q(0), q'(0) of the all-attractor search, dimensionless:
+    /// LO:HI:N (at most 501 per axis, and at most 2000000 initial conditions over all
+    /// frequencies).
     #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
     ic_grid: String,
     /// Harmonics H of the AFT ansatz, 1 to 128.
@@ -29,7 +30,8 @@ pub struct Args {
     #[arg(long, default_value_t = 0.01, allow_hyphen_values = true,
           value_parser = real(0.0, 1.0, true))]
     tolerance: f64,
-    /// Print the JSON report instead of the CSV of all points on standard output.
+    /// Print the JSON report instead of the CSV of all points on standard output (columns:
+    /// docs/output-columns.md).
     #[arg(long)]
     json: bool,
     /// Folder for compare.png/.svg, compare.csv and compare.json.
@@ -39,29 +41,34 @@ pub struct Args {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
+    let m = a.model.resolve()?;
     let settings = CompareSettings {
-        fm: a.model.fm,
-        fah: a.model.fah,
-        fat: a.model.fat,
-        zeta: a.model.zeta,
-        omegas: parse_range("--omega", &a.omega)?,
+        fm: m.fm,
+        fah: m.fah,
+        fat: m.fat,
+        zeta: m.zeta,
+        omegas: a.frequencies.omegas(&m)?,
         grid: IcGrid::parse(&a.ic_grid)?,
         harmonics: a.harmonics,
         tolerance: a.tolerance,
     };
-    a.model.model(settings.omegas[0])?;
+    m.print_conversion(settings.omegas[0]);
+    m.at(settings.omegas[0])?;
     let ics = settings.omegas.len() * settings.grid.n * settings.grid.n;
     if ics > 2_000_000 {
         anyhow::bail!(
-            "--omega '{}' and --ic-grid '{}' make {ics} initial conditions: at most 2000000; use \
+            "{} and --ic-grid '{}' make {ics} initial conditions: at most 2000000; use \
              fewer frequencies or a coarser grid",
-            a.omega,
+            a.frequencies.text(),
             a.ic_grid
         );
     }
     let c = compare(&settings, &Bar::new())?;
-    let csv = c.csv()?;
-    let json = c.json();
+    let csv = c.csv(m.rig.as_ref())?;
+    let mut json = c.json();
+    if m.rig.is_some() {
+        json["parameters"]["rig_units"] = m.json();
+    }
     let stage = stage("--out", &a.out)?;
     let d = stage.dir().to_path_buf();
     let mut written = write_panels(

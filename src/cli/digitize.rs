@@ -1,12 +1,14 @@
 //! `geardyn digitize`: a curve of one colour in a figure image (PNG) becomes a CSV data set.
 
 use super::common::{check_out_file, commit, print_text, stage, write_text};
-use super::digitize_parse::{check_stem, columns, constants, number, numbers, pixel};
+use super::digitize_parse::{columns, constants, number, numbers, pixel, stem_with};
 use super::limits::real;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::digitize::{
-    digitize, read_png, AxisCalibration, DigitizeOptions, MarkerFilter, Mode, PixelBox, Rgb,
+    calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_sizes,
+    parse_tick_values, read_png, suspect_points, write_png, AxisCalibration, DigitizeOptions,
+    MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, Suspicion,
 };
 use geardyn::plot::{write_xy, Marker, Series, XyPlot};
 use std::path::{Path, PathBuf};
@@ -16,18 +18,32 @@ pub struct Args {
     /// Figure image (PNG of any colour type).
     #[arg(long)]
     image: PathBuf,
-    /// x-axis calibration PX1:VAL1:PX2:VAL2 (two pixel columns and the values they show).
+    /// x-axis tick values, FIRST:LAST:STEP (e.g. 1500:5500:500) or A,B,C: the plot frame and
+    /// its tick marks are found in the image and their sub-pixel centres fitted to these values.
+    /// Give as many values as there are tick marks on the axis.
     #[arg(long, allow_hyphen_values = true)]
-    x_cal: String,
+    x_ticks: Option<String>,
+    /// y-axis tick values, bottom to top, as for --x-ticks (e.g. 0:30:5).
+    #[arg(long, allow_hyphen_values = true)]
+    y_ticks: Option<String>,
+    /// x-axis calibration PX1:VAL1:PX2:VAL2 instead of --x-ticks: two pixel columns and the
+    /// values they show. Whole numbers are pixel centres (as an image viewer shows the pixel
+    /// under the cursor); fractions are allowed and half a pixel matters on a steep curve.
+    #[arg(long, allow_hyphen_values = true)]
+    x_cal: Option<String>,
     /// Logarithmic x axis.
     #[arg(long)]
     x_log: bool,
-    /// y-axis calibration PY1:VAL1:PY2:VAL2 (two pixel rows, counted from the top).
+    /// y-axis calibration PY1:VAL1:PY2:VAL2 instead of --y-ticks (rows counted from the top).
     #[arg(long, allow_hyphen_values = true)]
-    y_cal: String,
+    y_cal: Option<String>,
     /// Logarithmic y axis.
     #[arg(long)]
     y_log: bool,
+    /// Keep points that lie on the plot frame, a tick mark, outside the frame or beside text
+    /// (by default they are listed and nothing is written).
+    #[arg(long)]
+    allow_suspect: bool,
     /// Colour of the curve, RRGGBB in hexadecimal.
     #[arg(long, alias = "colour")]
     color: String,
@@ -46,13 +62,16 @@ pub struct Args {
     /// Marker mode: blobs with more pixels are ignored.
     #[arg(long)]
     max_area: Option<usize>,
-    /// Marker mode: MIN:MAX bounds (pixels) on both sides of a marker's bounding box.
+    /// Marker mode: MIN:MAX bounds (pixels) on both sides of a marker's bounding box. Default:
+    /// the blob sizes are measured and the most common one (+-1 or 2 px) is taken; the size
+    /// histogram is printed either way.
     #[arg(long)]
     marker_size: Option<String>,
     /// Marker mode: erosion radius (pixels) that detaches filled markers from thin lines.
     #[arg(long, default_value_t = 0)]
     erode: u32,
     /// Pixel box X0:Y0:X1:Y1 searched (corners included), to leave out legend, labels and axes.
+    /// Default: the inside of the plot frame when one is found, else the whole image.
     #[arg(long)]
     crop: Option<String>,
     /// Names of the x and y columns, e.g. speed_rpm,dte_pp_um.
@@ -61,7 +80,8 @@ pub struct Args {
     /// Constant column NAME=VALUE written first on every row (repeatable), e.g. load_n=1890.
     #[arg(long = "const", value_name = "NAME=VALUE")]
     constants: Vec<String>,
-    /// Output CSV; a check plot goes next to it as <stem>_check.png / .svg.
+    /// Output CSV; beside it <stem>_check.png (the figure with the frame, ticks and points
+    /// found drawn over it) and <stem>_plot.png / .svg (the points in data units).
     #[arg(long)]
     out: PathBuf,
 }
@@ -77,12 +97,26 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.out.file_name().is_none() {
         bail!("--out {}: a CSV file name was expected", a.out.display());
     }
-    let calibration = |flag: &str, text: &str, log: bool| -> anyhow::Result<AxisCalibration> {
-        let [p1, v1, p2, v2] = numbers::<4>(flag, text, "PX1:VAL1:PX2:VAL2")?;
-        AxisCalibration::new(p1, v1, p2, v2, log).with_context(|| format!("{flag} '{text}'"))
-    };
-    let x = calibration("--x-cal", &a.x_cal, a.x_log)?;
-    let y = calibration("--y-cal", &a.y_cal, a.y_log)?;
+    let img = read_png(&a.image)?;
+    let frame = find_frame(&img);
+    let mut report = String::new();
+    let x = calibration(
+        "x",
+        (a.x_cal.as_deref(), a.x_ticks.as_deref()),
+        a.x_log,
+        frame.as_ref().map(|f| f.x_ticks.clone()),
+        &mut report,
+    )?;
+    // Rows grow downwards and the y values upwards: the bottom tick takes the first value.
+    let y = calibration(
+        "y",
+        (a.y_cal.as_deref(), a.y_ticks.as_deref()),
+        a.y_log,
+        frame
+            .as_ref()
+            .map(|f| f.y_ticks.iter().rev().copied().collect()),
+        &mut report,
+    )?;
     let color: Rgb = a.color.parse().context("--color")?;
     let crop = match &a.crop {
         Some(t) => {
@@ -95,7 +129,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 y1: y1.with_context(ctx)?,
             })
         }
-        None => None,
+        None => frame.as_ref().map(|f| {
+            let (x0, y0, x1, y1) = f.interior();
+            report.push_str(&format!(
+                "searched inside the plot frame: columns {x0}..{x1}, rows {y0}..{y1} (--crop to change)\n"
+            ));
+            PixelBox { x0, y0, x1, y1 }
+        }),
     };
     let size = match &a.marker_size {
         Some(t) => {
@@ -116,28 +156,50 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if a.mode == CliMode::Line && marker_opts {
         bail!("--max-area, --marker-size and --erode apply to --mode markers only");
     }
-    let mode = match a.mode {
-        CliMode::Line => Mode::Line { multi: a.multi },
-        CliMode::Markers => Mode::Markers(MarkerFilter {
-            min_area: a.min_area,
-            max_area: a.max_area,
-            size,
-            erode: a.erode,
-        }),
-    };
     let (x_name, y_name) = columns(&a.columns)?;
     let constants = constants(&a.constants, [&x_name, &y_name])?;
-    let opts = DigitizeOptions {
+    let mut opts = DigitizeOptions {
         x,
         y,
         color,
         tolerance: a.tolerance,
-        mode,
+        mode: Mode::Line { multi: a.multi },
         crop,
     };
+    // Half-height of the window searched for text beside a point: about a marker's half size.
+    let mut text_window = 6;
+    if a.mode == CliMode::Markers {
+        let mut filter = MarkerFilter {
+            min_area: a.min_area,
+            max_area: a.max_area,
+            size,
+            erode: a.erode,
+        };
+        let sizes = marker_sizes(&img, &opts, &filter)?;
+        let picked = size.or(sizes.picked);
+        report.push_str(&size_report(&sizes, picked, size.is_none()));
+        filter.size = picked;
+        text_window = picked.map_or(6, |p| p.1 / 2 + 1);
+        opts.mode = Mode::Markers(filter);
+    }
 
-    let img = read_png(&a.image)?;
+    let pixels = extract_pixels(&img, &opts)?;
     let points = digitize(&img, &opts)?;
+    let suspects = suspect_points(
+        &img,
+        &pixels,
+        frame.as_ref(),
+        color,
+        a.tolerance,
+        text_window,
+    );
+    if !suspects.is_empty() {
+        let text = suspect_text(&suspects, pixels.len());
+        if !a.allow_suspect {
+            bail!("{report}{text}\nnothing written: narrow the search with --crop X0:Y0:X1:Y1 (or check --color), or pass --allow-suspect to keep these points (the check image marks them)");
+        }
+        report.push_str(&format!("warning: {text}\n"));
+    }
 
     let mut w = csv::Writer::from_writer(Vec::new());
     let header: Vec<&str> = constants.iter().map(|(n, _)| n.as_str()).collect();
@@ -177,12 +239,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let file_name = a.out.file_name().unwrap_or_default();
     let stage = stage("--out", folder)?;
     let staged_out = stage.dir().join(file_name);
-    let mut written = write_xy(&plot, &check_stem(&staged_out))?;
+    let check = stem_with(&staged_out, "_check").with_extension("png");
+    let marked: Vec<(f64, f64)> = suspects.iter().map(|s| s.0).collect();
+    write_png(&check_image(&img, frame.as_ref(), &pixels, &marked), &check)?;
+    let mut written = vec![staged_out.clone(), check];
+    written.extend(write_xy(&plot, &stem_with(&staged_out, "_plot"))?);
     write_text(&staged_out, &csv_text)?;
-    written.insert(0, staged_out);
     let written = commit(stage, &written)?;
     let mut text = format!(
-        "extracted {} points from {} (colour {color}, tolerance {}, mode {mode_text})\n",
+        "{report}extracted {} points from {} (colour {color}, tolerance {}, mode {mode_text})\n",
         points.len(),
         a.image.display(),
         a.tolerance
@@ -241,4 +306,98 @@ fn check_plot(
         plot = plot.with_x_range(xr.0, xr.1).with_y_range(yr.0, yr.1);
     }
     plot
+}
+
+/// One axis's calibration from `--A-cal` (two known pixels) or `--A-ticks` (tick values fitted
+/// to the tick marks `found` in the image, first value to first mark); what was done is added to
+/// `report`.
+fn calibration(
+    axis: &str,
+    (cal, ticks): (Option<&str>, Option<&str>),
+    log: bool,
+    found: Option<Vec<f64>>,
+    report: &mut String,
+) -> anyhow::Result<AxisCalibration> {
+    match (cal, ticks) {
+        (Some(_), Some(_)) => bail!("give --{axis}-ticks or --{axis}-cal, not both"),
+        (None, None) => bail!(
+            "give --{axis}-ticks (the tick values; the frame and tick marks are found in the image), or --{axis}-cal with two known pixels"
+        ),
+        (Some(text), None) => {
+            let flag = format!("--{axis}-cal");
+            let [p1, v1, p2, v2] = numbers::<4>(&flag, text, "PX1:VAL1:PX2:VAL2")?;
+            AxisCalibration::new(p1, v1, p2, v2, log).with_context(|| format!("{flag} '{text}'"))
+        }
+        (None, Some(text)) => {
+            let flag = format!("--{axis}-ticks");
+            let values = parse_tick_values(text).with_context(|| flag.clone())?;
+            let Some(found) = found else {
+                bail!("{flag}: no plot frame (long dark axis lines) found in the image; calibrate with --{axis}-cal");
+            };
+            let (c, worst) = calibrate_from_ticks(axis, &found, &values, log).with_context(|| flag.clone())?;
+            if worst > 1.0 {
+                bail!("{flag} '{text}': the tick marks found lie up to {worst:.1} px off a straight line through these values; check the values, or calibrate with --{axis}-cal");
+            }
+            let (first, last) = (found[0], found[found.len() - 1]);
+            report.push_str(&format!(
+                "{axis} axis: {} tick marks at pixels {first:.2} .. {last:.2} fitted to {} .. {} (largest tick residual {worst:.2} px)\n",
+                found.len(),
+                values[0],
+                values[values.len() - 1]
+            ));
+            Ok(c)
+        }
+    }
+}
+
+/// The marker-size histogram and the size range used.
+fn size_report(sizes: &MarkerSizes, used: Option<(u32, u32)>, measured: bool) -> String {
+    let hist: Vec<String> = sizes
+        .histogram
+        .iter()
+        .map(|(s, n)| format!("{s} px: {n}"))
+        .collect();
+    let inside = |s: u32| used.is_some_and(|(lo, hi)| s >= lo && s <= hi);
+    let dropped: usize = sizes
+        .histogram
+        .iter()
+        .filter(|(s, _)| !inside(*s))
+        .map(|h| h.1)
+        .sum();
+    let range = used.map_or("none".to_string(), |(lo, hi)| format!("{lo}:{hi} px"));
+    format!(
+        "marker sizes found (blobs by bounding-box size): {}\nmarker size {} {range}; {dropped} blob(s) outside it left out\n",
+        if hist.is_empty() { "none".into() } else { hist.join(", ") },
+        if measured { "measured:" } else { "given:" },
+    )
+}
+
+/// A summary of the suspect points: counts per reason and the first few pixels.
+fn suspect_text(suspects: &[((f64, f64), Suspicion)], total: usize) -> String {
+    let mut s = format!(
+        "{} of {total} points look like they are not the curve:",
+        suspects.len()
+    );
+    for why in [
+        Suspicion::Frame,
+        Suspicion::Tick,
+        Suspicion::OutsideFrame,
+        Suspicion::BesideText,
+    ] {
+        let at: Vec<String> = suspects
+            .iter()
+            .filter(|s| s.1 == why)
+            .map(|s| format!("({:.0}, {:.0})", s.0 .0, s.0 .1))
+            .collect();
+        if !at.is_empty() {
+            let more = if at.len() > 4 { ", ..." } else { "" };
+            s.push_str(&format!(
+                "\n  {} {}: pixels {}{more}",
+                at.len(),
+                why.text(),
+                at[..at.len().min(4)].join(", ")
+            ));
+        }
+    }
+    s
 }

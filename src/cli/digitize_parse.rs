@@ -1,5 +1,5 @@
 //! Parsing and formatting helpers of `geardyn digitize`: colon-separated numbers, pixel
-//! indices, column names, constant columns, CSV numbers and the check-plot path.
+//! indices, column names, constant columns, CSV numbers and the check-file paths.
 
 use anyhow::{bail, Context};
 use std::path::{Path, PathBuf};
@@ -76,10 +76,10 @@ pub fn number(v: f64) -> String {
     format!("{rounded}")
 }
 
-/// `out` without its extension, with `_check` appended.
-pub fn check_stem(out: &Path) -> PathBuf {
+/// `out` without its extension, with `suffix` appended (`_check`, `_plot`).
+pub fn stem_with(out: &Path, suffix: &str) -> PathBuf {
     let mut name = out.file_stem().unwrap_or_default().to_os_string();
-    name.push("_check");
+    name.push(suffix);
     out.with_file_name(name)
 }
 
@@ -108,9 +108,12 @@ mod tests {
         assert_eq!(number(0.1 + 0.2), "0.3");
         assert_eq!(number(1234.567890123), "1234.56789");
         assert_eq!(
-            check_stem(Path::new("d/m/load.csv")),
+            stem_with(Path::new("d/m/load.csv"), "_check"),
             Path::new("d/m/load_check")
         );
-        assert_eq!(check_stem(Path::new("load")), Path::new("load_check"));
+        assert_eq!(
+            stem_with(Path::new("load"), "_plot"),
+            Path::new("load_plot")
+        );
     }
 }

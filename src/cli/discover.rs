@@ -1,11 +1,12 @@
 //! `geardyn discover --data DIR [--out DIR]`: discrepancy discovery on a Munro-style data set
 //! (issue 5), writing discovery.json, a report and before/after residual plots.
 
-use super::common::print_text;
+use super::common::{check_out_dir, print_text};
+use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::data::load_munro;
-use geardyn::discover::{discover, DiscoverOptions};
+use geardyn::discover::{discover, DiscoverOptions, TailChoice, MAX_BOOTSTRAP};
 use geardyn::report::data_kind_banner;
 use std::path::PathBuf;
 
@@ -17,23 +18,40 @@ pub struct Args {
     /// Output folder (discovery.json, report.md, index.html, residual plots).
     #[arg(long, default_value = "reports/discover")]
     out: PathBuf,
-    /// Parametric bootstrap replicates under M0 (at least 320 at alpha 0.05).
-    #[arg(long, default_value_t = 1999)]
+    /// Parametric bootstrap replicates under M0, in [320, 99999] (320 is the least at which
+    /// a p-value can be significant after Holm's correction at alpha 0.05).
+    #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(320..=MAX_BOOTSTRAP))]
     bootstrap: usize,
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 12345)]
     seed: u64,
-    /// Stated measurement noise in um (default: estimated from second differences of the curves).
-    #[arg(long)]
+    /// Stated measurement noise, um (one standard deviation at every point), in (0, 1000).
+    /// Default: what the data set states (a dte_pp_sd_um column, rig.toml [noise]), else
+    /// estimated from the data (floor plus a part proportional to the level).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     noise_um: Option<f64>,
+    /// Tails of the estimated noise: auto (Student-t errors when the data say so) or gaussian.
+    #[arg(long, default_value = "auto")]
+    tails: String,
+}
+
+/// The tails setting of a command-line word.
+pub fn parse_tails(s: &str) -> anyhow::Result<TailChoice> {
+    match s {
+        "auto" => Ok(TailChoice::Auto),
+        "gaussian" => Ok(TailChoice::Gaussian),
+        _ => anyhow::bail!("unknown --tails '{s}': auto or gaussian"),
+    }
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
+    check_out_dir("--out", &a.out)?;
     let data = load_munro(&a.data)?;
     let opts = DiscoverOptions {
         bootstrap: a.bootstrap,
         seed: a.seed,
         noise_um: a.noise_um,
+        tails: parse_tails(&a.tails)?,
         ..DiscoverOptions::default()
     };
     let d = discover(&data, &opts, &Bar::new())?;

@@ -1,11 +1,15 @@
 //! `geardyn discover-study --hidden none|<candidate>|sensor_peak --seeds N`: the null-rate and
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
-use super::common::{parse_load_ste, print_text, NoiseArgs};
+use super::common::{check_out_file, parse_grid, parse_load_ste, print_text, NoiseArgs};
+use super::discover::parse_tails;
+use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::discover::{run_study, DiscoverOptions, Hidden, SeedOutcome, StudyOptions};
+use geardyn::discover::{
+    run_study, DiscoverOptions, Hidden, SeedOutcome, StudyOptions, MAX_BOOTSTRAP,
+};
 use geardyn::error::GearError;
 use std::path::PathBuf;
 
@@ -15,15 +19,25 @@ pub struct Args {
     /// damping_law, backlash, torque_ripple, or sensor_peak (outside the library).
     #[arg(long, default_value = "none")]
     hidden: String,
-    /// Number of seeds (data sets).
-    #[arg(long, default_value_t = 100)]
+    /// Number of seeds (data sets), in [1, 100000].
+    #[arg(long, default_value_t = 100, allow_hyphen_values = true, value_parser = whole(1..=100_000))]
     seeds: usize,
     /// First noise seed.
     #[arg(long, default_value_t = 1)]
     first_seed: u64,
-    /// Speed step of the generated sets, rpm (Munro grid: 50).
-    #[arg(long, default_value_t = 50.0)]
+    /// Speed grid: uniform (1000-5000 rpm in --speed-step steps) or nonuniform (81 speeds
+    /// drawn at random in 1000-5000 rpm, fixed draw).
+    #[arg(long, default_value = "uniform")]
+    grid: String,
+    /// Step of the uniform grid, rpm (Munro's: 50), in [1, 4000].
+    #[arg(long, default_value_t = 50.0, allow_hyphen_values = true, value_parser = real(1.0, 4000.0, false))]
     speed_step: f64,
+    /// Draw the hidden effect's phase uniformly in [0, 360) degrees per seed (else 0).
+    #[arg(long)]
+    random_phase: bool,
+    /// Tails of the estimated noise: auto (Student-t when the data say so) or gaussian.
+    #[arg(long, default_value = "auto")]
+    tails: String,
     /// Strength of the hidden effect in the units of its estimate (eps, r2, gamma,
     /// b / b_stated, F_aT / F_m(design); sensor peak: relative height) [default: the study's
     /// moderate strength: 0.2, 0.4, 1, 1.5, 0.03; 0.5].
@@ -40,12 +54,12 @@ pub struct Args {
     dop853_rtol: Option<f64>,
     #[command(flatten)]
     noise: NoiseArgs,
-    /// Bootstrap replicates per discovery run.
-    #[arg(long, default_value_t = 1999)]
+    /// Bootstrap replicates per discovery run, in [320, 99999].
+    #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(320..=MAX_BOOTSTRAP))]
     bootstrap: usize,
     /// Summary JSON (the scratch data sets go next to it, in a folder removed at the end; each
     /// seed's outcome is appended to SUMMARY.seeds.jsonl as soon as it is known).
-    #[arg(long, default_value = "reports/discover-study/summary.json")]
+    #[arg(long, default_value = "target/discover-study/summary.json")]
     out: PathBuf,
 }
 
@@ -56,16 +70,19 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             a.hidden
         )
     })?;
+    check_out_file("--out", &a.out)?;
     let opts = StudyOptions {
         first_seed: a.first_seed,
         seeds: a.seeds,
-        speeds_rpm: (1000.0, 5000.0, a.speed_step),
+        grid: parse_grid(&a.grid, a.speed_step)?,
+        random_phase: a.random_phase,
         strength: a.strength,
         loads: a.loads,
         dop853_rtol: a.dop853_rtol,
         noise: a.noise.noise()?,
         discover: DiscoverOptions {
             bootstrap: a.bootstrap,
+            tails: parse_tails(&a.tails)?,
             ..DiscoverOptions::default()
         },
     };

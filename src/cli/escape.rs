@@ -2,8 +2,9 @@
 //! followed to a long horizon by the exact flow and DOP853, with survival curves, escape rates
 //! and their agreement. The long study behind docs/simulation.md, run by .ci/run.
 
-use super::common::{check_out_dir, commit, print_json, stage, ModelArgs};
-use super::limits::{real, whole, OMEGA, RTOL};
+use super::common::{check_out_dir, commit, print_json, stage};
+use super::limits::{real, whole, RTOL};
+use super::model_args::{Frequency, ModelArgs};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::sim::IcGrid;
@@ -14,9 +15,8 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h, in [0.001, 100].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
-    omega: f64,
+    #[command(flatten)]
+    frequency: Frequency,
     /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
     #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
     ic_grid: String,
@@ -41,14 +41,17 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
+    let m = a.model.resolve()?;
+    let omega = a.frequency.omega(&m)?;
+    m.print_conversion(omega);
     // Checks the model parameters before the long run.
-    a.model.model(a.omega)?;
+    m.at(omega)?;
     let opts = EscapeStudyOptions {
-        fm: a.model.fm,
-        fah: a.model.fah,
-        fat: a.model.fat,
-        zeta: a.model.zeta,
-        omega: a.omega,
+        fm: m.fm,
+        fah: m.fah,
+        fat: m.fat,
+        zeta: m.zeta,
+        omega,
         grid,
         horizon: a.horizon,
         dop853_rtol: (!a.no_dop853).then_some(a.rtol),

@@ -1,7 +1,8 @@
 //! `geardyn hbm`: harmonic-balance frequency response, every solution at each Omega (Sec. 4).
 
-use super::common::{check_out_dir, commit, parse_range, print_text, stage, write_text, ModelArgs};
+use super::common::{check_out_dir, commit, print_text, stage, write_text};
 use super::limits::whole;
+use super::model_args::{num, FrequencyRange, Model, ModelArgs};
 use super::progress_bar::Bar;
 use super::response_plot::{write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
@@ -15,9 +16,8 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequency range START:STOP:STEP (START, STOP in [0.001, 100]; at most 100000 values).
-    #[arg(long, allow_hyphen_values = true)]
-    omega: String,
+    #[command(flatten)]
+    frequencies: FrequencyRange,
     /// df-exact: describing functions of eq. 8 (exact g, h); df-truncated: the paper's two-term
     /// series of eq. 9 with per-case formulas (eq. 12-19).
     #[arg(long, value_enum, default_value_t = Method::DfExact)]
@@ -30,7 +30,7 @@ pub struct Args {
     #[arg(long, default_value_t = 1, allow_hyphen_values = true,
           value_parser = whole(1..=geardyn::sim::MAX_PERIOD as usize))]
     subharmonic: usize,
-    /// Output format on standard output.
+    /// Output format on standard output (columns: docs/output-columns.md).
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
     /// Folder for the plot (PNG + SVG) and a copy of the CSV.
@@ -51,26 +51,46 @@ enum Format {
     Csv,
 }
 
+/// One row of the hbm CSV: the dimensionless columns, and with the rig's units the speed and
+/// mesh frequency first and q_a, q_m in µm last.
+fn hbm_record(m: &Model, omega: f64, qa: f64, qm: f64, middle: [String; 7]) -> Vec<String> {
+    let mut row = Vec::with_capacity(14);
+    if let Some(op) = &m.rig {
+        row.extend([num(op.speed_rpm(omega)), num(op.mesh_frequency_hz(omega))]);
+    }
+    row.extend([num(omega), format!("{qa:.10}"), format!("{qm:.10}")]);
+    row.extend(middle);
+    if let Some(op) = &m.rig {
+        row.extend([
+            format!("{:.6}", op.micrometres(qa)),
+            format!("{:.6}", op.micrometres(qm)),
+        ]);
+    }
+    row
+}
+
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
-    let omegas = parse_range("--omega", &a.omega)?;
+    let m = a.model.resolve()?;
+    let omegas = a.frequencies.omegas(&m)?;
+    m.print_conversion(omegas[0]);
     // Every method gets the model's checks (F_m, F_ah, zeta) before any work.
-    a.model.model(omegas[0])?;
+    let model = m.at(omegas[0])?;
     let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
-        "omega",
-        "qa",
-        "qm",
-        "case",
-        "impact",
-        "phase",
-        "stable",
-        "method",
-        "fold",
-        "period_doubling",
-    ])?;
+    let mut header: Vec<&str> = Vec::new();
+    if m.rig.is_some() {
+        header.extend(["speed_rpm", "mesh_freq_hz"]);
+    }
+    header.extend([
+        "omega", "qa", "qm", "case", "impact", "phase", "stable", "method",
+    ]);
+    header.extend(["fold", "period_doubling"]);
+    if m.rig.is_some() {
+        header.extend(["qa_um", "qm_um"]);
+    }
+    w.write_record(&header)?;
     let mut rows = Vec::new();
-    let transitions = forced_transition_frequencies(a.model.fm, a.model.forcing(), a.model.zeta)?;
+    let transitions = forced_transition_frequencies(m.fm, m.forcing(), m.zeta)?;
     let method_name = match a.method {
         Method::DfExact | Method::DfTruncated => {
             let method = if a.method == Method::DfExact {
@@ -78,21 +98,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             } else {
                 DfMethod::Truncated
             };
-            let sols =
-                df_response_forced(a.model.fm, a.model.forcing(), a.model.zeta, &omegas, method)?;
+            let sols = df_response_forced(m.fm, m.forcing(), m.zeta, &omegas, method)?;
             for s in &sols {
-                w.write_record([
-                    format!("{}", s.omega),
-                    format!("{:.10}", s.qa),
-                    format!("{:.10}", s.qm),
-                    s.case.case().to_string(),
-                    s.case.name().to_string(),
-                    format!("{:.10}", s.phase),
-                    s.stable.map_or(String::new(), |b| b.to_string()),
-                    method.name().to_string(),
-                    String::new(),
-                    String::new(),
-                ])?;
+                w.write_record(hbm_record(
+                    &m,
+                    s.omega,
+                    s.qa,
+                    s.qm,
+                    [
+                        s.case.case().to_string(),
+                        s.case.name().to_string(),
+                        format!("{:.10}", s.phase),
+                        s.stable.map_or(String::new(), |b| b.to_string()),
+                        method.name().to_string(),
+                        String::new(),
+                        String::new(),
+                    ],
+                ))?;
                 rows.push(ResponseRow {
                     omega: s.omega,
                     qa: s.qa,
@@ -104,7 +126,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             method.name().to_string()
         }
         Method::Aft => {
-            let model = a.model.model(omegas[0])?;
             let opts = AftOptions {
                 harmonics: a.harmonics,
                 subharmonic: a.subharmonic as u32,
@@ -120,18 +141,21 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 &Bar::new(),
             )?;
             for p in &pts {
-                w.write_record([
-                    format!("{}", p.omega),
-                    format!("{:.10}", p.qa),
-                    format!("{:.10}", p.qm),
-                    p.case.case().to_string(),
-                    p.case.name().to_string(),
-                    String::new(),
-                    p.stable.map_or(String::new(), |b| b.to_string()),
-                    format!("aft-h{}-nu{}", a.harmonics, a.subharmonic),
-                    p.fold.to_string(),
-                    p.period_doubling.to_string(),
-                ])?;
+                w.write_record(hbm_record(
+                    &m,
+                    p.omega,
+                    p.qa,
+                    p.qm,
+                    [
+                        p.case.case().to_string(),
+                        p.case.name().to_string(),
+                        String::new(),
+                        p.stable.map_or(String::new(), |b| b.to_string()),
+                        format!("aft-h{}-nu{}", a.harmonics, a.subharmonic),
+                        p.fold.to_string(),
+                        p.period_doubling.to_string(),
+                    ],
+                ))?;
                 rows.push(ResponseRow {
                     omega: p.omega,
                     qa: p.qa,
@@ -141,22 +165,26 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 });
             }
             format!(
-                "AFT H = {}, nu = {}, continuation",
+                "AFT H = {}, ν = {}, continuation",
                 a.harmonics, a.subharmonic
             )
         }
     };
     let csv_text = String::from_utf8(w.into_inner()?)?;
+    let fmt = |v: f64| match &m.rig {
+        Some(op) => format!("{:.0} rpm (Ω_h {v:.4})", op.speed_rpm(v)),
+        None => format!("{v:.4}"),
+    };
     let caption = format!(
-        "{}, {}; case I ends / resumes at Ω {} (eq. 14)",
-        a.model.caption(),
+        "{}, {}; case I ends / resumes at {} (eq. 14)",
+        m.caption(),
         method_name,
         if transitions.is_empty() {
             "none".to_string()
         } else {
             transitions
                 .iter()
-                .map(|t| format!("{t:.4}"))
+                .map(|&t| fmt(t))
                 .collect::<Vec<_>>()
                 .join(", ")
         }
@@ -165,6 +193,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let d = stage.dir().to_path_buf();
     let mut written = write_response_plot(
         &rows,
+        m.rig.as_ref(),
         "Frequency response (harmonic balance)",
         &caption,
         &d.join("hbm"),

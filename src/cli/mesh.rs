@@ -21,7 +21,7 @@ pub struct Args {
     /// Loads in newtons: START:STOP:STEP, or one value.
     #[arg(long = "load-n", allow_hyphen_values = true)]
     load_n: String,
-    /// Tip relief depth in um on both gears (0: none), in [0, 1000].
+    /// Tip relief depth in µm on both gears (0: none), in [0, 1000].
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, false))]
     tip_relief_um: Option<f64>,
     /// Size the tip relief depth for minimum STE peak-to-peak at this load (Harris's rule), N,

@@ -17,13 +17,26 @@ pub struct Args {
     /// seconds, as the test suite runs it.
     #[arg(long)]
     quick: bool,
-    /// Folder holding the munro/ and kubo/ data sets.
+    /// Folder holding the munro/ and kubo/ data sets (the shipped ones: data/ of the
+    /// repository).
     #[arg(long, default_value = "data")]
     data: PathBuf,
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
+    for set in ["munro", "kubo"] {
+        let rig = a.data.join(set).join("rig.toml");
+        if !rig.is_file() {
+            anyhow::bail!(
+                "--data {}: {} not found: reproduce validates against the shipped munro/ and \
+                 kubo/ data sets; run it from the geardyn repository or give their parent folder \
+                 with --data",
+                a.data.display(),
+                rig.display()
+            );
+        }
+    }
     let opts = ReproduceOptions {
         resolution: if a.quick {
             Resolution::quick()

@@ -1,22 +1,24 @@
 //! CSV table and q_a / q_m plot of a set of frequency-response points (sweeps).
 
-use geardyn::model::Impact;
+use super::model_args::{num, Model};
+use geardyn::model::{Impact, OperatingPoint};
 use geardyn::plot::{write_panels, Marker, Series, XyPlot};
 use geardyn::sim::SweepPoint;
 use std::path::{Path, PathBuf};
 
-/// The sweep CSV: `omega,qa,qm,case,period,impact,...` (design.md section 3).
-pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
-        "omega",
-        "qa",
-        "qm",
-        "case",
-        "period",
-        "impact",
-        "motion",
-        "branch",
+/// The sweep CSV (columns in docs/output-columns.md): `omega,qa,qm,case,period,impact,...`,
+/// and with the rig's units `speed_rpm,mesh_freq_hz` before `omega` and `qa_um`, `qm_um`,
+/// `dte_pp_um`, `mesh_force_max_n` beside their dimensionless values.
+pub fn sweep_csv(points: &[SweepPoint], model: &Model) -> anyhow::Result<String> {
+    let units = model.rig.as_ref();
+    let mut header: Vec<&str> = Vec::new();
+    if units.is_some() {
+        header.extend(["speed_rpm", "mesh_freq_hz"]);
+    }
+    header.extend([
+        "omega", "qa", "qm", "case", "period", "impact", "motion", "branch",
+    ]);
+    header.extend([
         "basin_fraction",
         "q_min",
         "q_max",
@@ -25,18 +27,28 @@ pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
         "lyapunov",
         "kind",
         "escape_rate_per_period",
-    ])?;
+    ]);
+    if units.is_some() {
+        header.extend(["qa_um", "qm_um", "dte_pp_um", "mesh_force_max_n"]);
+    }
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(&header)?;
     let opt = |v: Option<f64>| v.map_or(String::new(), |x| format!("{x:.10}"));
     for p in points {
         let s = &p.steady;
-        w.write_record([
-            format!("{}", p.omega),
+        let mut row = Vec::with_capacity(header.len());
+        if let Some(op) = units {
+            row.push(num(op.speed_rpm(p.omega)));
+            row.push(num(op.mesh_frequency_hz(p.omega)));
+        }
+        row.extend([
+            num(p.omega),
             format!("{:.10}", s.qa),
             format!("{:.10}", s.qm),
             s.impact.case().to_string(),
             s.period.map_or(String::new(), |k| k.to_string()),
             s.impact.name().to_string(),
-            format!("{:?}", s.motion).to_lowercase(),
+            s.motion.name().to_string(),
             p.branch.name().to_string(),
             opt(p.basin_fraction),
             format!("{:.10}", s.q_min),
@@ -46,7 +58,16 @@ pub fn sweep_csv(points: &[SweepPoint]) -> anyhow::Result<String> {
             opt(s.lyapunov),
             p.kind.map_or("", |k| k.name()).to_string(),
             p.escape_rate.map_or(String::new(), |r| format!("{r:.4e}")),
-        ])?;
+        ]);
+        if let Some(op) = units {
+            let um = |x: f64| format!("{:.6}", op.micrometres(x));
+            row.extend([um(s.qa), um(s.qm), um(s.dte_pp)]);
+            row.push(
+                s.dl_max
+                    .map_or(String::new(), |d| format!("{:.4}", op.mesh_force_n(d))),
+            );
+        }
+        w.write_record(&row)?;
     }
     Ok(String::from_utf8(w.into_inner()?)?)
 }
@@ -73,13 +94,17 @@ impl From<&SweepPoint> for ResponseRow {
     }
 }
 
-/// Two panels, q_a and q_m versus Omega, one marker series per impact case (as Fig. 10).
+/// Two panels, q_a and q_m versus Omega, one marker series per impact case (as Fig. 10); with
+/// the rig's units (`units`), b q_a and b q_m in µm versus the pinion speed in rpm.
 pub fn write_response_plot(
     rows: &[ResponseRow],
+    units: Option<&OperatingPoint>,
     title: &str,
     caption: &str,
     stem: &Path,
 ) -> anyhow::Result<Vec<PathBuf>> {
+    let x = |p: &ResponseRow| units.map_or(p.omega, |op| op.speed_rpm(p.omega));
+    let y = |v: f64| units.map_or(v, |op| op.micrometres(v));
     let panel = |label: &str, pick: fn(&ResponseRow) -> f64| {
         let mut series: Vec<Series> = [Impact::None, Impact::Single, Impact::Double]
             .iter()
@@ -88,7 +113,7 @@ pub fn write_response_plot(
                 let pts = rows
                     .iter()
                     .filter(|p| p.impact == imp && p.stable != Some(false))
-                    .map(|p| (p.omega, pick(p)))
+                    .map(|p| (x(p), y(pick(p))))
                     .collect();
                 let label = [
                     "case I (no impact)",
@@ -103,7 +128,7 @@ pub fn write_response_plot(
         let unstable: Vec<(f64, f64)> = rows
             .iter()
             .filter(|p| p.stable == Some(false))
-            .map(|p| (p.omega, pick(p)))
+            .map(|p| (x(p), y(pick(p))))
             .collect();
         if !unstable.is_empty() {
             series.push(
@@ -115,8 +140,14 @@ pub fn write_response_plot(
         XyPlot {
             title: label.to_string(),
             caption: Some(caption.to_string()),
-            x_label: "Omega_h".into(),
-            y_label: label.into(),
+            x_label: match units {
+                Some(_) => "pinion speed n (rpm)".into(),
+                None => "Ω_h (dimensionless)".into(),
+            },
+            y_label: match units {
+                Some(_) => format!("{label} (µm)"),
+                None => format!("{label} (dimensionless)"),
+            },
             series,
             ..XyPlot::default()
         }

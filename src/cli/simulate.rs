@@ -1,7 +1,8 @@
 //! `geardyn simulate`: the steady state from one initial condition.
 
-use super::common::{check_out_dir, print_json, print_text, with_omega, ModelArgs, SolverArgs};
-use super::limits::{real, OMEGA, STATE};
+use super::common::{check_out_dir, print_json, print_text, with_omega, SolverArgs};
+use super::limits::{real, STATE};
+use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use clap::Args as ClapArgs;
 use geardyn::sim::steady_state;
 use serde_json::json;
@@ -10,14 +11,13 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Mesh (excitation) frequency Omega_h = Omega_bar_h / omega_n, in [0.001, 100].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
-    omega: f64,
-    /// Initial displacement q(0), in [-1e6, 1e6].
+    #[command(flatten)]
+    frequency: Frequency,
+    /// Initial displacement q(0) = q̄(0) / b, dimensionless (half backlashes), in [-1e6, 1e6].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true,
           value_parser = real(-STATE, STATE, false))]
     q0: f64,
-    /// Initial velocity q'(0), in [-1e6, 1e6].
+    /// Initial velocity q'(0) = dq/dt at t = ω_n t̄ = 0, dimensionless, in [-1e6, 1e6].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true,
           value_parser = real(-STATE, STATE, false))]
     v0: f64,
@@ -38,7 +38,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.out {
         check_out_dir("--out", dir)?;
     }
-    let model = a.model.model(a.omega)?;
+    let m = a.model.resolve()?;
+    let omega = a.frequency.omega(&m)?;
+    m.print_conversion(omega);
+    let model = m.at(omega)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.lyapunov = a.lyapunov;
@@ -46,9 +49,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let written = match &a.out {
         Some(dir) => {
             let caption = format!(
-                "{}, Ω = {}, q(0) = {}, q'(0) = {}",
-                a.model.caption(),
-                a.omega,
+                "{}, Ω_h = {}, q(0) = {}, q'(0) = {}",
+                m.caption(),
+                num(omega),
                 a.q0,
                 a.v0
             );
@@ -62,10 +65,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if !s.settled {
         eprintln!("{}", super::common::unsettled_warning(s.transient_periods));
     }
+    let rig_units = SteadyInRigUnits::new(&m, omega, &s);
     if a.json {
-        let mut params = with_omega(a.model.json(), a.omega);
-        params["q0"] = json!(a.q0);
-        params["v0"] = json!(a.v0);
+        let mut parameters = with_omega(m.json(), omega);
+        parameters["q0"] = a.q0.into();
+        parameters["v0"] = a.v0.into();
         print_json(&json!({
             "period": s.period,
             "settled": s.settled,
@@ -84,24 +88,32 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "poincare": s.poincare,
             "transient_periods": s.transient_periods,
             "integrator": flow.method(),
-            "parameters": params,
+            "parameters": parameters,
+            "rig_units": SteadyInRigUnits::json(&rig_units),
         }))?;
     } else {
-        print_text(&format!(
-            "period {} ({:?}), impact {} (case {}), qa {:.6}, qm {:.6}, pp DTE {:.6}{}\n",
+        let mut text = format!(
+            "period {} ({}), impact {} (case {}), q_a {:.6}, q_m {:.6}, pp DTE {:.6}{}{} (dimensionless)\n",
             s.period.map_or("none".to_string(), |p| p.to_string()),
-            s.motion,
+            s.motion.name(),
             s.impact.name(),
             s.impact.case(),
             s.qa,
             s.qm,
             s.dte_pp,
+            s.dl_max
+                .map_or(String::new(), |d| format!(", D_L {d:.4}")),
             match (s.floquet_rate, s.lyapunov) {
                 (Some(r), _) => format!(", floquet rate {r:.5}"),
                 (None, Some(l)) => format!(", lyapunov {l:.5}"),
                 (None, None) => String::new(),
             }
-        ))?;
+        );
+        if let Some(r) = rig_units {
+            text.push_str(&r.text(true));
+            text.push('\n');
+        }
+        print_text(&text)?;
     }
     Ok(())
 }

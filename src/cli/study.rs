@@ -11,8 +11,8 @@ pub struct Args {
     /// Which study.
     #[arg(value_enum)]
     name: Name,
-    /// Frequencies of the Omega grid, 2 to 2001 (default: 281 for the df studies, 141
-    /// otherwise).
+    /// Number of frequencies of the Ω_h grid (dimensionless frequencies), 2 to 2001 (default:
+    /// 281 for the df studies, 141 otherwise).
     #[arg(long, allow_hyphen_values = true, value_parser = whole(2..=geardyn::study::MAX_POINTS))]
     points: Option<usize>,
     /// Folder for the figures (PNG + SVG), NAME.csv and NAME.json.

@@ -1,9 +1,8 @@
 //! `geardyn sweep`: steady states over a frequency range (carried up/down, or all attractors).
 
-use super::common::{
-    check_out_dir, commit, parse_range, print_text, stage, EscapeArgs, ModelArgs, SolverArgs,
-};
+use super::common::{check_out_dir, commit, print_text, stage, EscapeArgs, SolverArgs};
 use super::limits::{real, STATE};
+use super::model_args::{FrequencyRange, ModelArgs};
 use super::progress_bar::Bar;
 use super::response_plot::{sweep_csv, write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
@@ -14,21 +13,21 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
-    /// Frequency range START:STOP:STEP (START, STOP in [0.001, 100]; at most 100000 values).
-    #[arg(long, allow_hyphen_values = true)]
-    omega: String,
-    /// up / down carry the last steady state (Fig. 13); all searches the IC grid at each Omega;
-    /// both runs up then down.
+    #[command(flatten)]
+    frequencies: FrequencyRange,
+    /// up / down carry the last steady state (Fig. 13); all searches the IC grid at each
+    /// frequency; both runs up then down.
     #[arg(long, value_enum, default_value_t = Direction::Up)]
     direction: Direction,
-    /// Grid of initial conditions for --direction all: LO:HI:N (at most 501 per axis, and at
-    /// most 2000000 initial conditions over all frequencies).
+    /// Grid of initial conditions q(0), q'(0) for --direction all, dimensionless: LO:HI:N (at
+    /// most 501 per axis, and at most 2000000 initial conditions over all frequencies).
     #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
     ic_grid: String,
-    /// Initial q of a carried sweep, in [-1e6, 1e6] (default: static equilibrium 1 + F_m).
+    /// Initial q of a carried sweep, dimensionless, in [-1e6, 1e6] (default: static equilibrium
+    /// 1 + F_m).
     #[arg(long, allow_hyphen_values = true, value_parser = real(-STATE, STATE, false))]
     q0: Option<f64>,
-    /// Initial q' of a carried sweep, in [-1e6, 1e6].
+    /// Initial q' of a carried sweep, dimensionless, in [-1e6, 1e6].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true,
           value_parser = real(-STATE, STATE, false))]
     v0: f64,
@@ -36,7 +35,7 @@ pub struct Args {
     solver: SolverArgs,
     #[command(flatten)]
     escape: EscapeArgs,
-    /// Output format on standard output.
+    /// Output format on standard output (columns: docs/output-columns.md).
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
     /// Folder for the plot (PNG + SVG) and a copy of the CSV.
@@ -56,6 +55,18 @@ enum Direction {
     Both,
 }
 
+impl Direction {
+    /// The sweep in words, for the figure's caption.
+    fn name(self) -> &'static str {
+        match self {
+            Direction::Up => "carried up",
+            Direction::Down => "carried down",
+            Direction::All => "every attractor of the IC grid",
+            Direction::Both => "carried up, then down",
+        }
+    }
+}
+
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 enum Format {
     Csv,
@@ -63,21 +74,23 @@ enum Format {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
-    let omegas = parse_range("--omega", &a.omega)?;
+    let m = a.model.resolve()?;
+    let omegas = a.frequencies.omegas(&m)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
     if a.direction == Direction::All && omegas.len() * grid.n * grid.n > MAX_ALL_ICS {
         anyhow::bail!(
-            "--direction all with --omega '{}' ({} frequencies) and --ic-grid '{}' ({} initial \
+            "--direction all with {} ({} frequencies) and --ic-grid '{}' ({} initial \
              conditions each) integrates {} initial conditions: at most {MAX_ALL_ICS}; use \
              fewer frequencies or a coarser grid",
-            a.omega,
+            a.frequencies.text(),
             omegas.len(),
             a.ic_grid,
             grid.n * grid.n,
             omegas.len() * grid.n * grid.n
         );
     }
-    let model = a.model.model(omegas[0])?;
+    m.print_conversion(omegas[0]);
+    let model = m.at(omegas[0])?;
     let mut opts = a.solver.options()?;
     opts.escape = a.escape.budget(EscapeArgs::SWEEP_EXPOSURE);
     let factory = a.solver.factory();
@@ -92,17 +105,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         let plan = SweepPlan {
             omegas: omegas.clone(),
             branch,
-            x0: [a.q0.unwrap_or(1.0 + a.model.fm), a.v0],
+            x0: [a.q0.unwrap_or(1.0 + m.fm), a.v0],
             grid,
             opts: opts.clone(),
         };
         points.extend(sweep(&factory, &model, &plan, &Bar::new())?);
     }
-    let csv = sweep_csv(&points)?;
+    let csv = sweep_csv(&points, &m)?;
     let caption = format!(
-        "{}, sweep {:?}, integrator {}",
-        a.model.caption(),
-        a.direction,
+        "{}, sweep {}, integrator {}",
+        m.caption(),
+        a.direction.name(),
         a.solver.integrator_name()
     );
     let rows: Vec<ResponseRow> = points.iter().map(ResponseRow::from).collect();
@@ -110,6 +123,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let d = stage.dir().to_path_buf();
     let mut written = write_response_plot(
         &rows,
+        m.rig.as_ref(),
         "Frequency response (digital simulation)",
         &caption,
         &d.join("sweep"),

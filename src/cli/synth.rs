@@ -1,6 +1,8 @@
 //! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
 
-use super::common::{check_out_dir, commit, parse_load_ste, print_text, stage, NoiseArgs};
+use super::common::{
+    check_out_dir, commit, parse_grid, parse_load_ste, print_text, stage, NoiseArgs,
+};
 use super::limits::real;
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand};
@@ -16,38 +18,40 @@ pub struct Args {
 #[derive(Subcommand, Debug)]
 enum Which {
     /// pp DTE versus speed at loads 1, 3/4, 1/2, 1/4 of 3780 N on Munro's rig geometry.
+    #[command(after_help = super::examples::SYNTH)]
     Munro(MunroArgs),
     /// Dynamic-factor envelope of a heavily damped rig (zeta about 0.1).
+    #[command(after_help = super::examples::SYNTH)]
     Kubo(KuboArgs),
 }
 
 #[derive(ClapArgs, Debug)]
 struct Hidden {
-    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Omega t + psi)), in [0, 0.9].
+    /// Hidden mesh-stiffness variation eps (k = 1 + eps cos(Ω t + ψ)), dimensionless, in [0, 0.9].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 0.9, false))]
     stiffness_eps: f64,
     /// Phase psi of the hidden stiffness variation (rad), in [-100, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     stiffness_phase: f64,
-    /// Hidden second STE harmonic as a fraction of the first, in [0, 10].
+    /// Hidden second STE harmonic as a fraction of the first (dimensionless), in [0, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     ste2_ratio: f64,
     /// Phase of the hidden second STE harmonic (rad), in [-100, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     ste2_phase: f64,
-    /// Hidden third STE harmonic as a fraction of the first, in [0, 10].
+    /// Hidden third STE harmonic as a fraction of the first (dimensionless), in [0, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     ste3_ratio: f64,
     /// Phase of the hidden third STE harmonic (rad), in [-100, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-100.0, 100.0, false))]
     ste3_phase: f64,
-    /// Hidden load-dependent damping: zeta (W / W_design)^gamma, this gamma (Munro only), in [-10, 10].
+    /// Hidden load-dependent damping: ζ (W / W_design)^γ, this exponent γ (dimensionless; Munro only), in [-10, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(-10.0, 10.0, false))]
     damping_exponent: f64,
-    /// Hidden true half backlash over the stated one (Munro only; 1 = none), in [0.01, 100].
+    /// Hidden true half backlash over the stated one (a ratio; Munro only; 1 = none), in [0.01, 100].
     #[arg(long, default_value_t = 1.0, allow_hyphen_values = true, value_parser = real(0.01, 100.0, false))]
     backlash_factor: f64,
-    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (Munro only), in [0, 10].
+    /// Hidden torque ripple at mesh frequency as a fraction of the design mean force (dimensionless; Munro only), in [0, 10].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 10.0, false))]
     torque_ripple_ratio: f64,
     /// Phase of the hidden torque ripple (rad), in [-100, 100].
@@ -56,7 +60,7 @@ struct Hidden {
     /// Out-of-library effect: a measuring-chain resonance at this mesh frequency, Hz (Munro only), in [0, 1e6].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 1e6, false))]
     sensor_peak_hz: f64,
-    /// Relative height of that measuring-chain peak, in [0, 100].
+    /// Relative height of that measuring-chain peak (dimensionless), in [0, 100].
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true, value_parser = real(0.0, 100.0, false))]
     sensor_peak_gain: f64,
 }
@@ -85,7 +89,7 @@ struct MunroArgs {
     /// Output folder.
     #[arg(long, default_value = "data/munro")]
     out: PathBuf,
-    /// True damping ratio, in [0.001, 0.9].
+    /// True damping ratio ζ (dimensionless), in [0.001, 0.9].
     #[arg(long, default_value_t = 0.0175, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
     /// True natural frequency, Hz, in [1, 1e6].
@@ -93,18 +97,23 @@ struct MunroArgs {
     omega_n_hz: f64,
     #[command(flatten)]
     noise: NoiseArgs,
-    /// Noise seed.
+    /// Noise seed (an integer).
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Also publish the STE amplitudes in rig.toml.
     #[arg(long)]
     publish_ste: bool,
-    /// Loads and their STE amplitudes as LOAD_N:STE_UM pairs, comma separated
+    /// Loads (N) and their STE amplitudes (µm) as LOAD_N:STE_UM pairs, comma separated
     /// [default: 3780:0.3,2835:1.5,1890:2.5,945:3.5].
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
-    /// Make the curves with DOP853 at this relative tolerance instead of the exact solver:
-    /// chaotic points then differ from what the exact solver fits (as real data would), in [1e-14, 0.01].
+    /// Speed grid, START:STOP:STEP in rpm (Munro's: 1000:5000:50), or `nonuniform` for 81
+    /// speeds drawn at random in 1000-5000 rpm (the studies' fixed draw).
+    #[arg(long, default_value = "1000:5000:50")]
+    speeds: String,
+    /// Make the curves with DOP853 at this relative tolerance (dimensionless) instead of the
+    /// exact solver: chaotic points then differ from what the exact solver fits (as real data
+    /// would), in [1e-14, 0.01].
     #[arg(long, allow_hyphen_values = true, value_parser = real(1e-14, 1e-2, false))]
     dop853_rtol: Option<f64>,
     #[command(flatten)]
@@ -116,17 +125,36 @@ struct KuboArgs {
     /// Output folder.
     #[arg(long, default_value = "data/kubo")]
     out: PathBuf,
-    /// True damping ratio, in [0.001, 0.9].
+    /// True damping ratio ζ (dimensionless), in [0.001, 0.9].
     #[arg(long, default_value_t = 0.1, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
     zeta: f64,
     /// True natural frequency, Hz, in [1, 1e6].
     #[arg(long, default_value_t = 2500.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
-    /// Noise seed.
+    /// Noise seed (an integer).
     #[arg(long, default_value_t = 2)]
     seed: u64,
     #[command(flatten)]
     hidden: Hidden,
+}
+
+/// `--speeds START:STOP:STEP` in rpm: 0 < START <= STOP <= 1e6, STEP > 0, at most 100000 speeds.
+fn parse_speeds(text: &str) -> anyhow::Result<(f64, f64, f64)> {
+    let v: Vec<f64> = text
+        .split(':')
+        .map(|p| p.trim().parse::<f64>())
+        .collect::<Result<_, _>>()
+        .map_err(|_| {
+            anyhow::anyhow!("--speeds '{text}': expected START:STOP:STEP in rpm, e.g. 1000:5000:50")
+        })?;
+    let [a, b, c] = v[..] else {
+        anyhow::bail!("--speeds '{text}': expected START:STOP:STEP in rpm, e.g. 1000:5000:50");
+    };
+    let ok = a > 0.0 && a <= b && b <= 1e6 && c > 0.0 && (b - a) / c <= 1e5;
+    if !(ok && [a, b, c].iter().all(|x| x.is_finite())) {
+        anyhow::bail!("--speeds '{text}': need 0 < START <= STOP <= 1e6 rpm and STEP > 0, at most 100000 speeds");
+    }
+    Ok((a, b, c))
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
@@ -143,6 +171,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             }
             t.hidden = m.hidden.effects();
             t.dop853_rtol = m.dop853_rtol;
+            if m.speeds == "nonuniform" {
+                t.speed_list = Some(parse_grid("nonuniform", 0.0)?.speeds()?);
+            } else {
+                t.speeds_rpm = parse_speeds(&m.speeds)?;
+            }
             check_out_dir("--out", &m.out)?;
             let stage = stage("--out", &m.out)?;
             synth_munro(&t, stage.dir(), &Bar::new())?;

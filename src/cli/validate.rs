@@ -5,7 +5,9 @@ use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
 use geardyn::data::{load_kubo, load_munro, load_rig_with_geometry};
 use geardyn::mesh::ReliefShape;
-use geardyn::report::{data_kind_banner, interval_digits, write_kubo_report, write_munro_report};
+use geardyn::report::{
+    data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
+};
 use geardyn::validate::{
     validate_kubo, validate_munro, GeometryOptions, KuboOptions, LoadResult, MunroOptions,
     ReliefRule, SteMode, StiffnessChoice,
@@ -20,15 +22,19 @@ pub struct Args {
 
 #[derive(Subcommand, Debug)]
 enum Which {
-    /// Munro's pp dynamic transmission error at four loads (Figs 19-22).
+    /// Peak-to-peak DTE curves at several loads (Munro layout, Figs 19-22): fit zeta and f_n at
+    /// the design load, predict the other loads.
+    #[command(after_help = super::examples::VALIDATE)]
     Munro(MunroArgs),
-    /// Kubo's dynamic factor envelope (Fig. 23).
+    /// Dynamic-factor envelope at one load (Kubo layout, Fig. 23).
+    #[command(after_help = super::examples::VALIDATE)]
     Kubo(Dirs),
 }
 
 #[derive(ClapArgs, Debug)]
 struct Dirs {
-    /// Data set folder (rig.toml + CSV); default data/munro or data/kubo.
+    /// Data set folder (rig.toml + CSV curves, docs/data-format.md); default: the shipped
+    /// data/munro or data/kubo, relative to the current folder.
     #[arg(long)]
     data: Option<PathBuf>,
     /// Folder for the fitted-parameter JSON.
@@ -52,7 +58,7 @@ struct MunroArgs {
     /// given: --tip-relief-um.
     #[arg(long, value_enum, default_value_t = Relief::DesignRule)]
     relief: Relief,
-    /// Geometry path: the relief depth in um (with --relief given).
+    /// Geometry path: the relief depth, µm (with --relief given).
     #[arg(long, allow_hyphen_values = true)]
     tip_relief_um: Option<f64>,
     /// Geometry path: relief length along the line of action, mm (default: Harris's long
@@ -62,13 +68,18 @@ struct MunroArgs {
     /// Geometry path: relief shape.
     #[arg(long, value_enum, default_value_t = Shape::Linear)]
     relief_shape: Shape,
-    /// Geometry path: STE harmonics in the model (1 to 5; 1 is the paper's model).
+    /// Geometry path: number of STE harmonics in the model, 1 to 5 (1 is the paper's model).
     #[arg(long, default_value_t = 1)]
     ste_harmonics: u32,
     /// Geometry path: mesh stiffness of the predictions. constant: k = 1, k_h as the per-curve
     /// path; geometry: the loaded k_h(F) and k(t) of the geometry (DOP853, ~30 s).
     #[arg(long, value_enum, default_value_t = Stiffness::Constant)]
     mesh_stiffness: Stiffness,
+    /// Figures: fit the pp DTE axis to every attractor, far ones included. By default it fits
+    /// the data and the two sweeps, and attractors beyond are arrows on the frame, counted in
+    /// the legend, so a few far attractors do not squeeze the curves.
+    #[arg(long)]
+    all_attractors_in_range: bool,
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -162,11 +173,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--reports", &d.reports)?;
     let (written, banner, summary) = match a.which {
         Which::Munro(m) => {
-            let dir = m
-                .dirs
-                .data
-                .clone()
-                .unwrap_or_else(|| PathBuf::from("data/munro"));
+            let dir = data_dir(m.dirs.data.as_deref(), "munro")?;
             let data = load_munro(&dir)?;
             let opts = MunroOptions {
                 ste: m.ste_mode(&dir.join("rig.toml"))?,
@@ -174,7 +181,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             };
             let r = validate_munro(&data, &opts, &Bar::new())?;
             let d = m.dirs;
-            let written = write_munro_report(&data, &r, &d.fits, &d.reports.join("munro"))?;
+            let figures = MunroFigures {
+                all_attractors_in_range: m.all_attractors_in_range,
+            };
+            let written =
+                write_munro_report(&data, &r, &figures, &d.fits, &d.reports.join("munro"))?;
             let mut s = format!(
                 "zeta {}, omega_n {} Hz\n",
                 value_ci(r.zeta, r.fit.estimate.ci95[0], 4),
@@ -222,7 +233,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             (written, data_kind_banner(&data.rig), s)
         }
         Which::Kubo(d) => {
-            let data = load_kubo(&d.data.unwrap_or_else(|| PathBuf::from("data/kubo")))?;
+            let data = load_kubo(&data_dir(d.data.as_deref(), "kubo")?)?;
             let r = validate_kubo(&data, &KuboOptions::default(), &Bar::new())?;
             let written = write_kubo_report(&data, &r, &d.fits, &d.reports.join("kubo"))?;
             let s = format!(
@@ -241,6 +252,26 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         text.push_str(&format!("wrote {}\n", p.display()));
     }
     print_text(&text)
+}
+
+/// The data set folder: `--data`, else the shipped `data/NAME` of the repository, which must
+/// then exist in the current folder (a hint otherwise: outside the repository a missing default
+/// is no fault in any file).
+fn data_dir(given: Option<&std::path::Path>, name: &str) -> anyhow::Result<PathBuf> {
+    if let Some(d) = given {
+        return Ok(d.to_path_buf());
+    }
+    let d = PathBuf::from("data").join(name);
+    if !d.join("rig.toml").is_file() {
+        let here = std::env::current_dir().map_or(String::from("."), |p| p.display().to_string());
+        anyhow::bail!(
+            "no data set given and the default {}/rig.toml is not in {here}: give your data \
+             set with --data DIR (a folder with rig.toml and CSV curves; `geardyn init-data DIR` \
+             writes a template), or run from the geardyn repository for the shipped set",
+            d.display()
+        );
+    }
+    Ok(d)
 }
 
 /// A value and its 95% interval, with the interval's digits.

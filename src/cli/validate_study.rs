@@ -1,25 +1,25 @@
 //! `geardyn validate-study --noise FAMILY --seeds N`: interval coverage of `validate munro`
 //! on seeded synthetic design-load curves (Wilson 95% intervals of the rates).
 
-use super::common::{check_out_file, print_text, NoiseArgs};
+use super::common::{check_out_file, parse_grid, print_text, NoiseArgs};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
 use geardyn::error::GearError;
 use geardyn::fit::Robust;
+use geardyn::validate::SpeedGrid;
 use geardyn::validate::{
-    run_validate_study, SpeedGrid, ValidateSeed, ValidateStudyOptions, ValidateStudySummary,
+    run_validate_study, ValidateSeed, ValidateStudyOptions, ValidateStudySummary,
 };
 use std::path::PathBuf;
 
-/// Example: `geardyn validate-study --noise relative --grid nonuniform --seeds 200`
 #[derive(ClapArgs, Debug)]
 pub struct Args {
     /// Number of seeds (data sets), 1 to 100000.
     #[arg(long, default_value_t = 200, allow_hyphen_values = true, value_parser = whole(1..=100_000))]
     seeds: usize,
-    /// First noise seed.
+    /// First noise seed (an integer).
     #[arg(long, default_value_t = 1)]
     first_seed: u64,
     #[command(flatten)]
@@ -31,8 +31,8 @@ pub struct Args {
     /// Step of the uniform grid, rpm, in [1, 4000].
     #[arg(long, default_value_t = 50.0, allow_hyphen_values = true, value_parser = real(1.0, 4000.0, false))]
     speed_step: f64,
-    /// DOP853 relative tolerance of the sets (another integrator than the fit's closed form);
-    /// 0 makes them with the exact solver.
+    /// DOP853 relative tolerance (dimensionless) of the sets (another integrator than the fit's
+    /// closed form), in [0, 0.01); 0 makes them with the exact solver.
     #[arg(long, default_value_t = 1e-9)]
     dop853_rtol: f64,
     /// True damping ratio (dimensionless), in [0.001, 0.9].
@@ -41,7 +41,7 @@ pub struct Args {
     /// True natural frequency, Hz, in [1, 1e6].
     #[arg(long, default_value_t = 1600.0, allow_hyphen_values = true, value_parser = real(1.0, 1e6, false))]
     omega_n_hz: f64,
-    /// True STE amplitude at the design load, um, in (0, 1000].
+    /// True STE amplitude at the design load, µm, in (0, 1000].
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     ste_um: f64,
     /// Student-t errors in the fit: auto (when the residuals say so), on, off.
@@ -65,16 +65,7 @@ pub fn parse_robust(s: &str) -> anyhow::Result<Robust> {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_file("--out", &a.out)?;
-    let grid = match a.grid.as_str() {
-        "uniform" => SpeedGrid::Uniform {
-            step_rpm: a.speed_step,
-        },
-        "nonuniform" => SpeedGrid::NonUniform {
-            points: 81,
-            seed: 7_777,
-        },
-        g => anyhow::bail!("unknown --grid '{g}': uniform or nonuniform"),
-    };
+    let grid = parse_grid(&a.grid, a.speed_step)?;
     if !(a.dop853_rtol >= 0.0 && a.dop853_rtol < 1e-2) {
         anyhow::bail!("--dop853-rtol must be in [0, 0.01): 0 for the exact solver");
     }
@@ -95,6 +86,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let seeds_path = a.out.with_extension("seeds.jsonl");
     // The per-seed lines go to a temporary file beside it, renamed when the study succeeded.
     let seeds_tmp = parent.join(format!(".seeds.jsonl.tmp-{}", std::process::id()));
+    // Removed by an interrupt as well (Ctrl-C), until moved into place.
+    geardyn::report::track_unfinished(&scratch);
+    geardyn::report::track_unfinished(&seeds_tmp);
     let mut seeds_file: Option<std::fs::File> = None;
     let mut on_seed = |s: &ValidateSeed| -> geardyn::error::Result<()> {
         use std::io::Write;
@@ -109,17 +103,20 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
+    geardyn::report::untrack_unfinished(&scratch);
     let s = match result {
         Ok(s) => s,
         Err(e) => {
             let _ = std::fs::remove_file(&seeds_tmp);
+            geardyn::report::untrack_unfinished(&seeds_tmp);
             return Err(e.into());
         }
     };
     let text = serde_json::to_string_pretty(&s)?;
     if seeds_tmp.exists() {
-        std::fs::rename(&seeds_tmp, &seeds_path)
-            .with_context(|| seeds_path.display().to_string())?;
+        let renamed = std::fs::rename(&seeds_tmp, &seeds_path);
+        geardyn::report::untrack_unfinished(&seeds_tmp);
+        renamed.with_context(|| seeds_path.display().to_string())?;
     }
     geardyn::report::write_file_atomic(&a.out, &format!("{text}\n"))?;
     let mut msg = summary_text(&s);

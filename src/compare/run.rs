@@ -7,11 +7,11 @@ use crate::hb::{
     branch_at, branch_from_start, df_response_forced, AftOptions, ContinuationOptions, DfForcing,
     DfMethod,
 };
-use crate::model::GearPair;
+use crate::model::{GearPair, OperatingPoint};
 use crate::progress::{NoProgress, Progress};
 use crate::sim::{
-    find_attractors, sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan,
-    SweepPoint,
+    find_attractors, sweep, to_significant, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions,
+    SweepPlan, SweepPoint,
 };
 use rayon::prelude::*;
 
@@ -186,39 +186,51 @@ pub fn compare(settings: &CompareSettings, progress: &dyn Progress) -> Result<Co
 }
 
 impl Comparison {
-    /// CSV of every point with a `source` column.
-    pub fn csv(&self) -> Result<String> {
+    /// CSV of every point with a `source` column (columns in docs/output-columns.md); with the
+    /// rig's units `units`, also the speed, the mesh frequency and q_a, q_m in µm.
+    pub fn csv(&self, units: Option<&OperatingPoint>) -> Result<String> {
         let mut w = csv::Writer::from_writer(Vec::new());
         let io = |e: csv::Error| GearError::Numerical(format!("CSV: {e}"));
-        w.write_record([
-            "source",
-            "omega",
-            "qa",
-            "qm",
-            "case",
-            "impact",
-            "stable",
-            "period",
-            "motion",
-            "basin_fraction",
-        ])
-        .map_err(io)?;
+        let mut header = vec!["source"];
+        if units.is_some() {
+            header.extend(["speed_rpm", "mesh_freq_hz"]);
+        }
+        header.extend([
+            "omega", "qa", "qm", "case", "impact", "stable", "period", "motion",
+        ]);
+        header.push("basin_fraction");
+        if units.is_some() {
+            header.extend(["qa_um", "qm_um"]);
+        }
+        w.write_record(&header).map_err(io)?;
+        let num = |x: f64| format!("{}", to_significant(x, 10));
         for p in &self.points {
-            w.write_record([
-                p.source.name().to_string(),
-                format!("{}", p.omega),
+            let mut row = vec![p.source.name().to_string()];
+            if let Some(op) = units {
+                row.extend([
+                    num(op.speed_rpm(p.omega)),
+                    num(op.mesh_frequency_hz(p.omega)),
+                ]);
+            }
+            row.extend([
+                num(p.omega),
                 format!("{:.10}", p.qa),
                 format!("{:.10}", p.qm),
                 p.case.case().to_string(),
                 p.case.name().to_string(),
                 p.stable.map_or(String::new(), |b| b.to_string()),
                 p.period.map_or(String::new(), |k| k.to_string()),
-                p.motion
-                    .map_or(String::new(), |m| format!("{m:?}").to_lowercase()),
+                p.motion.map_or(String::new(), |m| m.name().to_string()),
                 p.basin_fraction
                     .map_or(String::new(), |f| format!("{f:.6}")),
-            ])
-            .map_err(io)?;
+            ]);
+            if let Some(op) = units {
+                row.extend([
+                    format!("{:.6}", op.micrometres(p.qa)),
+                    format!("{:.6}", op.micrometres(p.qm)),
+                ]);
+            }
+            w.write_record(&row).map_err(io)?;
         }
         let bytes = w
             .into_inner()

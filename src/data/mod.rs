@@ -23,14 +23,19 @@ mod kubo;
 mod munro;
 mod rig;
 mod source;
+mod template;
 mod toml_doc;
 
 pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
-pub use munro::{load_munro, same_load, MunroData, MunroPoint};
-pub use rig::{load_rig, load_rig_with_geometry, write_rig, Rig, RigFile, StatedNoise, SteTable};
+pub use munro::{load_munro, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
+pub use rig::{
+    load_gear_pair, load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile,
+    StatedNoise, SteTable,
+};
 pub use source::{DataKind, Source};
+pub use template::{csv_template, rig_template, Layout};
 
 #[cfg(test)]
 mod tests;

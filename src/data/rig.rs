@@ -415,11 +415,70 @@ struct RigToml {
     source: Source,
 }
 
+/// The keys each required table must give (the others are optional or depend on the data kind).
+const REQUIRED_KEYS: [(&str, &[&str]); 2] = [
+    (
+        "rig",
+        &[
+            "name",
+            "pinion_teeth",
+            "gear_teeth",
+            "module_mm",
+            "pressure_angle_deg",
+            "face_width_mm",
+            "design_load_n",
+            "backlash_mm",
+        ],
+    ),
+    ("source", &["kind", "citation"]),
+];
+
+/// Every required key missing from a table of `text`, in one error at the first one (so that
+/// a new file, e.g. the template of `geardyn init-data`, is filled in one round); None when the
+/// text is not TOML or nothing is missing.
+fn missing_keys(doc: &TomlDoc, text: &str) -> Option<GearError> {
+    let table: toml::Table = toml::from_str(text).ok()?;
+    for (name, keys) in REQUIRED_KEYS {
+        let Some(t) = table.get(name).and_then(|t| t.as_table()) else {
+            continue;
+        };
+        let missing: Vec<&str> = keys
+            .iter()
+            .copied()
+            .filter(|k| !t.contains_key(*k))
+            .collect();
+        if let Some(first) = missing.first() {
+            return Some(doc.error(
+                name,
+                first,
+                format!(
+                    "missing in [{name}]: {} (each is marked REQUIRED in the template of \
+                     `geardyn init-data`; docs/data-format.md lists every key)",
+                    missing.join(", ")
+                ),
+            ));
+        }
+    }
+    None
+}
+
+/// A located error for a TOML document that does not parse into the expected tables. serde
+/// stops at the first missing key; every missing required key is named instead (an unknown key,
+/// e.g. a unit typo, is reported first, at its line, as the parser found it).
+fn parse_error(doc: &TomlDoc, text: &str, e: &toml::de::Error) -> GearError {
+    let all_missing = e
+        .message()
+        .contains("missing field")
+        .then(|| missing_keys(doc, text))
+        .flatten();
+    all_missing.unwrap_or_else(|| doc.toml_error(e))
+}
+
 /// Read and validate every table of a `rig.toml`.
 fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
     let text = read_text(path)?;
     let doc = TomlDoc::new(path, &text);
-    let t: RigToml = toml::from_str(&text).map_err(|e| doc.toml_error(&e))?;
+    let t: RigToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
     let rig = RigFile {
         rig: t.rig,
         ste: t.ste,
@@ -438,6 +497,32 @@ fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
     Ok((rig, geometry))
 }
 
+/// The gear pair of a `rig.toml` alone: its `[rig]` and `[ste]` tables, as the analysis commands
+/// read them (`--rig`); the other tables (`[source]`, `[noise]`, `[geometry]`) describe a data
+/// set and may be absent or unfinished. Errors as [`load_rig`].
+pub fn load_gear_pair(path: &Path) -> Result<(Rig, Option<SteTable>)> {
+    #[derive(Deserialize)]
+    struct GearPairToml {
+        rig: Rig,
+        #[serde(default)]
+        ste: Option<SteTable>,
+    }
+    let text = read_text(path)?;
+    let doc = TomlDoc::new(path, &text);
+    let t: GearPairToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
+    if let Some(p) = t.rig.first_problem() {
+        return Err(doc.error(
+            "rig",
+            p.key,
+            format!("{} = {}: {}", p.key, p.value, p.reason),
+        ));
+    }
+    if let Some(ste) = &t.ste {
+        ste.check(&doc)?;
+    }
+    Ok((t.rig, t.ste))
+}
+
 /// Read and validate a `rig.toml`. Every failure is one [`GearError::Data`] naming the file, the
 /// line (0 when the key is absent) and the key path (e.g. `rig.backlash_mm`). An optional
 /// `[geometry]` table is validated too; [`load_rig_with_geometry`] returns it.
@@ -449,6 +534,15 @@ pub fn load_rig(path: &Path) -> Result<RigFile> {
 /// the tooth-contact model ([`crate::mesh`]). Errors as [`load_rig`].
 pub fn load_rig_with_geometry(path: &Path) -> Result<(RigFile, GearGeometry)> {
     load_rig_toml(path)
+}
+
+/// An error about `[table] key` of the `rig.toml` in the data set folder `dir`, located at the
+/// key's line (the table's line when the key is absent, 0 when the file cannot be read again):
+/// for checks made after loading (e.g. a key that one pipeline cannot use).
+pub fn rig_key_error(dir: &Path, table: &str, key: &str, message: impl Into<String>) -> GearError {
+    let path = dir.join("rig.toml");
+    let text = std::fs::read_to_string(&path).unwrap_or_default();
+    TomlDoc::new(&path, &text).error(table, key, message)
 }
 
 /// Validate `rig` and write it as TOML to `path` (used by `geardyn synth`). An invalid rig is

@@ -107,21 +107,25 @@ impl Source {
         }
         match self.kind {
             DataKind::Measured => {
-                for (key, what) in [
+                let missing: Vec<&str> = [
                     ("instrument", &self.instrument),
                     ("date", &self.date),
                     ("uncertainty", &self.uncertainty),
-                ] {
-                    if !given(what) {
-                        return Err(doc.error(
-                            "source",
-                            key,
-                            format!(
-                                "measured data must state the instrument, the date and the \
-                                 measurement uncertainty (key `{key}` is missing or empty)"
-                            ),
-                        ));
-                    }
+                ]
+                .into_iter()
+                .filter(|(_, v)| !given(v))
+                .map(|(k, _)| k)
+                .collect();
+                if let Some(first) = missing.first() {
+                    return Err(doc.error(
+                        "source",
+                        first,
+                        format!(
+                            "measured data must state the instrument, the date and the \
+                             measurement uncertainty (missing or empty: {})",
+                            missing.join(", ")
+                        ),
+                    ));
                 }
             }
             DataKind::Digitized => {

@@ -50,10 +50,70 @@ impl Blob {
     }
 }
 
+/// Marker sizes found in a figure: how many blobs (of at least the filter's minimum area and at
+/// most its maximum) have each bounding-box size (the larger of width and height, in pixels),
+/// and the size range picked as the markers'.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MarkerSizes {
+    /// (size, number of blobs), by increasing size.
+    pub histogram: Vec<(u32, usize)>,
+    /// The most common size +-1 pixel (+-2 from 8 pixels up), for anti-aliased edges.
+    pub picked: Option<(u32, u32)>,
+}
+
+/// The blob-size histogram of `mask` under `filter` (its size bounds ignored) and the picked
+/// size range.
+pub(crate) fn marker_sizes(mask: &Mask, filter: &MarkerFilter) -> MarkerSizes {
+    let any = MarkerFilter {
+        size: None,
+        ..*filter
+    };
+    let mut hist = std::collections::BTreeMap::new();
+    for b in blobs(mask, filter.erode)
+        .iter()
+        .filter(|b| b.accepted(&any))
+    {
+        let s = (b.max.0 - b.min.0 + 1).max(b.max.1 - b.min.1 + 1) as u32;
+        *hist.entry(s).or_insert(0usize) += 1;
+    }
+    let histogram: Vec<(u32, usize)> = hist.into_iter().collect();
+    // The size with the most blobs within +-1 of it (anti-aliasing spreads one marker size).
+    let near = |s: u32| {
+        histogram
+            .iter()
+            .filter(|(t, _)| t.abs_diff(s) <= 1)
+            .map(|h| h.1)
+            .sum::<usize>()
+    };
+    let picked = histogram
+        .iter()
+        .max_by_key(|&&(s, n)| (near(s), n))
+        .map(|&(s, _)| {
+            let r = if s >= 8 { 2 } else { 1 };
+            (s.saturating_sub(r).max(1), s + r)
+        });
+    MarkerSizes { histogram, picked }
+}
+
 /// Pixel-space centroids (column, row) of the blobs of `mask` that pass `filter`, and the number
 /// of blobs found before filtering.
 pub(crate) fn marker_points(mask: &Mask, filter: &MarkerFilter) -> (Vec<(f64, f64)>, usize) {
-    let on = erode(mask, filter.erode);
+    let blobs = blobs(mask, filter.erode);
+    let (x0, y0) = (f64::from(mask.region.x.0), f64::from(mask.region.y.0));
+    let points = blobs
+        .iter()
+        .filter(|b| b.accepted(filter))
+        .map(|b| {
+            let n = b.area as f64;
+            (x0 + b.sum.0 / n, y0 + b.sum.1 / n)
+        })
+        .collect();
+    (points, blobs.len())
+}
+
+/// The 4-connected blobs of `mask` after erosion by `erode` pixels.
+fn blobs(mask: &Mask, erode_by: u32) -> Vec<Blob> {
+    let on = erode(mask, erode_by);
     let (w, h) = (mask.width(), mask.height());
     let mut seen = vec![false; on.len()];
     let mut stack = Vec::new();
@@ -91,16 +151,7 @@ pub(crate) fn marker_points(mask: &Mask, filter: &MarkerFilter) -> (Vec<(f64, f6
         }
         blobs.push(b);
     }
-    let (x0, y0) = (f64::from(mask.region.x.0), f64::from(mask.region.y.0));
-    let points = blobs
-        .iter()
-        .filter(|b| b.accepted(filter))
-        .map(|b| {
-            let n = b.area as f64;
-            (x0 + b.sum.0 / n, y0 + b.sum.1 / n)
-        })
-        .collect();
-    (points, blobs.len())
+    blobs
 }
 
 /// The mask eroded by a (2r+1)-square (separable: rows, then columns); pixels outside the region
@@ -196,6 +247,16 @@ mod tests {
             ..MarkerFilter::default()
         };
         assert_eq!(marker_points(&m, &capped).0.len(), 2);
+    }
+
+    #[test]
+    fn sizes_histogram_picks_the_common_size() {
+        let m = mask(&PICTURE);
+        let s = marker_sizes(&m, &MarkerFilter::default());
+        // Blobs of area >= 4: the 3x3 square (3), the 4-long dash (4), the 3x2 block (3), the
+        // bottom line (7).
+        assert_eq!(s.histogram, [(3, 2), (4, 1), (7, 1)]);
+        assert_eq!(s.picked, Some((2, 4)));
     }
 
     #[test]

@@ -8,25 +8,26 @@
 use super::fit::{fit_model, fit_ste};
 use super::forward::{predict, predict_many, CurvePrediction, Setup};
 use super::linearized::{Linearized, Statistics};
-use super::lm::Stop;
-use super::run::{fit_m0, split, M0Fit};
-use super::stats::noise_from_differences;
+use super::noise::{NoiseSpec, TailChoice};
+use super::run::{fit_m0, model_jacobian, row_scales, split, M0Fit};
+use crate::fit::Stop;
 use crate::progress::NoProgress;
-use crate::validate::{synth_munro, MunroTruth, Rng};
+use crate::validate::{synth_munro, MunroTruth, NoiseFamily, Rng};
+use nalgebra::DVector;
 
 /// Statistics of replicate `y` after a full nonlinear refit of M0 from the fitted parameters
-/// (the mask kept, as in the bootstrap).
+/// (the mask and the weights kept, as in the bootstrap; the noise re-estimated about the refitted
+/// curves).
 fn refitted_statistics(setup: &Setup, fit: &M0Fit, train: &[usize], y: &[Vec<f64>]) -> Statistics {
     let mut sy = setup.clone();
     for (c, v) in sy.curves.iter_mut().zip(y) {
         c.dte_pp_um = v.clone();
     }
-    let sigma = noise_from_differences(y).unwrap();
     let m = fit_model(
         &sy,
         train,
         &fit.mask,
-        sigma,
+        &fit.scales,
         None,
         &fit.m0.lm.params,
         Stop::converged(30),
@@ -37,36 +38,44 @@ fn refitted_statistics(setup: &Setup, fit: &M0Fit, train: &[usize], y: &[Vec<f64
     for (p, &i) in trained.into_iter().zip(train) {
         preds[i] = p;
     }
-    let mut held = Vec::new();
+    let mut held_sens = Vec::new();
     for (i, e0, _) in &fit.held0 {
-        let (e, lm) = fit_ste(&sy, *i, &fit.mask, sigma, m.globals, &m.effect, *e0).unwrap();
+        let (e, lm) = fit_ste(&sy, *i, &fit.mask, &fit.scales, m.globals, &m.effect, *e0).unwrap();
         preds[*i] = predict(&sy, *i, m.globals, e, &m.effect).unwrap();
-        held.push((*i, e, lm.jacobian.column(0).into_owned()));
+        held_sens.push((
+            *i,
+            DVector::from(
+                model_jacobian(&lm, &row_scales(&[*i], &fit.mask, &fit.scales)).column(0),
+            ),
+        ));
     }
-    Linearized::at_fit(
-        &preds,
-        &fit.mask,
-        train,
-        &m.lm.jacobian,
-        &held,
-        &fit.omega,
-        None,
-    )
-    .statistics(y)
+    let l = Linearized {
+        f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
+        jac_train: model_jacobian(&m.lm, &row_scales(train, &fit.mask, &fit.scales)),
+        held_sens,
+        ..fit.lin.clone()
+    };
+    l.statistics(y)
 }
 
+/// On a set with floor-plus-relative noise (the noise re-estimated on every replicate, as in
+/// `discover`), the linearised statistics of three replicates agree with those of full refits
+/// to well within their null spread.
 #[test]
 fn linearised_bootstrap_statistics_match_full_refits() {
     let dir = tempfile::tempdir().unwrap();
     let mut t = MunroTruth::default_munro();
     t.seed = 75;
     t.speeds_rpm = (1000.0, 5000.0, 100.0);
+    t.noise = NoiseFamily::Relative.noise(0.15);
     synth_munro(&t, dir.path(), &NoProgress).unwrap();
     let setup = Setup::from_munro(&crate::data::load_munro(dir.path()).unwrap()).unwrap();
     let (train, held) = split(setup.curves.len());
-    let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
-    let sigma = noise_from_differences(&measured).unwrap();
-    let fit = fit_m0(&setup, &train, &held, sigma, None, &NoProgress).unwrap();
+    let spec = NoiseSpec::Estimate {
+        floor_min: 0.0,
+        tails: TailChoice::Gaussian,
+    };
+    let fit = fit_m0(&setup, &train, &held, &spec, &NoProgress).unwrap();
     let lin = &fit.lin;
     // Rows behind each statistic: chi-square(m) has standard deviation sqrt(2m).
     let kept = |idx: &[usize]| -> usize {
@@ -92,21 +101,25 @@ fn linearised_bootstrap_statistics_match_full_refits() {
     rows.push(0);
     rows.extend(in_window);
     for b in 0..3u64 {
-        let y = lin.replicate(sigma, &mut Rng::new(4242 + b));
+        let y = lin.replicate(&mut Rng::new(4242 + b));
         let linear = lin.statistics(&y);
+
         let full = refitted_statistics(&setup, &fit, &train, &y);
-        assert!((linear.sigma - full.sigma).abs() < 1e-15);
         for (k, (a, f)) in linear.detection.iter().zip(&full.detection).enumerate() {
             if a.is_nan() {
                 assert!(f.is_nan(), "statistic {k}: {a} vs {f}");
                 continue;
             }
-            // A fifth of the null spread: chi-square-type statistics sqrt(2m); the runs z has
-            // spread 1 and moves by about 2/sqrt(n) per residual changing sign.
+            // Well inside the null spread: chi-square-type statistics sqrt(2m); the runs z has
+            // spread 1 and moves by about 2/sqrt(n) per residual changing sign. A third of it:
+            // the largest difference (replicate 1, the Omega = 1/3 window of 4 points) is one
+            // held-out point at 3.3 um whose refitted STE moves its level by 0.05 um where the
+            // linear step moves it by 0.02 um, 0.18 noise scales (the relative noise is small
+            // there), 1.0 of the window's 8.3 (null spread 2.8).
             let tol = if k == runs_at {
                 0.35
             } else {
-                0.2 * (2.0 * rows[k] as f64).sqrt()
+                (2.0 * rows[k] as f64).sqrt() / 2.5
             };
             assert!(
                 (a - f).abs() <= tol,

@@ -96,6 +96,32 @@ impl Candidate {
             .collect()
     }
 
+    /// A phase-carrying candidate's delta with its first (cos, sin) pair at amplitude `a` and
+    /// the same phase (phase 0 when the pair is zero); the other pairs unchanged.
+    pub fn with_first_amplitude(delta: &[f64], a: f64) -> Vec<f64> {
+        let mut d = delta.to_vec();
+        let phase = if delta[0] == 0.0 && delta[1] == 0.0 {
+            0.0
+        } else {
+            Candidate::first_phase(delta)
+        };
+        d[0] = a * phase.cos();
+        d[1] = a * phase.sin();
+        d
+    }
+
+    /// Amplitudes of a phase-carrying candidate's polar profile at the design-load fit (see
+    /// `run::polar_profile`): its estimate's plausible range, from where the training curves
+    /// hardly see it to where M0's response is no longer recognisable (eps, r2, F_aT / F_m).
+    pub fn profile_amplitudes(self) -> &'static [f64] {
+        match self {
+            Candidate::MeshStiffnessVariation => &[0.05, 0.1, 0.15, 0.2, 0.3, 0.45],
+            Candidate::SteHarmonics => &[0.1, 0.2, 0.35, 0.5, 0.7],
+            Candidate::TorqueRipple => &[0.005, 0.01, 0.02, 0.04, 0.08],
+            Candidate::DampingLaw | Candidate::Backlash => &[],
+        }
+    }
+
     /// The reported scalar of an effect and its gradient with respect to delta (for the delta
     /// method): an amplitude hypot(c, s) for the phase-carrying effects, gamma, or exp(beta).
     pub fn estimate(self, delta: &[f64]) -> (f64, Vec<f64>) {
@@ -114,6 +140,23 @@ impl Candidate {
             Candidate::DampingLaw => (delta[0], vec![1.0]),
             Candidate::Backlash => (delta[0].exp(), vec![delta[0].exp()]),
         }
+    }
+
+    /// The value of [`Candidate::estimate`] at delta = 0, where the candidate is M0 itself:
+    /// zero amplitude, gamma 0, b / b_stated 1.
+    pub fn nested_value(self) -> f64 {
+        match self {
+            Candidate::Backlash => 1.0,
+            _ => 0.0,
+        }
+    }
+
+    /// Whether a 95% interval of the estimate excludes [`Candidate::nested_value`]: only then
+    /// is the effect told apart from M0 and named. An amplitude's interval is clipped at zero,
+    /// so its lower end must be above it.
+    pub fn excludes_nested(self, (lo, hi): (f64, f64)) -> bool {
+        let v = self.nested_value();
+        lo > v || hi < v
     }
 
     /// Probe points delta of the dictionary used for the score ranking and the likelihood-ratio

@@ -1,16 +1,19 @@
 //! Fits of M0 and M0 + effect to the training curves (zeta, omega_n, one STE amplitude per load,
 //! and the effect's delta), and of the STE amplitude alone on a held-out curve with everything
 //! else fixed (a held-out load's STE is a property of that load, not something the training
-//! loads can predict). Residuals are (measured - model) / sigma at the points kept by a mask.
+//! loads can predict). Residuals are (measured - model) / sigma_ij at the points kept by a
+//! mask, sigma_ij the noise scale of each point ([`Scales`]). Every fit goes through the
+//! estimation engine's least squares (`crate::fit::least_squares`).
 
 use super::effects::{Candidate, Effect};
-use super::forward::{
-    fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup,
-};
-use super::lm::{levenberg_marquardt, rss, LmFit, Stop};
+use super::forward::{fitted_damping_admissible, predict, CurvePrediction, Globals, Setup};
+use super::noise::Scales;
 use crate::error::{GearError, Result};
+use crate::fit::{least_squares, rss, LmFit, Param, Stop};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
+use std::collections::HashMap;
+use std::sync::Mutex;
 
 /// Points kept per curve (same shape as the curves).
 pub type Mask = Vec<Vec<bool>>;
@@ -27,24 +30,50 @@ pub struct ModelFit {
     pub lm: LmFit,
 }
 
-/// Masked, normalised residuals of predictions against the curves `idx`.
+/// Masked residuals of predictions against the curves `idx`, each in units of its point's
+/// noise scale.
 pub fn residuals_of(
     setup: &Setup,
     idx: &[usize],
     preds: &[CurvePrediction],
     mask: &Mask,
-    sigma: f64,
+    scales: &Scales,
 ) -> Vec<f64> {
     let mut r = Vec::new();
     for (k, &i) in idx.iter().enumerate() {
         let c = &setup.curves[i];
         for (j, y) in c.dte_pp_um.iter().enumerate() {
             if mask[i][j] {
-                r.push((y - preds[k].dte_pp_um[j]) / sigma);
+                r.push((y - preds[k].dte_pp_um[j]) / scales[i][j]);
             }
         }
     }
     r
+}
+
+/// The parameters of a discovery fit from `start` (layout of [`ModelFit::lm`]): all signed with
+/// the typical sizes the finite differences and the unseen-parameter rule use (a damping step
+/// below the fits' floor is rejected by the residuals, not by a transform: `MIN_ZETA` is a
+/// bound on the damping at every load after a damping law, which no transform of zeta alone
+/// can express).
+fn discovery_params(n_curves: usize, cand: Option<Candidate>, start: &[f64]) -> Vec<Param> {
+    let mut p = vec![
+        Param::signed("zeta", start[0], 0.005),
+        Param::signed("omega_n_hz", start[1], 10.0),
+    ];
+    for k in 0..n_curves {
+        p.push(Param::signed(&format!("ste_um_{k}"), start[2 + k], 0.05));
+    }
+    if let Some(c) = cand {
+        for k in 0..c.dim() {
+            p.push(Param::signed(
+                &format!("{}_{k}", c.name()),
+                start[2 + n_curves + k],
+                c.scale(),
+            ));
+        }
+    }
+    p
 }
 
 fn unpack(p: &[f64], n_curves: usize, cand: Option<Candidate>) -> (Globals, Vec<f64>, Effect) {
@@ -66,24 +95,24 @@ pub fn fit_model(
     setup: &Setup,
     idx: &[usize],
     mask: &Mask,
-    sigma: f64,
+    scales: &Scales,
     cand: Option<Candidate>,
     start: &[f64],
     stop: Stop,
 ) -> Result<ModelFit> {
     let n = idx.len();
+    let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let (g, ste, effect) = unpack(p, n, cand);
         fitted_damping_admissible(setup, idx, g, &effect)?;
-        let preds = predict_many(setup, idx, g, &ste, &effect)?;
-        Ok(residuals_of(setup, idx, &preds, mask, sigma))
+        let preds: Vec<CurvePrediction> = idx
+            .par_iter()
+            .zip(&ste)
+            .map(|(&i, &e)| cache.predict(setup, i, g, e, &effect))
+            .collect::<Result<_>>()?;
+        Ok(residuals_of(setup, idx, &preds, mask, scales))
     };
-    let mut scales = vec![0.005, 10.0];
-    scales.extend(std::iter::repeat_n(0.05, n));
-    if let Some(c) = cand {
-        scales.extend(std::iter::repeat_n(c.scale(), c.dim()));
-    }
-    let lm = levenberg_marquardt(&f, start, &scales, stop)?;
+    let lm = least_squares(&f, &discovery_params(n, cand, start), stop)?;
     let (globals, ste_um, effect) = unpack(&lm.params, n, cand);
     Ok(ModelFit {
         globals,
@@ -91,6 +120,49 @@ pub fn fit_model(
         effect,
         lm,
     })
+}
+
+/// The curve predictions of one fit by their exact parameters. A Jacobian column that moves
+/// one curve's STE amplitude leaves the other curves as they were at the point the Jacobian is
+/// taken at: their predictions are reused instead of simulated again (for two training loads
+/// and the stiffness variation, 10 of the 12 simulated sweeps of a Jacobian instead of 12).
+#[derive(Default)]
+struct PredictionCache {
+    map: Mutex<HashMap<Vec<u64>, CurvePrediction>>,
+}
+
+/// Entries kept at most: a Jacobian's base point and columns, many times over.
+const CACHE_ENTRIES: usize = 256;
+
+impl PredictionCache {
+    fn predict(
+        &self,
+        setup: &Setup,
+        i: usize,
+        g: Globals,
+        ste_um: f64,
+        effect: &Effect,
+    ) -> Result<CurvePrediction> {
+        let mut key = vec![
+            i as u64,
+            g.zeta.to_bits(),
+            g.omega_n_hz.to_bits(),
+            ste_um.to_bits(),
+        ];
+        key.extend(effect.delta.iter().map(|d| d.to_bits()));
+        let cached = self.map.lock().ok().and_then(|m| m.get(&key).cloned());
+        if let Some(p) = cached {
+            return Ok(p);
+        }
+        let p = predict(setup, i, g, ste_um, effect)?;
+        if let Ok(mut m) = self.map.lock() {
+            if m.len() >= CACHE_ENTRIES {
+                m.clear();
+            }
+            m.insert(key, p.clone());
+        }
+        Ok(p)
+    }
 }
 
 /// Relative STE amplitudes scanned around the start of [`fit_ste`].
@@ -107,14 +179,14 @@ pub fn fit_ste(
     setup: &Setup,
     i: usize,
     mask: &Mask,
-    sigma: f64,
+    scales: &Scales,
     g: Globals,
     effect: &Effect,
     start: f64,
 ) -> Result<(f64, LmFit)> {
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let pred = predict(setup, i, g, p[0], effect)?;
-        Ok(residuals_of(setup, &[i], &[pred], mask, sigma))
+        Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };
     let rss_at = |e: f64| f(&[e]).map(|r| rss(&r));
     // (amplitude, RSS) of the best finite point of the scan, if any.
@@ -141,7 +213,11 @@ pub fn fit_ste(
         }
         None => scan(&STE_SCAN_FINE, start.abs())?.map_or(start.abs(), |fine| fine.0),
     };
-    let lm = levenberg_marquardt(&f, &[best], &[0.05], Stop::converged(8))?;
+    let lm = least_squares(
+        &f,
+        &[Param::signed("ste_um", best, 0.05)],
+        Stop::converged(8),
+    )?;
     Ok((lm.params[0].abs(), lm))
 }
 
@@ -175,12 +251,12 @@ pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
     let mut best: Option<LmFit> = None;
     for z in [0.01, 0.03, 0.08] {
         for w in [0.97, 1.0, 1.03] {
-            if let Ok(fit) = levenberg_marquardt(
-                &f,
-                &[z, peak * w, e0],
-                &[0.005, 10.0, 0.05],
-                Stop::converged(60),
-            ) {
+            let params = [
+                Param::signed("zeta", z, 0.005),
+                Param::signed("omega_n_hz", peak * w, 10.0),
+                Param::signed("ste_um", e0, 0.05),
+            ];
+            if let Ok(fit) = least_squares(&f, &params, Stop::converged(60)) {
                 if best.as_ref().is_none_or(|b| fit.rss < b.rss) {
                     best = Some(fit);
                 }

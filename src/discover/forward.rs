@@ -10,7 +10,7 @@ use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, State, SteadyOptions};
-use crate::validate::{flow_with_rtol, min_max, simulate_up_sweep};
+use crate::validate::{flow_with_rtol, min_max, noise_setting, simulate_up_sweep, MunroNoise};
 use rayon::prelude::*;
 
 /// DOP853 tolerance when k(t) varies: pp DTE agrees with rtol 1e-9 to ~1e-5 um on periodic
@@ -65,6 +65,8 @@ pub struct Curve {
     pub load_n: f64,
     pub speeds_rpm: Vec<f64>,
     pub dte_pp_um: Vec<f64>,
+    /// Stated standard deviation of each point (um), when the set has a `dte_pp_sd_um` column.
+    pub sd_um: Option<Vec<f64>>,
 }
 
 /// The measured data and the rig's stated scales (nothing from `[source.truth]`).
@@ -74,6 +76,8 @@ pub struct Setup {
     pub design_load_n: f64,
     /// Curves by descending load.
     pub curves: Vec<Curve>,
+    /// What the set states of its noise (the rule `validate munro` uses).
+    pub noise: MunroNoise,
 }
 
 impl Setup {
@@ -98,12 +102,14 @@ impl Setup {
                 load_n: load,
                 speeds_rpm: c.iter().map(|p| p.speed_rpm).collect(),
                 dte_pp_um: c.iter().map(|p| p.dte_pp_um).collect(),
+                sd_um: c.iter().map(|p| p.sd_um).collect(),
             });
         }
         Ok(Setup {
             dim,
             design_load_n: data.rig.rig.design_load_n,
             curves,
+            noise: noise_setting(data)?,
         })
     }
 }
@@ -250,8 +256,10 @@ mod tests {
                     load_n,
                     speeds_rpm: vec![1000.0],
                     dte_pp_um: vec![1.0],
+                    sd_um: None,
                 })
                 .collect(),
+            noise: MunroNoise::Estimate { floor_min: 0.0 },
         }
     }
 

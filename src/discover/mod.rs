@@ -16,7 +16,7 @@ mod effects;
 mod fit;
 mod forward;
 mod linearized;
-mod lm;
+mod noise;
 mod report;
 mod run;
 pub mod stats;
@@ -25,10 +25,11 @@ mod windows;
 
 pub use effects::{Candidate, Effect, LIBRARY};
 pub use forward::{Curve, Setup};
+pub use noise::{DiscoveryNoise, NoiseOrigin, TailChoice};
 pub use report::{discovery_json, summary_text, write_discovery};
 pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
-    Gap, GapSet, OtherStart, ResidualCurve, TestResult,
+    Gap, GapSet, OtherStart, ResidualCurve, TestResult, MAX_BOOTSTRAP,
 };
 pub use stats::{clopper_pearson_upper95, wilson95};
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};

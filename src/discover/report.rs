@@ -8,6 +8,7 @@ use super::forward::MIN_ZETA;
 use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
+use crate::fit::Distribution;
 use crate::plot::{write_xy, Series, XyPlot};
 use crate::report::{data_kind_banner, Page, Staged};
 use crate::validate::min_max;
@@ -45,11 +46,10 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
-        "gap_leading_candidate": d.gap_leading,
+        "gap_after_model": d.gap_after_model,
         "detection": d.detection,
         "post_fit": d.post_fit,
-        "sigma_um": d.sigma_um,
-        "sigma_source": d.sigma_source,
+        "noise": noise_json(d),
         "m0": {
             "zeta": d.zeta_m0,
             "omega_n_hz": d.omega_n_hz_m0,
@@ -70,6 +70,55 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "truth_read": false,
         },
     })
+}
+
+/// The noise record of discovery.json: where it came from, the model (floor in um, relative part,
+/// distribution), the scales it gives over the kept points, and how it was chosen.
+fn noise_json(d: &Discovery) -> serde_json::Value {
+    let n = &d.noise;
+    let (dist, dof) = match n.model.distribution {
+        Distribution::Gaussian => ("gaussian", None),
+        Distribution::StudentT { dof } => ("student_t", Some(dof)),
+    };
+    json!({
+        "source": n.origin,
+        "description": n.origin.describe(),
+        "floor_um": n.per_point.is_none().then_some(n.model.floor),
+        "relative": n.per_point.is_none().then_some(n.model.relative),
+        "distribution": dist,
+        "dof": dof,
+        "scale_range_um": [d.noise_range_um.0, d.noise_range_um.1],
+        "relative_lr_adjusted": n.relative_lr,
+        "tails_lr_adjusted": n.tails_lr,
+        "pseudo_residuals": n.pseudo_residuals,
+        "trimmed": n.trimmed,
+    })
+}
+
+/// One line on the noise, for the terminal and the report.
+pub fn noise_text(d: &Discovery) -> String {
+    let n = &d.noise;
+    let model = if n.per_point.is_some() {
+        "a stated scale per point".to_string()
+    } else if n.model.relative > 0.0 {
+        format!(
+            "floor {:.3} µm + {:.2}% of the level",
+            n.model.floor,
+            100.0 * n.model.relative
+        )
+    } else {
+        format!("{:.3} µm", n.model.floor)
+    };
+    let tails = match n.model.distribution {
+        Distribution::Gaussian => "Gaussian".to_string(),
+        Distribution::StudentT { dof } => format!("Student-t, {dof} degrees of freedom"),
+    };
+    format!(
+        "noise {model} ({tails}; {:.3}-{:.3} µm over the kept points), {}",
+        d.noise_range_um.0,
+        d.noise_range_um.1,
+        n.origin.describe()
+    )
 }
 
 /// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
@@ -172,7 +221,7 @@ fn opt(v: Option<f64>, prec: usize) -> String {
 /// A few lines for the terminal.
 pub fn summary_text(d: &Discovery) -> String {
     let mut s = format!(
-        "effect: {}{}\nM0: zeta {:.5}, omega_n {:.1} Hz; noise sigma {:.3} um ({})\n",
+        "effect: {}{}\nM0: zeta {:.5}, omega_n {:.1} Hz; {}\n",
         d.effect,
         if d.ambiguous_with.is_empty() {
             d.closest_candidate.as_ref().map_or_else(
@@ -184,8 +233,7 @@ pub fn summary_text(d: &Discovery) -> String {
         },
         d.zeta_m0,
         d.omega_n_hz_m0,
-        d.sigma_um,
-        d.sigma_source
+        noise_text(d)
     );
     if let Some(t) = zeta_bound_text(d) {
         s.push_str(&format!("NOTE: {t}\n"));
@@ -213,28 +261,19 @@ pub fn summary_text(d: &Discovery) -> String {
         gap_text(&d.gap_before.training)
     ));
     s.push_str(&format!(
-        "gap after:  training {}\n",
+        "gap after ({}):  training {}\n",
+        d.gap_after_model,
         gap_text(&d.gap_after.training)
     ));
     if let (Some(b), Some(a)) = (&d.gap_before.held_out, &d.gap_after.held_out) {
         s.push_str(&format!("gap before: held out {}\n", gap_text(b)));
-        s.push_str(&format!("gap after:  held out {}\n", gap_text(a)));
+        s.push_str(&format!(
+            "gap after ({}):  held out {}\n",
+            d.gap_after_model,
+            gap_text(a)
+        ));
     }
     s.push_str(&excluded_text(d));
-    if d.effect == "unexplained" || d.effect == "ambiguous" {
-        if let Some(g) = &d.gap_leading {
-            s.push_str(&format!(
-                "leading candidate refitted: training {}\n",
-                gap_text(&g.training)
-            ));
-            if let Some(h) = &g.held_out {
-                s.push_str(&format!(
-                    "leading candidate refitted: held out {}\n",
-                    gap_text(h)
-                ));
-            }
-        }
-    }
     s
 }
 
@@ -315,15 +354,14 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         data.rig.source.kind == DataKind::Synthetic,
     );
     page.paragraph(&format!(
-        "Effect: {}{}. Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. Noise sigma {:.3} um ({}). {} points excluded from the tests. {} bootstrap replicates under M0.",
+        "Effect: {}{}. Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. {}. {} points excluded from the tests. {} bootstrap replicates under M0.",
         d.effect,
         if d.ambiguous_with.is_empty() { unexplained_by_excluded_text(d).unwrap_or_default() } else { format!(" ({})", d.ambiguous_with.join(", ")) },
         d.training_loads_n,
         d.held_out_loads_n,
         d.zeta_m0,
         d.omega_n_hz_m0,
-        d.sigma_um,
-        d.sigma_source,
+        noise_text(d),
         d.excluded_points,
         d.bootstrap
     ));

@@ -9,16 +9,21 @@ use super::fit::{
     fit_model, fit_ste, linear_start, residuals_of, ste_from_low_speed, Mask, ModelFit,
 };
 use super::forward::{
-    aperiodic_pp_range, fitted_damping_admissible, predict_many, CurvePrediction, Setup, MIN_ZETA,
+    aperiodic_pp_range, fitted_damping_admissible, predict_many, CurvePrediction, Globals, Setup,
+    MIN_ZETA,
 };
 use super::linearized::{detection_names, Linearized, Statistics};
-use super::lm::{rss, LmFit, Stop};
+use super::noise::{
+    estimate as estimate_noise, DiscoveryNoise, NoiseOrigin, NoiseSpec, PseudoInput, Scales,
+    TailChoice,
+};
 use super::stats::{bootstrap_p, chi2_sf, holm};
-use super::windows::Window;
+use super::windows::{windows, Window};
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
+use crate::fit::{rss, LmFit, Stop};
 use crate::progress::Progress;
-use crate::validate::min_max;
+use crate::validate::{min_max, MunroNoise};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -30,8 +35,11 @@ pub struct DiscoverOptions {
     pub bootstrap: usize,
     /// Seed of the bootstrap.
     pub seed: u64,
-    /// Stated measurement noise (um); None estimates it from second differences of the curves.
+    /// Stated measurement noise (um, a constant); None takes the data set's statement
+    /// (`dte_pp_sd_um`, rig.toml `[noise]`) or estimates it (see [`super::noise`]).
     pub noise_um: Option<f64>,
+    /// Whether estimated noise may have Student-t tails (chosen by the data) or is Gaussian.
+    pub tails: TailChoice,
     /// Family-wise error rate of the whole decision; half goes to the detection tests and half
     /// to the candidate tests (Bonferroni across the two families, Holm within each).
     pub alpha: f64,
@@ -52,6 +60,7 @@ impl Default for DiscoverOptions {
             bootstrap: 1999,
             seed: 12345,
             noise_um: None,
+            tails: TailChoice::Auto,
             alpha: 0.05,
             refit_top: 2,
             refit_iterations: 12,
@@ -94,7 +103,7 @@ pub struct CandidateResult {
     pub other_start: Option<OtherStart>,
 }
 
-/// The fit a phase-carrying candidate's refit reached from the opposite phase and did not keep
+/// The fit a phase-carrying candidate's refit reached from the other phase basin and did not keep
 /// (see `refit_candidate`): where it ended, and how much worse it fits the training loads.
 /// When the two are distinct minima within chi2(0.95; 1) of each other, the candidate's
 /// reported interval is the hull of both fits' intervals: the likelihood-ratio confidence set
@@ -180,8 +189,8 @@ pub struct ExcludedPoints {
     /// ([`super::forward::aperiodic_pp_range`]), since the measured pp there is one window out
     /// of that distribution.
     pub model_range_um: (f64, f64),
-    /// Excluded points whose measured pp lies outside the M0 range by more than 3 sigma plus
-    /// 10% of M0's largest pp there: a gross disagreement, beyond the noise, beyond any
+    /// Excluded points whose measured pp lies outside the M0 range by more than 3 noise scales
+    /// (at M0's largest pp there) plus 10% of that pp: a gross disagreement, beyond the noise, beyond any
     /// window of M0's motion and beyond the onset of non-period-1 motion moving a little with
     /// the parameters.
     pub outside_model_range: usize,
@@ -202,7 +211,7 @@ fn excluded_by_load(
     setup: &Setup,
     m0: &M0Fit,
     train: &[usize],
-    sigma: f64,
+    noise: &DiscoveryNoise,
 ) -> Result<Vec<ExcludedPoints>> {
     let mut out = Vec::new();
     for (i, (c, (p, m))) in setup
@@ -226,7 +235,7 @@ fn excluded_by_load(
             .iter()
             .filter_map(|&j| windows[j])
             .fold(predicted, |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
-        let margin = 3.0 * sigma + 0.1 * model.1.abs();
+        let margin = |j: usize| 3.0 * noise.scale_at(i, j, model.1.abs()) + 0.1 * model.1.abs();
         out.push(ExcludedPoints {
             load_n: c.load_n,
             points: dropped.len(),
@@ -236,8 +245,10 @@ fn excluded_by_load(
             model_range_um: model,
             outside_model_range: dropped
                 .iter()
-                .map(|&j| c.dte_pp_um[j])
-                .filter(|v| *v > model.1 + margin || *v < model.0 - margin)
+                .filter(|&&j| {
+                    let v = c.dte_pp_um[j];
+                    v > model.1 + margin(j) || v < model.0 - margin(j)
+                })
                 .count(),
         });
     }
@@ -268,8 +279,10 @@ pub struct Discovery {
     /// Detection tests on the residuals after adding the chosen effect (same null distribution).
     pub post_fit: Vec<TestResult>,
     pub candidates: Vec<CandidateResult>,
-    pub sigma_um: f64,
-    pub sigma_source: &'static str,
+    /// The noise the tests and fits use: stated, or estimated (floor, relative part, tails).
+    pub noise: DiscoveryNoise,
+    /// Smallest and largest noise scale over the kept points (um), at M0's levels.
+    pub noise_range_um: (f64, f64),
     pub zeta_m0: f64,
     pub omega_n_hz_m0: f64,
     pub training_loads_n: Vec<f64>,
@@ -280,10 +293,11 @@ pub struct Discovery {
     /// Per load with excluded points: how the data there compare with M0 (not tested).
     pub excluded_by_load: Vec<ExcludedPoints>,
     pub gap_before: GapSet,
+    /// Gap with the best refitted candidate: the named effect, or, when the answer is
+    /// "unexplained" or "ambiguous", the candidate that came closest (`gap_after_model` says
+    /// which); M0's own gap when no candidate was refitted.
     pub gap_after: GapSet,
-    /// Gap with the leading significant candidate refitted (equal to gap_after when it is the
-    /// effect; shown also when the effect is "unexplained" or "ambiguous").
-    pub gap_leading: Option<GapSet>,
+    pub gap_after_model: String,
     pub windows: Vec<Window>,
     pub residuals_before: Vec<ResidualCurve>,
     /// Residuals with the leading significant candidate refitted (M0's when there is none).
@@ -331,7 +345,7 @@ fn predict_all(
     train: &[usize],
     held: &[usize],
     mask: &Mask,
-    sigma: f64,
+    scales: &Scales,
     held_start: Option<&[HeldFit]>,
 ) -> Result<(Vec<CurvePrediction>, Vec<HeldFit>)> {
     let mut preds: Vec<Option<CurvePrediction>> = vec![None; setup.curves.len()];
@@ -347,9 +361,20 @@ fn predict_all(
             let start = held_start
                 .and_then(|h| h.iter().find(|x| x.0 == i))
                 .map_or_else(|| ste_from_low_speed(setup, i, fit.globals), |x| x.1);
-            let (e, lm) = fit_ste(setup, i, mask, sigma, fit.globals, &fit.effect, start)?;
+            let (e, lm) = fit_ste(setup, i, mask, scales, fit.globals, &fit.effect, start)?;
             let p = super::forward::predict(setup, i, fit.globals, e, &fit.effect)?;
-            Ok(((i, e, lm.jacobian.column(0).into_owned()), p))
+            // The sensitivity of the curve (um per um of STE) from that of its standardized
+            // residuals.
+            let kept = (0..mask[i].len()).filter(|&j| mask[i][j]);
+            let sens = DVector::from_iterator(
+                lm.jacobian.nrows(),
+                lm.jacobian
+                    .column(0)
+                    .iter()
+                    .zip(kept)
+                    .map(|(d, j)| -d * scales[i][j]),
+            );
+            Ok(((i, e, sens), p))
         })
         .collect();
     let mut held_out = Vec::new();
@@ -365,18 +390,21 @@ fn predict_all(
     Ok((preds, held_out))
 }
 
-/// A held-out curve's index, fitted STE (um) and its sensitivity column.
+/// A held-out curve's index, fitted STE (um) and its sensitivity (um per um of STE) on its
+/// kept points.
 type HeldFit = (usize, f64, DVector<f64>);
 
 /// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
 /// measured pp there depends on history beyond the model) and the two points around every
-/// predicted jump larger than 10 sigma: a change of impact regime (Fig. 9: none, single-sided,
-/// double-sided) between neighbouring speeds. A jump displaced by one grid step would dominate
-/// every statistic without saying anything about a missing effect.
-fn make_mask(preds: &[CurvePrediction], sigma: f64) -> Mask {
+/// predicted jump larger than 10 noise scales (at the higher of the two levels): a change of
+/// impact regime (Fig. 9: none, single-sided, double-sided) between neighbouring speeds. A jump
+/// displaced by one grid step would dominate every statistic without saying anything about a
+/// missing effect. `curves[k]` is the curve `preds[k]` predicts.
+fn make_mask(preds: &[CurvePrediction], curves: &[usize], noise: &DiscoveryNoise) -> Mask {
     preds
         .iter()
-        .map(|p| {
+        .zip(curves)
+        .map(|(p, &i)| {
             let n = p.dte_pp_um.len();
             let mut m: Vec<bool> = p.period1.clone();
             for j in 1..n {
@@ -388,7 +416,10 @@ fn make_mask(preds: &[CurvePrediction], sigma: f64) -> Mask {
                 // early kept the point between, 120 um off, which alone made it "unexplained".
                 let regime_changed = p.separated[j] != p.separated[j - 1]
                     || p.back_contact[j] != p.back_contact[j - 1];
-                if regime_changed && (p.dte_pp_um[j] - p.dte_pp_um[j - 1]).abs() > 10.0 * sigma {
+                let (a, b) = (p.dte_pp_um[j - 1], p.dte_pp_um[j]);
+                let top = a.abs().max(b.abs());
+                let scale = noise.scale_at(i, j, top).max(noise.scale_at(i, j - 1, top));
+                if regime_changed && (b - a).abs() > 10.0 * scale {
                     m[j] = false;
                     m[j - 1] = false;
                 }
@@ -538,11 +569,13 @@ fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
 /// probe (held there when `seen_at_design` is false: no probe moves the design-load curve by
 /// the noise, so that stage cannot fit it), then the other training loads' STE alone, then
 /// everything; finally once more with the points around the refitted model's own jumps also
-/// dropped. Returns the fit, its mask and the start not kept.
+/// dropped, with the noise estimated about the refit ([`refit_scales`]). Returns the fit, its
+/// mask, the start not kept and the last stage's scales.
 ///
-/// A phase-carrying effect starts the second stage from the best phase of a profile at the
-/// design-load fit ([`phase_profile`]), and a second time from the opposite phase; the
-/// lower residual sum of squares of the two goes on to the last stage. The design load (small
+/// A phase-carrying effect starts the second stage from the best amplitude and phase of a
+/// profile at the design-load fit ([`polar_profile`]), and a second time from the best of the
+/// other phase basin (more than 90 degrees away); the lower residual sum of squares of the two
+/// goes on to the last stage. The design load (small
 /// STE) sets the amplitude but hardly the phase, and the all-load fit hardly moves it either:
 /// the pp response jumps with the phase (a jump moves by a grid step), so Levenberg-Marquardt
 /// stops within a few degrees of where it starts. On an r2 0.4 set (true phase 0, 50 rpm grid,
@@ -562,13 +595,14 @@ fn refit_candidate(
     setup: &Setup,
     train: &[usize],
     mask: &Mask,
-    sigma: f64,
+    w: RunNoise,
     cand: Candidate,
     m0: &ModelFit,
     delta0: &[f64],
     seen_at_design: bool,
     iters: usize,
-) -> Result<(ModelFit, Mask, Option<OtherStart>)> {
+) -> Result<(ModelFit, Mask, Option<OtherStart>, Scales)> {
+    let scales = w.scales;
     let mut s1 = vec![m0.globals.zeta, m0.globals.omega_n_hz, m0.ste_um[0]];
     // The design-load stage: its globals, its STE and the effect it hands on.
     let (g1, ste1, effect1) = if seen_at_design {
@@ -577,7 +611,7 @@ fn refit_candidate(
             setup,
             &train[..1],
             mask,
-            sigma,
+            scales,
             Some(cand),
             &s1,
             Stop::near(iters),
@@ -594,7 +628,7 @@ fn refit_candidate(
             setup,
             &train[..1],
             mask,
-            sigma,
+            scales,
             None,
             &s1,
             Stop::near(iters),
@@ -608,7 +642,7 @@ fn refit_candidate(
         train[1..]
             .par_iter()
             .zip(&m0.ste_um[1..])
-            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, sigma, g1, effect, e)?.0))
+            .map(|(&i, &e)| Ok(fit_ste(setup, i, mask, scales, g1, effect, e)?.0))
             .collect()
     };
     // Stage two's start from the design-load fit with the effect `effect` and the other training
@@ -618,7 +652,7 @@ fn refit_candidate(
         let mut start = vec![g1.zeta, g1.omega_n_hz, ste1];
         start.extend_from_slice(others);
         let preds = predict_many(setup, train, g1, &start[2..], effect)?;
-        let r = rss(&residuals_of(setup, train, &preds, mask, sigma));
+        let r = rss(&residuals_of(setup, train, &preds, mask, scales));
         start.extend_from_slice(&effect.delta);
         Ok((start, r))
     };
@@ -629,7 +663,7 @@ fn refit_candidate(
             setup,
             train,
             mask,
-            sigma,
+            scales,
             Some(cand),
             &start?,
             Stop::near(iters),
@@ -642,16 +676,16 @@ fn refit_candidate(
         // the r2 0.4 set above from three probe phases. A phase shift leaves the damping as it
         // is, admissible with `effect1`.
         let phased = fitted_others(&effect1).and_then(|others| {
-            phase_profile(cand, &effect1.delta, &|e: &Effect| scored(e, &others))
+            polar_profile(cand, &effect1.delta, &|e: &Effect| scored(e, &others))
         });
         match phased {
-            Ok(best) => {
-                let opposite = Effect::of(cand, best.iter().map(|d| -d).collect());
-                [Effect::of(cand, best), opposite]
-                    .par_iter()
-                    .map(|e| from(start_at(e).map(|s| s.0)))
-                    .collect()
-            }
+            Ok((best, other)) => std::iter::once(best)
+                .chain(other)
+                .map(|d| Effect::of(cand, d))
+                .collect::<Vec<_>>()
+                .par_iter()
+                .map(|e| from(start_at(e).map(|s| s.0)))
+                .collect(),
             Err(e) => vec![Err(e)],
         }
     } else if seen_at_design {
@@ -677,29 +711,33 @@ fn refit_candidate(
             first_error.unwrap_or_else(|| GearError::Numerical("a refit needs a start".into()))
         );
     };
-    let other = converged.next().map(|o| OtherStart {
-        rss_increase: o.lm.rss - f2.lm.rss,
-        ci95: wald_ci(cand, &o.lm),
-        delta: o.effect.delta,
-    });
     let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
     let mut m2 = mask.clone();
     for (k, &i) in train.iter().enumerate() {
-        let own = make_mask(std::slice::from_ref(&preds[k]), sigma);
+        let own = make_mask(std::slice::from_ref(&preds[k]), &[i], w.noise);
         for (j, keep) in own[0].iter().enumerate() {
             m2[i][j] = m2[i][j] && *keep;
         }
     }
+    let scales3 = refit_scales(setup, w, train, &preds, &m2)?;
+    let other = converged.next().map(|o| OtherStart {
+        rss_increase: o.lm.rss - f2.lm.rss,
+        ci95: wald_ci(
+            cand,
+            &restandardized(&o.lm, train, mask, w.scales, &scales3),
+        ),
+        delta: o.effect.delta,
+    });
     let f3 = fit_model(
         setup,
         train,
         &m2,
-        sigma,
+        &scales3,
         Some(cand),
         &f2.lm.params.clone(),
         Stop::converged(iters / 2 + 1),
     )?;
-    Ok((f3, m2, other))
+    Ok((f3, m2, other, scales3))
 }
 
 /// A stage-two start (parameter layout of [`ModelFit::lm`]) and the residual sum of squares
@@ -710,7 +748,7 @@ type ScoredStart = (Vec<f64>, f64);
 /// (the probes are 2-10 scales apart).
 const PROFILE_REFINE: [f64; 4] = [-2.0, -1.0, 1.0, 2.0];
 
-/// Phases of [`phase_profile`]: shifts of the design-load fit's phase 30 deg apart (the
+/// Phases of [`polar_profile`]: shifts of the design-load fit's phase 30 deg apart (the
 /// all-load fit moves a phase by less than that)...
 const PHASE_PROFILE_STEP_DEG: f64 = 30.0;
 /// ...then these steps around the best (the coarse shifts leave a phase up to 15 deg from the
@@ -749,29 +787,115 @@ fn profile_start(
     Ok(best_of_profile(cand, cand.probes(), &refine, start_at)?.1)
 }
 
-/// The delta a phase-carrying candidate's all-load stage starts from: the best of the
-/// design-load fit's delta `delta1` with all phases shifted by multiples of
-/// [`PHASE_PROFILE_STEP_DEG`], then by [`PHASE_REFINE_DEG`] around the best, each scored by
-/// `score` (as in [`profile_start`]). The amplitudes stay the design-load fit's.
-fn phase_profile(
+/// The starts of a phase-carrying candidate's all-load stage: a profile over the amplitude and
+/// the phase of its first (cos, sin) pair at the design-load fit, each value scored by `score`
+/// (the residual sum of squares of all training loads, the other loads' STE held): the
+/// amplitudes [`Candidate::profile_amplitudes`] and the design-load fit's own, times phases
+/// [`PHASE_PROFILE_STEP_DEG`] apart, then steps of [`PHASE_REFINE_DEG`] and
+/// [`AMPLITUDE_REFINE`] around the best. Returns the best, and the best at a phase more than
+/// 90 degrees from it (refined the same way), the start of the other basin.
+///
+/// The phase alone at the design-load fit's amplitude is not enough: the response is far from
+/// linear in the amplitude. On a set with eps 0.2 at 191 degrees (relative noise, seed 2) the
+/// training RMS at the true globals is 0.44 um at the true phase and amplitude, 0.77-4.6 um at
+/// amplitude 0.2 and other phases, and 6.1-8.2 um at every phase at amplitude 0.1; the
+/// design-load fit's amplitude (0.09) and its best phase led to eps 0.09 at -3 degrees.
+fn polar_profile(
     cand: Candidate,
     delta1: &[f64],
     score: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
-) -> Result<Vec<f64>> {
+) -> Result<(Vec<f64>, Option<Vec<f64>>)> {
     let steps = (360.0 / PHASE_PROFILE_STEP_DEG).round() as usize;
-    let coarse = (0..steps)
-        .map(|k| {
-            let deg = k as f64 * PHASE_PROFILE_STEP_DEG;
-            Candidate::phase_shifted(delta1, deg.to_radians())
+    let a1 = delta1[0].hypot(delta1[1]);
+    let mut amps = cand.profile_amplitudes().to_vec();
+    if a1 > 0.0 {
+        amps.push(a1);
+    }
+    let coarse: Vec<Vec<f64>> = amps
+        .iter()
+        .flat_map(|&a| {
+            (0..steps).map(move |k| {
+                let deg = k as f64 * PHASE_PROFILE_STEP_DEG;
+                Candidate::with_first_amplitude(
+                    &Candidate::phase_shifted(delta1, deg.to_radians()),
+                    a,
+                )
+            })
         })
         .collect();
-    let refine = |best: &[f64]| -> Vec<Vec<f64>> {
-        PHASE_REFINE_DEG
+    let scored = scored_deltas(cand, coarse, score)?;
+    let refine = |d: &[f64]| -> Vec<Vec<f64>> {
+        let a = d[0].hypot(d[1]);
+        let mut v: Vec<Vec<f64>> = PHASE_REFINE_DEG
             .iter()
-            .map(|deg| Candidate::phase_shifted(best, deg.to_radians()))
-            .collect()
+            .map(|deg| Candidate::phase_shifted(d, deg.to_radians()))
+            .collect();
+        v.extend(
+            AMPLITUDE_REFINE
+                .iter()
+                .map(|f| Candidate::with_first_amplitude(d, f * a)),
+        );
+        v
     };
-    Ok(best_of_profile(cand, coarse, &refine, score)?.0)
+    let refined = |start: &(Vec<f64>, f64)| -> Vec<f64> {
+        scored_deltas(cand, refine(&start.0), score)
+            .ok()
+            .and_then(|r| r.into_iter().min_by(|a, b| a.1.total_cmp(&b.1)))
+            .filter(|r| r.1 < start.1)
+            .map_or_else(|| start.0.clone(), |r| r.0)
+    };
+    let lowest = |it: &mut dyn Iterator<Item = &(Vec<f64>, f64)>| {
+        it.min_by(|a, b| a.1.total_cmp(&b.1)).cloned()
+    };
+    let best = lowest(&mut scored.iter())
+        .ok_or_else(|| GearError::Numerical("no profile value gives a finite residual".into()))?;
+    let best = refined(&best);
+    let phase = Candidate::first_phase(&best);
+    let apart = |d: &[f64]| {
+        let mut diff = (Candidate::first_phase(d) - phase).abs();
+        if diff > std::f64::consts::PI {
+            diff = 2.0 * std::f64::consts::PI - diff;
+        }
+        diff > std::f64::consts::FRAC_PI_2
+    };
+    let other = lowest(&mut scored.iter().filter(|(d, _)| apart(d))).map(|o| refined(&o));
+    Ok((best, other))
+}
+
+/// Steps of the amplitude around the polar profile's best value, as factors.
+const AMPLITUDE_REFINE: [f64; 2] = [0.85, 1.15];
+
+/// `score`'s residual sum of squares at every delta of `deltas` (in parallel); values it
+/// rejects or scores as non-finite are left out, and it fails only when every value is.
+fn scored_deltas(
+    cand: Candidate,
+    deltas: Vec<Vec<f64>>,
+    score: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
+) -> Result<Vec<(Vec<f64>, f64)>> {
+    let all: Vec<(Vec<f64>, Result<ScoredStart>)> = deltas
+        .into_par_iter()
+        .map(|d| {
+            let r = score(&Effect::of(cand, d.clone()));
+            (d, r)
+        })
+        .collect();
+    let mut first_error = None;
+    let mut out = Vec::new();
+    for (d, r) in all {
+        match r {
+            Ok((_, rss)) if rss.is_finite() => out.push((d, rss)),
+            Ok(_) => {}
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    if out.is_empty() {
+        return Err(first_error.unwrap_or_else(|| {
+            GearError::Numerical("no profile value gives a finite residual".into())
+        }));
+    }
+    Ok(out)
 }
 
 /// The (delta, start) with the lowest score of `start_at` over `coarse`, then over
@@ -838,6 +962,153 @@ struct Decision {
     refit_held: Option<Vec<HeldFit>>,
 }
 
+/// A refitted candidate.
+struct Refitted {
+    /// Its index in [`LIBRARY`].
+    cand: usize,
+    fit: ModelFit,
+    /// The points it was fitted on: M0's with the points around its own jumps dropped.
+    mask: Mask,
+    /// Its predictions of the training curves.
+    train_preds: Vec<CurvePrediction>,
+    /// The noise scales of its last stage (the noise estimated about the refit, see
+    /// [`refit_scales`]).
+    scales: Scales,
+}
+
+/// The noise of a run as the refits use it: the scales at M0's levels, the noise model that
+/// gave them, and what was known of it before any fit.
+#[derive(Clone, Copy)]
+struct RunNoise<'a> {
+    scales: &'a Scales,
+    noise: &'a DiscoveryNoise,
+    spec: &'a NoiseSpec,
+}
+
+/// The scales of a refit's last stage: on the training curves, the noise estimated anew about
+/// the refit's predictions `preds` on the points `fitted` keeps (stated noise: its scales at
+/// the refit's levels); elsewhere the run's. About M0, a missing effect's misfit at the
+/// resonances inflates the estimate (eps 0.2 hidden in Gaussian noise of floor 0.15 um: floor
+/// 0.21 um and Student-t tails of 3 dof, standard deviations 2.4 times the true ones), which
+/// would widen the refit's interval by as much.
+fn refit_scales(
+    setup: &Setup,
+    w: RunNoise,
+    train: &[usize],
+    preds: &[CurvePrediction],
+    fitted: &Mask,
+) -> Result<Scales> {
+    let mut levels: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+    let mut mask: Mask = levels.iter().map(|l| vec![false; l.len()]).collect();
+    let mut full: Vec<CurvePrediction> = setup
+        .curves
+        .iter()
+        .map(|c| {
+            let n = c.dte_pp_um.len();
+            CurvePrediction {
+                dte_pp_um: c.dte_pp_um.clone(),
+                period1: vec![true; n],
+                separated: vec![false; n],
+                back_contact: vec![false; n],
+                aperiodic_start: vec![None; n],
+            }
+        })
+        .collect();
+    for (k, &i) in train.iter().enumerate() {
+        levels[i] = preds[k].dte_pp_um.clone();
+        mask[i] = fitted[i].clone();
+        full[i] = preds[k].clone();
+    }
+    let noise = noise_about(setup, w.spec, &full, &mask)?;
+    let fresh = noise.scales(&levels);
+    let mut scales = w.scales.clone();
+    for &i in train {
+        scales[i] = fresh[i].clone();
+    }
+    Ok(scales)
+}
+
+/// A fit's Jacobian of standardized residuals with each row r re-standardized from scale
+/// `old[r]` to `new[r]` (rows: the points `mask` keeps of the curves `idx`, in order).
+fn restandardized(lm: &LmFit, idx: &[usize], mask: &Mask, old: &Scales, new: &Scales) -> LmFit {
+    let (o, n) = (row_scales(idx, mask, old), row_scales(idx, mask, new));
+    let mut out = lm.clone();
+    for (r, (a, b)) in o.iter().zip(&n).enumerate() {
+        if r < out.jacobian.nrows() {
+            out.jacobian.row_mut(r).scale_mut(a / b);
+        }
+    }
+    out
+}
+
+/// Each refit's drop in the residual sum of squares from M0 (standardized residuals), on the
+/// training points that every refit and M0 keep. Refits are compared on the same points: each
+/// refit drops the points around its own jumps, and an effect that brings jumps (the stiffness
+/// variation opens instability regions) would otherwise be compared on fewer points than one
+/// that does not, and lose to a worse fit (eps 0.2, relative noise, seed 1: a drop of 1458 on
+/// its own points against 7803 for a second STE harmonic with the wrong damping on its own).
+fn common_drops(
+    setup: &Setup,
+    train: &[usize],
+    f0: &[CurvePrediction],
+    scales: &Scales,
+    refits: &[Refitted],
+) -> Vec<(usize, f64)> {
+    let kept = |i: usize, j: usize| refits.iter().all(|r| r.mask[i][j]);
+    let rss_of = |preds: &dyn Fn(usize) -> f64, i: usize| -> f64 {
+        let c = &setup.curves[i];
+        (0..c.dte_pp_um.len())
+            .filter(|&j| kept(i, j))
+            .map(|j| ((c.dte_pp_um[j] - preds(j)) / scales[i][j]).powi(2))
+            .sum()
+    };
+    let rss0: f64 = train
+        .iter()
+        .map(|&i| rss_of(&|j| f0[i].dte_pp_um[j], i))
+        .sum();
+    refits
+        .iter()
+        .map(|r| {
+            let rss: f64 = train
+                .iter()
+                .enumerate()
+                .map(|(k, &i)| rss_of(&|j| r.train_preds[k].dte_pp_um[j], i))
+                .sum();
+            (r.cand, rss0 - rss)
+        })
+        .collect()
+}
+
+/// The model Jacobian (um per parameter) of refit `f`, fitted on the points `fitted` keeps, on
+/// the rows of M0's `mask` (the training curves' kept points in order): a row the refit did not
+/// fit is zero.
+fn refit_jacobian(
+    f: &ModelFit,
+    train: &[usize],
+    mask: &Mask,
+    fitted: &Mask,
+    scales: &Scales,
+) -> DMatrix<f64> {
+    let j = model_jacobian(&f.lm, &row_scales(train, fitted, scales));
+    let rows: Vec<bool> = train
+        .iter()
+        .flat_map(|&i| {
+            (0..mask[i].len())
+                .filter(move |&k| mask[i][k])
+                .map(move |k| fitted[i][k])
+        })
+        .collect();
+    let mut out = DMatrix::zeros(rows.len(), j.ncols());
+    let mut next = 0;
+    for (r, fit_row) in rows.iter().enumerate() {
+        if *fit_row && next < j.nrows() {
+            out.row_mut(r).copy_from(&j.row(next));
+            next += 1;
+        }
+    }
+    out
+}
+
 /// M0 fitted to the training curves with everything the tests need fixed under the null.
 pub(super) struct M0Fit {
     pub m0: ModelFit,
@@ -847,18 +1118,159 @@ pub(super) struct M0Fit {
     pub held0: Vec<HeldFit>,
     /// Omega of every point at the fitted omega_n.
     pub omega: Vec<Vec<f64>>,
+    /// The noise (stated, or estimated about this fit) and its scale at every point at M0's
+    /// levels: the weights of every later fit and test.
+    pub noise: DiscoveryNoise,
+    pub scales: Scales,
     /// The linearised statistics at this fit, without candidate probes.
     pub lin: Linearized,
 }
 
+/// Residuals of the curves about predictions, every point (um).
+fn residuals_about(setup: &Setup, preds: &[CurvePrediction]) -> Vec<Vec<f64>> {
+    setup
+        .curves
+        .iter()
+        .zip(preds)
+        .map(|(c, p)| {
+            c.dte_pp_um
+                .iter()
+                .zip(&p.dte_pp_um)
+                .map(|(y, f)| y - f)
+                .collect()
+        })
+        .collect()
+}
+
+/// The noise of the data about predictions `preds` on the points `mask` keeps: stated, or
+/// estimated from the pseudo-residuals (see [`super::noise`]).
+fn noise_about(
+    setup: &Setup,
+    spec: &NoiseSpec,
+    preds: &[CurvePrediction],
+    mask: &Mask,
+) -> Result<DiscoveryNoise> {
+    match spec {
+        NoiseSpec::Stated(n) => Ok(n.clone()),
+        NoiseSpec::Estimate { floor_min, tails } => {
+            let speeds: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.speeds_rpm.clone()).collect();
+            let levels: Vec<Vec<f64>> = preds.iter().map(|p| p.dte_pp_um.clone()).collect();
+            let residuals = residuals_about(setup, preds);
+            estimate_noise(
+                &PseudoInput {
+                    speeds: &speeds,
+                    residuals: &residuals,
+                    levels: &levels,
+                    mask,
+                },
+                *floor_min,
+                *tails,
+            )
+        }
+    }
+}
+
+/// The noise before any fit: stated, or a constant from the second differences of the curves
+/// (Gasser et al. 1986, median-based), for the first fit's weights.
+fn first_noise(setup: &Setup, spec: &NoiseSpec) -> Result<DiscoveryNoise> {
+    match spec {
+        NoiseSpec::Stated(n) => Ok(n.clone()),
+        NoiseSpec::Estimate { floor_min, .. } => {
+            let measured: Vec<Vec<f64>> =
+                setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+            let s = super::stats::noise_from_differences(&measured)
+                .filter(|s| *s > 0.0)
+                .ok_or_else(|| {
+                    GearError::Numerical("cannot estimate the noise from the curves".into())
+                })?;
+            Ok(DiscoveryNoise::stated(
+                NoiseOrigin::Estimated {
+                    floor_min: *floor_min,
+                },
+                crate::fit::NoiseModel::constant(s.max(*floor_min)),
+            ))
+        }
+    }
+}
+
+/// The model Jacobian (um per parameter) of a fit's kept rows from the Jacobian of its
+/// standardized residuals (y - f) / sigma: row r times -sigma_r.
+pub(super) fn model_jacobian(lm: &LmFit, row_scales: &[f64]) -> DMatrix<f64> {
+    let mut j = lm.jacobian.clone();
+    for (r, s) in row_scales.iter().enumerate() {
+        j.row_mut(r).scale_mut(-s);
+    }
+    j
+}
+
+/// Each held-out curve's sensitivity to zeta and omega_n at fit `m0` (its STE held at its
+/// own fit), on its kept points: forward differences of the simulated curve with the engine's
+/// steps (1e-4 of the value, at least of the parameter's typical size).
+fn held_globals(
+    setup: &Setup,
+    m0: &ModelFit,
+    held0: &[HeldFit],
+    f0: &[CurvePrediction],
+    mask: &Mask,
+) -> Result<Vec<(usize, DMatrix<f64>)>> {
+    let g = m0.globals;
+    let hz = 1e-4 * g.zeta.max(0.005);
+    let hw = 1e-4 * g.omega_n_hz.max(10.0);
+    held0
+        .par_iter()
+        .map(|(i, e, _)| {
+            let kept: Vec<usize> = (0..mask[*i].len()).filter(|&j| mask[*i][j]).collect();
+            let mut out = DMatrix::zeros(kept.len(), 2);
+            for (col, (gp, h)) in [
+                (
+                    Globals {
+                        zeta: g.zeta + hz,
+                        ..g
+                    },
+                    hz,
+                ),
+                (
+                    Globals {
+                        omega_n_hz: g.omega_n_hz + hw,
+                        ..g
+                    },
+                    hw,
+                ),
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                let p = super::forward::predict(setup, *i, gp, *e, &m0.effect)?;
+                for (r, &j) in kept.iter().enumerate() {
+                    out[(r, col)] = (p.dte_pp_um[j] - f0[*i].dte_pp_um[j]) / h;
+                }
+            }
+            Ok((*i, out))
+        })
+        .collect()
+}
+
+/// Scales of the rows of a fit on curves `idx`: their kept points in order.
+pub(super) fn row_scales(idx: &[usize], mask: &Mask, scales: &Scales) -> Vec<f64> {
+    idx.iter()
+        .flat_map(|&i| {
+            (0..mask[i].len())
+                .filter(move |&j| mask[i][j])
+                .map(move |j| scales[i][j])
+        })
+        .collect()
+}
+
 /// Fit M0: closed-form start at the highest load, then the simulated up-sweeps, first on every
-/// point, then again on the points the mask keeps; held-out STE amplitudes fitted alone.
+/// point weighted by the first noise ([`first_noise`]), then, with the noise estimated about
+/// that fit (or stated), again on the points the mask keeps; held-out STE amplitudes fitted
+/// alone; the noise estimated once more about the final curves (one step of generalised least
+/// squares with an estimated variance function, Carroll & Ruppert 1988, Sec. 2.3).
 pub(super) fn fit_m0(
     setup: &Setup,
     train: &[usize],
     held: &[usize],
-    sigma: f64,
-    fixed_sigma: Option<f64>,
+    spec: &NoiseSpec,
     progress: &dyn Progress,
 ) -> Result<M0Fit> {
     let n_curves = setup.curves.len();
@@ -870,7 +1282,18 @@ pub(super) fn fit_m0(
         .iter()
         .map(|c| vec![true; c.speeds_rpm.len()])
         .collect();
-    let m0 = fit_model(setup, train, &all, sigma, None, &start, Stop::converged(25))?;
+    let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+    let noise0 = first_noise(setup, spec)?;
+    let scales0 = noise0.scales(&measured);
+    let m0 = fit_model(
+        setup,
+        train,
+        &all,
+        &scales0,
+        None,
+        &start,
+        Stop::converged(25),
+    )?;
     progress.advance(1);
     // Held-out STE from the quasi-static end for the mask; fitted afterwards.
     let pre_ste: Vec<f64> = (0..n_curves)
@@ -881,17 +1304,24 @@ pub(super) fn fit_m0(
         .collect();
     let every: Vec<usize> = (0..n_curves).collect();
     let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
-    let mask = make_mask(&pre, sigma);
+    let pre_mask = make_mask(&pre, &every, &noise0);
+    let noise1 = noise_about(setup, spec, &pre, &pre_mask)?;
+    let mask = make_mask(&pre, &every, &noise1);
+    let pre_levels: Vec<Vec<f64>> = pre.iter().map(|p| p.dte_pp_um.clone()).collect();
+    let scales1 = noise1.scales(&pre_levels);
     let m0 = fit_model(
         setup,
         train,
         &mask,
-        sigma,
+        &scales1,
         None,
         &m0.lm.params.clone(),
         Stop::converged(30),
     )?;
-    let (f0, held0) = predict_all(setup, &m0, train, held, &mask, sigma, None)?;
+    let (f0, held0) = predict_all(setup, &m0, train, held, &mask, &scales1, None)?;
+    let noise = noise_about(setup, spec, &f0, &mask)?;
+    let levels: Vec<Vec<f64>> = f0.iter().map(|p| p.dte_pp_um.clone()).collect();
+    let scales = noise.scales(&levels);
     progress.advance(1);
     let omega: Vec<Vec<f64>> = setup
         .curves
@@ -903,21 +1333,28 @@ pub(super) fn fit_m0(
                 .collect()
         })
         .collect();
-    let lin = Linearized::at_fit(
-        &f0,
-        &mask,
-        train,
-        &m0.lm.jacobian,
-        &held0,
-        &omega,
-        fixed_sigma,
-    );
+    let lin = Linearized {
+        f0: levels,
+        mask: mask.clone(),
+        speeds: setup.curves.iter().map(|c| c.speeds_rpm.clone()).collect(),
+        train: train.to_vec(),
+        jac_train: model_jacobian(&m0.lm, &row_scales(train, &mask, &scales1)),
+        held_sens: held0.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
+        held_globals: held_globals(setup, &m0, &held0, &f0, &mask)?,
+        omega: omega.clone(),
+        windows: windows(),
+        probes: Vec::new(),
+        zero: None,
+        noise: noise.clone(),
+    };
     Ok(M0Fit {
         m0,
         mask,
         f0,
         held0,
         omega,
+        noise,
+        scales,
         lin,
     })
 }
@@ -933,49 +1370,78 @@ pub fn discover(
     discover_setup(&setup, opts, progress)
 }
 
+/// Most bootstrap replicates a run may ask for: 99999 keep a run within minutes (each
+/// replicate re-estimates the noise and projects every probe) and resolve p-values to 1e-5.
+pub const MAX_BOOTSTRAP: usize = 99_999;
+
+/// The options' ranges, checked before any work: alpha in (0, 0.5]; enough replicates that
+/// the smallest Monte Carlo p-value 1 / (B + 1), after Holm over the 8 detection tests, can
+/// fall below alpha / 2; at most [`MAX_BOOTSTRAP`]; a stated noise positive and finite.
+fn check_options(opts: &DiscoverOptions) -> Result<()> {
+    if !(opts.alpha > 0.0 && opts.alpha <= 0.5) {
+        return Err(GearError::param(
+            "alpha",
+            opts.alpha,
+            "alpha must be in (0, 0.5]",
+        ));
+    }
+    let least = (16.0 / opts.alpha).ceil() as usize;
+    if opts.bootstrap < least || opts.bootstrap > MAX_BOOTSTRAP {
+        return Err(GearError::Unsupported(format!(
+            "--bootstrap {}: the bootstrap needs {least} to {MAX_BOOTSTRAP} replicates at alpha {} (8 / (B + 1) must be below alpha / 2)",
+            opts.bootstrap, opts.alpha
+        )));
+    }
+    if let Some(s) = opts.noise_um {
+        if !(s > 0.0 && s < 1e3) {
+            return Err(GearError::param(
+                "noise_um",
+                s,
+                "a stated noise must be in (0, 1000) um",
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// What the run knows of the noise: `--noise-um`, else what the data set states (per-point
+/// column, rig.toml `[noise]`), else an estimate (floor at least a stated reading uncertainty).
+fn noise_spec(setup: &Setup, opts: &DiscoverOptions) -> Result<NoiseSpec> {
+    if let Some(s) = opts.noise_um {
+        return Ok(NoiseSpec::Stated(DiscoveryNoise::stated(
+            NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(s),
+        )));
+    }
+    Ok(match &setup.noise {
+        MunroNoise::PerPoint => {
+            let scales: Option<Scales> = setup.curves.iter().map(|c| c.sd_um.clone()).collect();
+            let scales = scales.ok_or_else(|| {
+                GearError::Numerical("a per-point noise needs dte_pp_sd_um on every point".into())
+            })?;
+            NoiseSpec::Stated(DiscoveryNoise::per_point(scales))
+        }
+        MunroNoise::Stated(m) => {
+            NoiseSpec::Stated(DiscoveryNoise::stated(NoiseOrigin::StatedRig, *m))
+        }
+        MunroNoise::Estimate { floor_min } => NoiseSpec::Estimate {
+            floor_min: *floor_min,
+            tails: opts.tails,
+        },
+    })
+}
+
 /// [`discover`] on an already built setup.
 pub fn discover_setup(
     setup: &Setup,
     opts: &DiscoverOptions,
     progress: &dyn Progress,
 ) -> Result<Discovery> {
-    if !(opts.alpha > 0.0 && opts.alpha < 1.0) || opts.bootstrap < 19 {
-        return Err(GearError::param(
-            "alpha",
-            opts.alpha,
-            "alpha must be in (0, 1) and the bootstrap needs at least 19 replicates",
-        ));
-    }
-    // The smallest Monte Carlo p-value is 1 / (B + 1); after Holm over the 8 detection tests
-    // it must still be able to fall below alpha / 2.
-    if 8.0 / (opts.bootstrap as f64 + 1.0) >= opts.alpha / 2.0 {
-        return Err(GearError::param(
-            "bootstrap",
-            opts.bootstrap as f64,
-            "too few bootstrap replicates: 8 / (B + 1) must be below alpha / 2 (B >= 320 at alpha 0.05)",
-        ));
-    }
+    check_options(opts)?;
     let n_curves = setup.curves.len();
     let (train, held) = split(n_curves);
     let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
-    let (sigma, sigma_source) = match opts.noise_um {
-        Some(s) if s > 0.0 && s.is_finite() => (s, "stated (--noise-um)"),
-        Some(s) => {
-            return Err(GearError::param(
-                "noise_um",
-                s,
-                "stated noise must be positive",
-            ))
-        }
-        None => (
-            super::stats::noise_from_differences(&measured)
-                .filter(|s| *s > 0.0)
-                .ok_or_else(|| {
-                    GearError::Numerical("cannot estimate the noise from the curves".into())
-                })?,
-            "second differences of the curves (Gasser et al. 1986)",
-        ),
-    };
+    let spec = noise_spec(setup, opts)?;
     let probes: Vec<(usize, Vec<f64>)> = LIBRARY
         .iter()
         .enumerate()
@@ -983,14 +1449,16 @@ pub fn discover_setup(
         .collect();
     progress.start(4 + probes.len() as u64, "discovery steps");
 
-    let m0_fit = fit_m0(setup, &train, &held, sigma, opts.noise_um, progress)?;
-    let excluded = excluded_by_load(setup, &m0_fit, &train, sigma)?;
+    let m0_fit = fit_m0(setup, &train, &held, &spec, progress)?;
+    let excluded = excluded_by_load(setup, &m0_fit, &train, &m0_fit.noise)?;
     let M0Fit {
         m0,
         mask,
         f0,
         held0,
         omega,
+        noise,
+        scales,
         mut lin,
     } = m0_fit;
     let ws = lin.windows.clone();
@@ -1013,26 +1481,30 @@ pub fn discover_setup(
             Ok((*c, v))
         })
         .collect();
-    let q_train = &lin.q_train;
-    let mut dict: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
+    let mut raw_probes: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
     let mut dict_delta: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
     // Whether some probe moves the design-load curve (the first kept points of each probe's
     // differences) by the noise: the identifiability rule, on the refit's first stage.
-    let n_design = mask[train[0]].iter().filter(|k| **k).count();
+    let design_scales = row_scales(&train[..1], &mask, &scales);
     let mut seen_at_design = [false; LIBRARY.len()];
     for (pc, (c, d)) in probe_curves.into_iter().zip(&probes) {
         let (_, v) = pc?;
-        let design: f64 = v[..n_design].iter().map(|x| x * x).sum();
-        seen_at_design[*c] |= design >= sigma * sigma;
-        let v = DVector::from_vec(v);
-        dict[*c].push(&v - q_train * (q_train.transpose() * &v));
+        let design: f64 = v
+            .iter()
+            .zip(&design_scales)
+            .map(|(x, s)| (x / s).powi(2))
+            .sum();
+        seen_at_design[*c] |= design >= 1.0;
+        raw_probes[*c].push(DVector::from_vec(v));
         dict_delta[*c].push(d.clone());
     }
-    lin.probes = dict.clone();
+    lin.probes = raw_probes;
+    // The probes standardized by the data's noise and projected off the weighted M0 Jacobian.
+    let dict = lin.weighted_probes(&scales);
 
     // 3. Observed statistics and the bootstrap under M0.
     let observed = lin.statistics(&measured);
-    let reps = lin.bootstrap(sigma, opts.bootstrap, opts.seed);
+    let reps = lin.bootstrap(opts.bootstrap, opts.seed);
     progress.advance(1);
     let names = detection_names(&ws);
     let detection = detection_tests(&names, &observed, &reps);
@@ -1056,7 +1528,7 @@ pub fn discover_setup(
         .iter()
         .enumerate()
         .map(|(c, &cand)| {
-            let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max) / (observed.sigma * observed.sigma);
+            let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max);
             let (identifiable, note) = if biggest >= 1.0 {
                 (true, None)
             } else if cand == Candidate::Backlash && !back_contact {
@@ -1111,9 +1583,15 @@ pub fn discover_setup(
         refit.push(c);
     }
     // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
-    type Refit = (ModelFit, f64, Option<OtherStart>);
+    type Refit = (
+        ModelFit,
+        Mask,
+        Vec<CurvePrediction>,
+        Option<OtherStart>,
+        Scales,
+    );
     let refit_round =
-        |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<(usize, ModelFit)>| {
+        |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>| {
             let fits: Vec<(usize, Result<Refit>)> = list
                 .par_iter()
                 .map(|&c| {
@@ -1122,31 +1600,28 @@ pub fn discover_setup(
                         setup,
                         &train,
                         &mask,
-                        sigma,
+                        RunNoise {
+                            scales: &scales,
+                            noise: &noise,
+                            spec: &spec,
+                        },
                         LIBRARY[c],
                         &m0,
                         &dict_delta[c][k],
                         seen_at_design[c],
                         opts.refit_iterations,
                     )
-                    .map(|(f, m2, other)| {
-                        // Drop in RSS on the points both models keep.
-                        let mut r0 = 0.0;
-                        for &i in &train {
-                            for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
-                                if m2[i][j] {
-                                    r0 += ((y - f0[i].dte_pp_um[j]) / sigma).powi(2);
-                                }
-                            }
-                        }
-                        let drop = r0 - f.lm.rss;
-                        (f, drop, other)
+                    .and_then(|(f, m2, other, s3)| {
+                        let preds = predict_many(setup, &train, f.globals, &f.ste_um, &f.effect)?;
+                        Ok((f, m2, preds, other, s3))
                     });
                     (c, f)
                 })
                 .collect();
             for (c, f) in fits {
-                let Ok((f, drop, other)) = f else { continue };
+                let Ok((f, m2, preds, other, s3)) = f else {
+                    continue;
+                };
                 let cand = LIBRARY[c];
                 let est = cand.estimate(&f.effect.delta).0;
                 let mut ci = wald_ci(cand, &f.lm);
@@ -1160,16 +1635,26 @@ pub fn discover_setup(
                 cands[c].estimate = Some(est);
                 cands[c].ci95 = ci;
                 cands[c].delta = Some(f.effect.delta.clone());
-                cands[c].refit_lr = Some(drop);
                 cands[c].refit_zeta = Some(f.globals.zeta);
                 cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
                 cands[c].other_start = other;
-                refits.push((c, f));
+                refits.push(Refitted {
+                    cand: c,
+                    fit: f,
+                    mask: m2,
+                    train_preds: preds,
+                    scales: s3,
+                });
+            }
+            // Every refit's drop on the points all of them and M0 keep.
+            let drops = common_drops(setup, &train, &f0, &scales, refits);
+            for (c, d) in drops {
+                cands[c].refit_lr = Some(d);
             }
         };
 
     // 5. Decide, from the refits so far.
-    let decide = |cands: &[CandidateResult], refits: &[(usize, ModelFit)]| -> Result<Decision> {
+    let decide = |cands: &[CandidateResult], refits: &[Refitted]| -> Result<Decision> {
         let mut d = Decision {
             effect: if detected { "unexplained" } else { "none" }.to_string(),
             ambiguous_with: Vec::new(),
@@ -1180,7 +1665,7 @@ pub fn discover_setup(
             refit_preds: None,
             refit_held: None,
         };
-        let sig: Vec<usize> = refits.iter().map(|(c, _)| *c).collect();
+        let sig: Vec<usize> = refits.iter().map(|r| r.cand).collect();
         let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
         let Some(&best) = sig.iter().max_by(|&&a, &&b| drop(a).total_cmp(&drop(b))) else {
             return Ok(d);
@@ -1197,12 +1682,13 @@ pub fn discover_setup(
             .into_iter()
             .map(|c| cands[c].name.to_string())
             .collect();
-        let Some((_, f)) = refits.iter().find(|(c, _)| *c == best) else {
+        let Some(chosen) = refits.iter().find(|r| r.cand == best) else {
             return Ok(d);
         };
-        let (preds, held1) = predict_all(setup, f, &train, &held, &mask, sigma, Some(&held0))?;
-        d.refit_held = Some(held1);
-        let m1 = make_mask(&preds, sigma);
+        let f = &chosen.fit;
+        let (preds, held1) = predict_all(setup, f, &train, &held, &mask, &scales, Some(&held0))?;
+        let every: Vec<usize> = (0..preds.len()).collect();
+        let m1 = make_mask(&preds, &every, &noise);
         let zero: Mask = mask
             .iter()
             .zip(&m1)
@@ -1216,7 +1702,13 @@ pub fn discover_setup(
         let lin1 = Linearized {
             f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
             zero: Some(zero),
+            jac_train: refit_jacobian(f, &train, &mask, &chosen.mask, &chosen.scales),
+            held_sens: held1.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
+            held_globals: Vec::new(),
             probes: Vec::new(),
+            // The noise about the refit: its tails and relative part chosen anew, where M0's
+            // misfit no longer inflates them.
+            noise: noise_about(setup, &spec, &preds, &d.compare_mask)?,
             ..lin.clone()
         };
         let post = lin1.statistics(&measured);
@@ -1227,8 +1719,9 @@ pub fn discover_setup(
         // 0.267 um) failed this test at p = 0.02 under M0's bootstrap: a statistic of 29
         // on 94 rows that M0's replicates exceeded only 2% of the time, whose noise
         // re-estimate must have come out near twice the data's.
-        let post_reps = lin1.bootstrap(sigma, opts.bootstrap, opts.seed);
+        let post_reps = lin1.bootstrap(opts.bootstrap, opts.seed);
         d.post_fit = detection_tests(&names, &post, &post_reps);
+        d.refit_held = Some(held1);
         d.refit_preds = Some(preds.clone());
         d.after_preds = preds;
         if !d.ambiguous_with.is_empty() {
@@ -1245,13 +1738,20 @@ pub fn discover_setup(
             // the held-out gap, not used to reject the name.
             d.effect = "unexplained".into();
             d.closest = Some(cands[best].name.to_string());
+        } else if !cands[best]
+            .ci95
+            .is_some_and(|ci| cands[best].candidate.excludes_nested(ci))
+        {
+            // The refit explains the curves, but its size is not told apart from M0's
+            // (delta = 0): the effect is not named. What remains is what the tests said.
+            d.closest = Some(cands[best].name.to_string());
         } else {
             d.effect = cands[best].name.to_string();
         }
         Ok(d)
     };
 
-    let mut refits: Vec<(usize, ModelFit)> = Vec::new();
+    let mut refits: Vec<Refitted> = Vec::new();
     refit_round(&refit, &mut cands, &mut refits);
     let mut decision = decide(&cands, &refits)?;
     // Before a discrepancy is called unexplained, every significant candidate is refitted:
@@ -1276,26 +1776,46 @@ pub fn discover_setup(
         refit_preds,
         refit_held,
     } = decision;
-    let explained = LIBRARY.iter().any(|c| c.name() == effect);
-    if !explained {
-        after_preds = f0.clone();
-    }
+    let after_name = LIBRARY
+        .iter()
+        .find(|c| c.name() == effect)
+        .or_else(|| {
+            LIBRARY
+                .iter()
+                .find(|c| closest.as_deref() == Some(c.name()))
+        })
+        .or_else(|| {
+            ambiguous_with
+                .first()
+                .and_then(|a| LIBRARY.iter().find(|c| c.name() == a))
+        })
+        .map(|c| c.name());
+    let gap_after_model = match (after_name, refit_preds.is_some()) {
+        (Some(n), true) => format!("M0 + {n}"),
+        _ => {
+            after_preds = f0.clone();
+            "M0 (no candidate refitted)".to_string()
+        }
+    };
     progress.advance(1);
     progress.finish();
     let gap_set = |preds: &[CurvePrediction]| GapSet {
         training: gap(setup, &train, preds, &compare_mask, &omega, &ws),
         held_out: (!held.is_empty()).then(|| gap(setup, &held, preds, &compare_mask, &omega, &ws)),
     };
-    // The leading candidate's gap even when it did not explain the discrepancy (diagnostics).
-    let gap_leading = refit_preds.as_deref().map(gap_set);
+    let kept_scales = scales
+        .iter()
+        .zip(&mask)
+        .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
+    let noise_range_um = min_max(kept_scales).unwrap_or((0.0, 0.0));
     Ok(Discovery {
         ambiguous_with,
         closest_candidate: closest,
         detected,
         detected_by_tests,
         post_fit,
-        sigma_um: sigma,
-        sigma_source,
+        noise,
+        noise_range_um,
         zeta_m0: m0.globals.zeta,
         omega_n_hz_m0: m0.globals.omega_n_hz,
         training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
@@ -1303,10 +1823,10 @@ pub fn discover_setup(
         held_out_ste_um: held0
             .iter()
             .map(|(i, e0, _)| {
-                let after = match (&refit_held, explained) {
-                    (Some(h), true) => h.iter().find(|x| x.0 == *i).map_or(*e0, |x| x.1),
-                    _ => *e0,
-                };
+                let after = refit_held
+                    .as_ref()
+                    .and_then(|h| h.iter().find(|x| x.0 == *i))
+                    .map_or(*e0, |x| x.1);
                 (setup.curves[*i].load_n, *e0, after)
             })
             .collect(),
@@ -1314,7 +1834,7 @@ pub fn discover_setup(
         excluded_by_load: excluded,
         gap_before: gap_set(&f0),
         gap_after: gap_set(&after_preds),
-        gap_leading,
+        gap_after_model,
         residuals_before: residual_curves(setup, &train, &f0, &compare_mask, &omega),
         residuals_after: residual_curves(
             setup,
@@ -1333,7 +1853,7 @@ pub fn discover_setup(
 
 #[cfg(test)]
 mod tests {
-    use super::{make_mask, phase_profile, profile_start, OtherStart};
+    use super::{make_mask, polar_profile, profile_start, OtherStart};
     use crate::discover::effects::{Candidate, Effect};
     use crate::discover::forward::CurvePrediction;
     use crate::error::GearError;
@@ -1351,7 +1871,11 @@ mod tests {
             back_contact: vec![false, false, false, true, true, false, false, false, false],
             aperiodic_start: vec![None; 9],
         };
-        let m = make_mask(&[p], 0.15);
+        let noise = super::DiscoveryNoise::stated(
+            super::NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(0.15),
+        );
+        let m = make_mask(&[p], &[0], &noise);
         assert_eq!(
             m[0],
             vec![false, false, false, false, true, true, false, false, false]
@@ -1382,27 +1906,34 @@ mod tests {
         assert!(profile_start(Candidate::Backlash, &none).is_err());
     }
 
-    /// The phase profile shifts every (cos, sin) pair alike and keeps the amplitudes: with a
-    /// minimum 100 degrees from the design-load phase it takes the coarse shift of 90 degrees
-    /// (120 is 20 away), then the step of 10 degrees on from it.
+    /// The polar profile scans the first pair's amplitude and phase (every pair turned alike,
+    /// the others' amplitudes kept): with a minimum at amplitude 0.35 and 100 degrees from the
+    /// design-load phase it takes the grid's 0.35 at the coarse shift of 90 degrees (120 is 20
+    /// away), then the step of 10 degrees on; the other basin is the best value more than 90
+    /// degrees from that (the shift 0, 100 degrees away; 180 is only 80 away), refined by its
+    /// step of 10 degrees toward the minimum.
     #[test]
-    fn phase_profile_refines_the_best_shift_and_keeps_the_amplitudes() {
-        let d1 = [0.4, 0.0, 0.0, 0.1];
+    fn polar_profile_finds_amplitude_and_phase_and_the_other_basin() {
+        let d1 = [0.1, 0.0, 0.0, 0.1];
         let target = 100f64.to_radians();
         let score = |e: &Effect| -> crate::error::Result<(Vec<f64>, f64)> {
-            let off = 1.0 - (Candidate::first_phase(&e.delta) - target).cos();
+            let a = e.delta[0].hypot(e.delta[1]);
+            let off = 1.0 - (Candidate::first_phase(&e.delta) - target).cos() + (a - 0.35).powi(2);
             Ok((e.delta.clone(), off))
         };
-        let best = phase_profile(Candidate::SteHarmonics, &d1, &score).unwrap();
+        let (best, other) = polar_profile(Candidate::SteHarmonics, &d1, &score).unwrap();
         let deg = |x: f64, y: f64| y.atan2(x).to_degrees();
         assert!((deg(best[0], best[1]) - 100.0).abs() < 1e-9, "{best:?}");
-        assert!((best[0].hypot(best[1]) - 0.4).abs() < 1e-12);
-        // The third harmonic's pair (phase 90) turned by the same 100 degrees.
+        assert!((best[0].hypot(best[1]) - 0.35).abs() < 1e-12, "{best:?}");
+        // The third harmonic's pair (phase 90) turned by the same 100 degrees, its amplitude kept.
         assert!(
             (deg(best[2], best[3]) - 190.0 + 360.0).abs() < 1e-9,
             "{best:?}"
         );
         assert!((best[2].hypot(best[3]) - 0.1).abs() < 1e-12);
+        let other = other.unwrap();
+        assert!((deg(other[0], other[1]) - 10.0).abs() < 1e-9, "{other:?}");
+        assert!((other[0].hypot(other[1]) - 0.35).abs() < 1e-12, "{other:?}");
     }
 
     /// A distinct minimum (phase 180 degrees away) within 3.84 sigma^2 leaves the phase

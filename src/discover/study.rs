@@ -9,7 +9,9 @@ use super::stats::{clopper_pearson_upper95, ks_from_uniform, wilson95};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
 use crate::progress::Progress;
-use crate::validate::{synth_munro, HiddenEffects, MunroTruth, NoiseFamily, SynthNoise};
+use crate::validate::{
+    synth_munro, HiddenEffects, MunroTruth, NoiseFamily, Rng, SpeedGrid, SynthNoise,
+};
 use serde::Serialize;
 use std::path::Path;
 
@@ -64,9 +66,15 @@ impl Hidden {
         }
     }
 
-    /// The hidden effects at `strength` (see [`Hidden::default_strength`]) and the true value
-    /// of the candidate's reported estimate.
-    pub fn effects(self, strength: f64) -> (HiddenEffects, Option<f64>) {
+    /// Whether the hidden effect has a phase (stiffness variation, STE harmonic, torque ripple).
+    pub fn has_phase(self) -> bool {
+        matches!(self, Hidden::Library(c) if c.has_phase())
+    }
+
+    /// The hidden effects at `strength` (see [`Hidden::default_strength`]) with phase `phase`
+    /// (rad; ignored by effects without one) and the true value of the candidate's reported
+    /// estimate.
+    pub fn effects(self, strength: f64, phase: f64) -> (HiddenEffects, Option<f64>) {
         let mut h = HiddenEffects::default();
         let truth = match self {
             Hidden::None => None,
@@ -77,11 +85,20 @@ impl Hidden {
             }
             Hidden::Library(c) => {
                 match c {
-                    Candidate::MeshStiffnessVariation => h.stiffness_eps = strength,
-                    Candidate::SteHarmonics => h.ste2_ratio = strength,
+                    Candidate::MeshStiffnessVariation => {
+                        h.stiffness_eps = strength;
+                        h.stiffness_phase = phase;
+                    }
+                    Candidate::SteHarmonics => {
+                        h.ste2_ratio = strength;
+                        h.ste2_phase = phase;
+                    }
                     Candidate::DampingLaw => h.damping_exponent = strength,
                     Candidate::Backlash => h.backlash_factor = strength,
-                    Candidate::TorqueRipple => h.torque_ripple_ratio = strength,
+                    Candidate::TorqueRipple => {
+                        h.torque_ripple_ratio = strength;
+                        h.torque_ripple_phase = phase;
+                    }
                 }
                 Some(strength)
             }
@@ -94,6 +111,8 @@ impl Hidden {
 #[derive(Clone, Debug, Serialize)]
 pub struct SeedOutcome {
     pub seed: u64,
+    /// Phase of the hidden effect (rad), when it has one.
+    pub true_phase: Option<f64>,
     pub effect: String,
     pub correct: bool,
     pub estimate: Option<f64>,
@@ -138,6 +157,10 @@ pub struct StudySummary {
     /// DOP853 tolerance the sets were made with ([`StudyOptions::dop853_rtol`]); `None`: the
     /// exact solver, the same one that fits them.
     pub data_dop853_rtol: Option<f64>,
+    /// The sets' speed grid.
+    pub data_grid: String,
+    /// Whether the hidden effect's phase was drawn at random per seed (else 0).
+    pub random_phase: bool,
     /// The sets' noise family, floor (um) and relative part.
     pub data_noise_family: &'static str,
     pub data_noise_floor_um: f64,
@@ -170,8 +193,12 @@ pub struct StudySummary {
 pub struct StudyOptions {
     pub first_seed: u64,
     pub seeds: usize,
-    /// Speed grid of the sets (start, stop, step rpm); coarser grids run faster.
-    pub speeds_rpm: (f64, f64, f64),
+    /// Speed grid of the sets (uniform in 1000-5000 rpm, or a non-uniform draw); coarser grids
+    /// run faster.
+    pub grid: SpeedGrid,
+    /// Draw the hidden effect's phase uniformly in [0, 2 pi) per seed (else 0): the method must
+    /// find an effect at any phase, not only at the one it was developed on.
+    pub random_phase: bool,
     /// The sets' measurement noise (family and floor).
     pub noise: SynthNoise,
     /// Strength of the hidden effect; None takes [`Hidden::default_strength`].
@@ -190,7 +217,8 @@ impl Default for StudyOptions {
         StudyOptions {
             first_seed: 1,
             seeds: 100,
-            speeds_rpm: (1000.0, 5000.0, 50.0),
+            grid: SpeedGrid::Uniform { step_rpm: 50.0 },
+            random_phase: false,
             noise: NoiseFamily::Constant.noise(0.15),
             strength: None,
             loads: None,
@@ -228,16 +256,30 @@ pub fn run_study(
         (_, Some(s)) => s,
         (_, None) => hidden.default_strength().unwrap_or(0.0),
     };
-    let (effects, truth) = hidden.effects(strength);
+    let speeds = opts.grid.speeds()?;
     let mut outcomes = Vec::new();
+    let mut truth = None;
     progress.start(opts.seeds as u64, "seeds");
     for k in 0..opts.seeds {
         let seed = opts.first_seed + k as u64;
+        let true_phase = hidden.has_phase().then(|| {
+            if opts.random_phase {
+                // Its own stream, so that the noise of seed k is the same with or without it.
+                2.0 * std::f64::consts::PI * Rng::new(seed ^ 0x5eed_0f_9a5e).uniform()
+            } else {
+                0.0
+            }
+        });
+        let (effects, t_value) = hidden.effects(strength, true_phase.unwrap_or(0.0));
+        truth = t_value;
         let mut t = MunroTruth::default_munro();
         t.seed = seed;
         t.noise = opts.noise;
-        t.speeds_rpm = opts.speeds_rpm;
-        t.hidden = effects.clone();
+        match opts.grid {
+            SpeedGrid::Uniform { step_rpm } => t.speeds_rpm = (1000.0, 5000.0, step_rpm),
+            SpeedGrid::NonUniform { .. } => t.speed_list = Some(speeds.clone()),
+        }
+        t.hidden = effects;
         t.dop853_rtol = opts.dop853_rtol;
         if let Some(loads) = &opts.loads {
             t.ste_um = loads.clone();
@@ -270,6 +312,7 @@ pub fn run_study(
         let ci95 = cand.and_then(|c| c.ci95);
         let outcome = SeedOutcome {
             seed,
+            true_phase,
             correct: d.effect == hidden.expected(),
             covered: truth.zip(ci95).map(|(v, (lo, hi))| v >= lo && v <= hi),
             phase_undetermined,
@@ -322,6 +365,13 @@ pub fn run_study(
         expected: hidden.expected(),
         true_value: truth,
         data_dop853_rtol: opts.dop853_rtol,
+        data_grid: match opts.grid {
+            SpeedGrid::Uniform { step_rpm } => format!("1000-5000 rpm in steps of {step_rpm} rpm"),
+            SpeedGrid::NonUniform { points, seed } => {
+                format!("{points} speeds drawn in 1000-5000 rpm (draw seed {seed})")
+            }
+        },
+        random_phase: opts.random_phase,
         data_noise_family: opts.noise.family.name(),
         data_noise_floor_um: opts.noise.model.floor,
         data_noise_relative: opts.noise.model.relative,

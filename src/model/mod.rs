@@ -4,9 +4,11 @@
 mod dimensional;
 mod excitation;
 mod mesh;
+mod operating_point;
 mod params;
 
 pub use dimensional::{Dimensional, StiffnessSource, ISO6336_C_PRIME};
 pub use excitation::Harmonic;
 pub use mesh::{dead_zone, Impact, Region};
+pub use operating_point::OperatingPoint;
 pub use params::{GearPair, Term};

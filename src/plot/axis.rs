@@ -65,6 +65,14 @@ impl TickFormat {
         }
     }
 
+    /// The same format with one more decimal, for values between ticks (legend notes).
+    fn finer(self) -> Self {
+        TickFormat {
+            decimals: (self.decimals + 1).min(15),
+            ..self
+        }
+    }
+
     pub fn format(&self, v: f64) -> String {
         let v = if v.abs() < self.zero { 0.0 } else { v };
         match (self.scientific, v == 0.0) {
@@ -98,6 +106,11 @@ impl LinAxis {
             n,
             fmt: TickFormat::new(range, step.abs()),
         }
+    }
+
+    /// `v` formatted like the tick labels with one more decimal.
+    pub fn format_between(&self, v: f64) -> String {
+        self.fmt.finer().format(v)
     }
 
     /// Pixel width of the widest tick label in `style`.

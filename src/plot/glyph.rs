@@ -79,18 +79,22 @@ impl LegendSample {
                 area.draw(&PathElement::new(vec![(x, y), (x + w, y)], st))
                     .map_err(msg)?;
             }
-            SeriesStyle::Dashed => {
-                let dash = w * 2 / 7;
-                let gap = (w - 3 * dash) / 2;
-                for k in 0..3 {
-                    let x0 = x + k * (dash + gap);
-                    area.draw(&PathElement::new(vec![(x0, y), (x0 + dash, y)], st))
+            SeriesStyle::Dashed | SeriesStyle::Dotted => {
+                let (dash, gap) = match self.style.dash() {
+                    Some((d, g)) => (d as i32, g as i32),
+                    None => (w, 0),
+                };
+                let mut x0 = x;
+                while x0 < x + w {
+                    let x1 = (x0 + dash).min(x + w);
+                    area.draw(&PathElement::new(vec![(x0, y), (x1, y)], st))
                         .map_err(msg)?;
+                    x0 = x1 + gap;
                 }
             }
             SeriesStyle::Markers => {}
         }
-        if matches!(self.style, SeriesStyle::Line | SeriesStyle::Dashed) {
+        if !matches!(self.style, SeriesStyle::Markers | SeriesStyle::LineMarkers) {
             return Ok(());
         }
         let c = (x + w / 2, y);

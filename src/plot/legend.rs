@@ -1,4 +1,5 @@
-//! Legend box of x-y plots, placed in the corner of the plot where it hides the least data.
+//! Legend box of x-y plots: entries (sample and label) and notes, placed inside the plot where
+//! it covers no drawn data, or beside the plot when every place inside would.
 
 use plotters::coord::Shift;
 use plotters::prelude::*;
@@ -6,97 +7,195 @@ use plotters::style::text_anchor::{HPos, Pos, VPos};
 
 use super::clip::View;
 use super::glyph::LegendSample;
+use super::layout::{wrap, MUTED};
 use super::output::{msg, DrawResult};
 use super::style::{Sizes, FONT};
 
 /// Gap between the legend box and the plot frame, and inner padding of the box, in pixels.
 const INSET: i32 = 6;
 const PAD: i32 = 8;
+/// Clearance in pixels kept between the box and any drawn point (lines are 2 px wide).
+const CLEAR: f64 = 3.0;
+/// Font scale of the notes under the entries.
+const NOTE_SCALE: f64 = 0.85;
 
-/// Draws a legend of `entries` on `area` (the plotting area, pixel coordinates), in the corner
-/// where it covers the fewest points of `drawn` (data coordinates within `view`).
-pub(crate) fn draw_legend<DB: DrawingBackend>(
-    area: &DrawingArea<DB, Shift>,
-    entries: &[(&str, LegendSample)],
-    drawn: &[(f64, f64)],
-    view: &View,
-    sz: &Sizes,
-) -> DrawResult {
-    if entries.is_empty() {
-        return Ok(());
-    }
-    let font = TextStyle::from((FONT, sz.legend).into_font());
-    let mut text_w = 0;
-    for (label, _) in entries {
-        text_w = text_w.max(area.estimate_text_size(label, &font).map_err(msg)?.0 as i32);
-    }
-    let glyph_w = entries[0].1.width;
-    let row_h = (sz.legend * 1.35) as i32;
-    let size = (
-        2 * PAD + glyph_w + 8 + text_w,
-        2 * PAD + row_h * entries.len() as i32,
-    );
-    let (aw, ah) = area.dim_in_pixel();
-    let (right, upper) = best_corner(drawn, view, size);
-    let x0 = if right {
-        aw as i32 - size.0 - INSET
-    } else {
-        INSET
-    };
-    let y0 = if upper {
-        INSET
-    } else {
-        ah as i32 - size.1 - INSET
-    };
-    let corners = [(x0, y0), (x0 + size.0, y0 + size.1)];
-    area.draw(&Rectangle::new(corners, WHITE.mix(0.88).filled()))
-        .map_err(msg)?;
-    area.draw(&Rectangle::new(
-        corners,
-        RGBColor(0xA0, 0xA0, 0xA0).stroke_width(1),
-    ))
-    .map_err(msg)?;
-    let text = font.pos(Pos::new(HPos::Left, VPos::Center));
-    for (k, (label, sample)) in entries.iter().enumerate() {
-        let y = y0 + PAD + row_h * k as i32 + row_h / 2;
-        sample.draw(area, (x0 + PAD, y))?;
-        area.draw_text(label, &text, (x0 + PAD + glyph_w + 8, y))
-            .map_err(msg)?;
-    }
-    Ok(())
+/// A measured legend: its entries, its notes wrapped to the box, and the box size in pixels.
+pub(crate) struct Legend {
+    entries: Vec<(String, LegendSample)>,
+    notes: Vec<String>,
+    glyph_w: i32,
+    row_h: i32,
+    note_h: i32,
+    text: TextStyle<'static>,
+    note: TextStyle<'static>,
+    pub size: (i32, i32),
 }
 
-/// (right, upper) of the corner whose legend-sized box holds the fewest of `pts`; ties go to
-/// upper right, upper left, lower right, lower left in that order.
-fn best_corner(pts: &[(f64, f64)], view: &View, size: (i32, i32)) -> (bool, bool) {
-    let fx = (f64::from(size.0 + INSET) / f64::from(view.px.0.max(1))).min(1.0);
-    let fy = (f64::from(size.1 + INSET) / f64::from(view.px.1.max(1))).min(1.0);
-    let (xs, ys) = (view.x.1 - view.x.0, view.y.1 - view.y.0);
-    let near = |u: f64, high: bool, f: f64| if high { u >= 1.0 - f } else { u <= f };
-    let count = |right: bool, upper: bool| {
-        pts.iter()
-            .filter(|p| {
-                near((p.0 - view.x.0) / xs, right, fx) && near((p.1 - view.y.0) / ys, upper, fy)
+/// Where the legend goes: inside the plot with its box anchored at fractions (0, 0.5 or 1 of the
+/// free width and height, from the left and from the top), or beside the plot.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) enum Placement {
+    Inside(f64, f64),
+    Outside,
+}
+
+impl Legend {
+    /// Measures the legend of `entries` and `notes` (notes wrapped to the entries' width, at
+    /// least `min_note_w` pixels).
+    pub fn measure<DB: DrawingBackend>(
+        area: &DrawingArea<DB, Shift>,
+        entries: Vec<(String, LegendSample)>,
+        notes: &[String],
+        sz: &Sizes,
+    ) -> Result<Self, String> {
+        let text = TextStyle::from((FONT, sz.legend).into_font());
+        let note = TextStyle::from((FONT, sz.legend * NOTE_SCALE).into_font()).color(&MUTED);
+        let glyph_w = entries.first().map_or(0, |e| e.1.width);
+        let mut text_w = 0;
+        for (label, _) in &entries {
+            text_w = text_w.max(area.estimate_text_size(label, &text).map_err(msg)?.0 as i32);
+        }
+        let inner_w = if entries.is_empty() {
+            0
+        } else {
+            glyph_w + 8 + text_w
+        };
+        let note_w = inner_w.max((sz.legend * 16.0) as i32);
+        let mut wrapped = Vec::new();
+        for n in notes {
+            wrapped.extend(wrap(area, n, sz.legend * NOTE_SCALE, note_w as u32)?);
+        }
+        let mut widest_note = 0;
+        for n in &wrapped {
+            widest_note = widest_note.max(area.estimate_text_size(n, &note).map_err(msg)?.0 as i32);
+        }
+        let row_h = (sz.legend * 1.35) as i32;
+        let note_h = (sz.legend * NOTE_SCALE * 1.3) as i32;
+        let size = (
+            2 * PAD + inner_w.max(widest_note),
+            2 * PAD + row_h * entries.len() as i32 + note_h * wrapped.len() as i32,
+        );
+        Ok(Legend {
+            entries,
+            notes: wrapped,
+            glyph_w,
+            row_h,
+            note_h,
+            text: text.pos(Pos::new(HPos::Left, VPos::Center)),
+            note: note.pos(Pos::new(HPos::Left, VPos::Center)),
+            size,
+        })
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty() && self.notes.is_empty()
+    }
+
+    /// The first place inside the plot, in the order upper right, upper left, lower right, lower
+    /// left, then the middles of the edges, whose box keeps clear of every point of `drawn`
+    /// (data coordinates within `view`); `Outside` when there is none.
+    pub fn place(&self, drawn: &[(f64, f64)], view: &View) -> Placement {
+        let (pw, ph) = (f64::from(view.px.0), f64::from(view.px.1));
+        let (bw, bh) = (f64::from(self.size.0), f64::from(self.size.1));
+        let inset = f64::from(INSET);
+        if bw + 2.0 * inset > pw || bh + 2.0 * inset > ph {
+            return Placement::Outside;
+        }
+        let px: Vec<(f64, f64)> = drawn
+            .iter()
+            .map(|p| {
+                (
+                    (p.0 - view.x.0) / (view.x.1 - view.x.0) * pw,
+                    (view.y.1 - p.1) / (view.y.1 - view.y.0) * ph,
+                )
             })
-            .count()
-    };
-    [(true, true), (false, true), (true, false), (false, false)]
+            .collect();
+        let free = |fx: f64, fy: f64| {
+            let left = inset + fx * (pw - bw - 2.0 * inset);
+            let top = inset + fy * (ph - bh - 2.0 * inset);
+            !px.iter().any(|&(x, y)| {
+                x >= left - CLEAR
+                    && x <= left + bw + CLEAR
+                    && y >= top - CLEAR
+                    && y <= top + bh + CLEAR
+            })
+        };
+        [
+            (1.0, 0.0),
+            (0.0, 0.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (0.5, 0.0),
+            (0.5, 1.0),
+            (0.0, 0.5),
+            (1.0, 0.5),
+        ]
         .into_iter()
-        .min_by_key(|&(r, u)| count(r, u))
-        .unwrap_or((true, true))
+        .find(|&(fx, fy)| free(fx, fy))
+        .map_or(Placement::Outside, |(fx, fy)| Placement::Inside(fx, fy))
+    }
+
+    /// Draws the box with its top left corner at pixel `(x0, y0)` of `area`.
+    pub fn draw_at<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        (x0, y0): (i32, i32),
+    ) -> DrawResult {
+        let corners = [(x0, y0), (x0 + self.size.0, y0 + self.size.1)];
+        area.draw(&Rectangle::new(corners, WHITE.mix(0.92).filled()))
+            .map_err(msg)?;
+        area.draw(&Rectangle::new(
+            corners,
+            RGBColor(0xA0, 0xA0, 0xA0).stroke_width(1),
+        ))
+        .map_err(msg)?;
+        let mut y = y0 + PAD;
+        for (label, sample) in &self.entries {
+            let mid = y + self.row_h / 2;
+            sample.draw(area, (x0 + PAD, mid))?;
+            area.draw_text(label, &self.text, (x0 + PAD + self.glyph_w + 8, mid))
+                .map_err(msg)?;
+            y += self.row_h;
+        }
+        for n in &self.notes {
+            area.draw_text(n, &self.note, (x0 + PAD, y + self.note_h / 2))
+                .map_err(msg)?;
+            y += self.note_h;
+        }
+        Ok(())
+    }
+
+    /// Draws the box inside `plot_area` (the plotting area, pixel coordinates) at `(fx, fy)`.
+    pub fn draw_inside<DB: DrawingBackend>(
+        &self,
+        plot_area: &DrawingArea<DB, Shift>,
+        (fx, fy): (f64, f64),
+    ) -> DrawResult {
+        let (aw, ah) = plot_area.dim_in_pixel();
+        let free_w = f64::from(aw as i32 - self.size.0 - 2 * INSET);
+        let free_h = f64::from(ah as i32 - self.size.1 - 2 * INSET);
+        let x0 = INSET + (fx * free_w).round() as i32;
+        let y0 = INSET + (fy * free_h).round() as i32;
+        self.draw_at(plot_area, (x0, y0))
+    }
 }
 
-/// Points along the drawn lines (sampled inside each segment so long straight pieces count)
-/// and markers, used to place the legend.
+/// Points along the drawn lines, every `step` pixels or closer, and the markers; used to place
+/// the legend where it hides nothing.
 pub(crate) fn occupancy<'a>(
     lines: impl Iterator<Item = &'a Vec<(f64, f64)>>,
     dots: impl Iterator<Item = &'a (f64, f64)>,
+    view: &View,
+    step: f64,
 ) -> Vec<(f64, f64)> {
+    let (px, py) = view.pixel();
     let mut out: Vec<(f64, f64)> = dots.copied().collect();
     for l in lines {
         for s in l.windows(2) {
-            out.extend((0..8).map(|k| {
-                let t = f64::from(k) / 8.0;
+            let len = ((s[1].0 - s[0].0) / px).hypot((s[1].1 - s[0].1) / py);
+            let n = (len / step).ceil().clamp(1.0, 10_000.0) as usize;
+            out.extend((0..n).map(|k| {
+                let t = k as f64 / n as f64;
                 (
                     s[0].0 + t * (s[1].0 - s[0].0),
                     s[0].1 + t * (s[1].1 - s[0].1),

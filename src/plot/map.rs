@@ -14,8 +14,8 @@ use super::range::resolve;
 use super::style::{palette_color, Sizes, FONT};
 use crate::error::{GearError, Result};
 
-/// Colour of unclassified (`None`) cells.
-const UNCLASSIFIED: RGBColor = RGBColor(0xE4, 0xE4, 0xE4);
+/// Colour of unclassified (`None`) cells: a mid grey, 3.2:1 on white like the palette.
+pub(crate) const UNCLASSIFIED: RGBColor = RGBColor(0x90, 0x90, 0x90);
 
 /// A grid of cells, each belonging to a category (or none), drawn as a coloured map.
 #[derive(Debug, Clone, PartialEq, Default)]
@@ -39,7 +39,8 @@ pub struct CategoryMap {
     pub legend: Vec<String>,
 }
 
-/// Writes `map` to `stem.png` (1000 x 760) and `stem.svg`; returns both paths.
+/// Writes `map` to `stem.png` (760 pixels high, as wide as its equal-aspect map needs) and
+/// `stem.svg`; returns both paths.
 ///
 /// Fails if `cells.len()` differs from `x.2 * y.2` or an axis is malformed.
 pub fn write_category_map(map: &CategoryMap, stem: &Path) -> Result<Vec<PathBuf>> {
@@ -53,6 +54,14 @@ pub fn write_category_map(map: &CategoryMap, stem: &Path) -> Result<Vec<PathBuf>
             "number of cells must equal x count times y count",
         ));
     }
+    let map = &CategoryMap {
+        title: super::symbols(&map.title),
+        caption: map.caption.as_deref().map(super::symbols),
+        x_label: super::symbols(&map.x_label),
+        y_label: super::symbols(&map.y_label),
+        legend: map.legend.iter().map(|l| super::symbols(l)).collect(),
+        ..map.clone()
+    };
     write_figure(&MapFigure { map, xe, ye }, stem)
 }
 
@@ -103,9 +112,46 @@ impl MapFigure<'_> {
     }
 }
 
+/// Height of a map figure in pixels; its width follows from the map's aspect (see
+/// [`MapFigure::aspect`]) so that little of the canvas is left empty.
+const MAP_HEIGHT: u32 = 760;
+/// Pixels of a map figure outside the map itself: title block and x-axis labels (vertical),
+/// y-axis labels and margins (horizontal), as laid out in `draw`.
+const MAP_CHROME: (u32, u32) = (150, 130);
+
+impl MapFigure<'_> {
+    /// Width over height of the map's plotting area: equal scales on both axes (one unit of x as
+    /// long as one of y, so a square domain is drawn square), kept between 1:3 and 3:1.
+    fn aspect(&self) -> f64 {
+        let (n, m) = (self.map.x.2, self.map.y.2);
+        let (sx, sy) = (self.xe[n] - self.xe[0], self.ye[m] - self.ye[0]);
+        (sx / sy).clamp(1.0 / 3.0, 3.0)
+    }
+
+    /// Width of the legend column for the entries' longest label (an estimate from the font's
+    /// advance widths, as the drawing measures it).
+    fn legend_width(&self, sz: &Sizes) -> u32 {
+        let font = (FONT, sz.legend).into_font();
+        let text_w = self
+            .entries()
+            .iter()
+            .filter_map(|(label, _)| font.box_size(label).ok())
+            .map(|b| b.0)
+            .max()
+            .unwrap_or(0);
+        (text_w + (sz.legend * 1.1) as u32 + 40).clamp(140, 420)
+    }
+}
+
 impl Figure for MapFigure<'_> {
     fn size(&self) -> (u32, u32) {
-        (1000, 760)
+        let inner_h = f64::from(MAP_HEIGHT - MAP_CHROME.0);
+        let inner_w = (inner_h * self.aspect()).round() as u32;
+        let legend = self.legend_width(&Sizes::scaled(1.0));
+        (
+            (inner_w + MAP_CHROME.1 + legend).clamp(640, 2400),
+            MAP_HEIGHT,
+        )
     }
 
     fn draw<DB: DrawingBackend>(&self, root: &DrawingArea<DB, Shift>, _: bool) -> DrawResult {
@@ -122,11 +168,7 @@ impl Figure for MapFigure<'_> {
         let entries = self.entries();
         let font = TextStyle::from((FONT, sz.legend).into_font());
         let swatch = (sz.legend * 1.1) as i32;
-        let mut text_w = 0;
-        for (label, _) in &entries {
-            text_w = text_w.max(body.estimate_text_size(label, &font).map_err(msg)?.0);
-        }
-        let legend_w = (text_w as i32 + swatch + 40).clamp(140, 420);
+        let legend_w = self.legend_width(&sz) as i32;
         let (plot_area, legend_area) =
             body.split_horizontally(body.dim_in_pixel().0 as i32 - legend_w);
 
@@ -136,12 +178,27 @@ impl Figure for MapFigure<'_> {
         let (ax, ay) = (LinAxis::new(xr, 10), LinAxis::new(yr, 10));
         let tick_style = TextStyle::from((FONT, sz.tick).into_font());
         let widest_y = ay.widest_label(&plot_area, &tick_style)?;
+        let x_labels = (sz.tick * 1.2 + sz.axis * 1.2 + 16.0) as u32;
+        let y_labels = widest_y + (sz.axis * 1.2) as u32 + 18;
+        let margin_right = (sz.tick * 1.2) as u32;
+        // Equal aspect: the spare width (or height) of the area goes to the right (or bottom)
+        // margin, so the map's cells are as long as they are high in data units.
+        let (aw, ah) = plot_area.dim_in_pixel();
+        let free_w = f64::from(aw.saturating_sub(y_labels + margin_right).max(1));
+        let free_h = f64::from(ah.saturating_sub(x_labels + 10).max(1));
+        let a = self.aspect();
+        let (extra_w, extra_h) = if free_w / free_h > a {
+            ((free_w - free_h * a).round() as u32, 0)
+        } else {
+            (0, (free_h - free_w / a).round() as u32)
+        };
         let margin_top: i32 = 10;
         let mut chart = ChartBuilder::on(&plot_area)
             .margin_top(margin_top as u32)
-            .margin_right((sz.tick * 1.2) as u32)
-            .x_label_area_size((sz.tick * 1.2 + sz.axis * 1.2 + 16.0) as u32)
-            .y_label_area_size(widest_y + (sz.axis * 1.2) as u32 + 18)
+            .margin_right(margin_right + extra_w)
+            .margin_bottom(extra_h)
+            .x_label_area_size(x_labels)
+            .y_label_area_size(y_labels)
             .build_cartesian_2d(ax, ay)
             .map_err(msg)?;
 

@@ -6,6 +6,7 @@ use std::path::{Path, PathBuf};
 use plotters::coord::Shift;
 use plotters::prelude::{BitMapBackend, DrawingArea, DrawingBackend, IntoDrawingArea, SVGBackend};
 
+use super::raster_text::GlyphPlaced;
 use super::style::ensure_font;
 use crate::error::{GearError, Result};
 
@@ -73,7 +74,7 @@ pub(crate) fn write_figure(fig: &impl Figure, stem: &Path) -> Result<Vec<PathBuf
     std::fs::write(&svg, text).map_err(GearError::io(&svg))?;
 
     {
-        let root = BitMapBackend::new(&png, size).into_drawing_area();
+        let root = GlyphPlaced::new(BitMapBackend::new(&png, size)).into_drawing_area();
         fig.draw(&root, true)
             .and_then(|()| root.present().map_err(msg))
             .map_err(|m| plot_err(&png, m))?;

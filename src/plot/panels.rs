@@ -36,6 +36,8 @@ pub fn write_panels(
         .map(XyPlot::resolved_ranges)
         .collect::<Result<Vec<_>>>()?;
     let cols = cols.min(panels.len());
+    let panels: &[XyPlot] = &panels.iter().map(XyPlot::with_symbols).collect::<Vec<_>>();
+    let title = &super::symbols(title);
     let fig = Grid {
         title,
         panels,

@@ -15,10 +15,15 @@ pub(crate) fn finite_extent(values: impl Iterator<Item = f64>) -> Option<(f64, f
         })
 }
 
-/// Widens an empty or numerically degenerate interval around its centre.
+/// Relative span below which data are drawn as constant: a q_m that varies by rounding only
+/// (6e-9 on 1.1) gets the range of a constant, not nine-decimal ticks on its noise.
+const CONSTANT_SPAN: f64 = 1e-6;
+
+/// Widens an empty or numerically constant interval around its centre: +-5 % of the value, or
+/// +-0.5 around zero.
 fn widen_degenerate(lo: f64, hi: f64) -> (f64, f64) {
     let scale = lo.abs().max(hi.abs());
-    if hi - lo > 1e-12 * scale {
+    if hi - lo > CONSTANT_SPAN * scale {
         return (lo, hi);
     }
     let c = 0.5 * (lo + hi);
@@ -76,6 +81,12 @@ mod tests {
         let r = resolve("x", None, Some((0.0, 0.0))).unwrap();
         assert!(r.0 < 0.0 && r.1 > 0.0);
         assert_eq!(resolve("x", None, None).unwrap(), (0.0, 1.0));
+        // A constant with rounding noise: the range of the constant, not of its noise.
+        let r = resolve("y", None, Some((1.1, 1.1 + 6e-9))).unwrap();
+        assert!(r.0 < 1.05 && r.1 > 1.15 && r.1 - r.0 < 0.13, "{r:?}");
+        // Tiny values that do vary (residuals of 1e-18) keep their own range.
+        let r = resolve("y", None, Some((-1e-18, 1e-18))).unwrap();
+        assert!(r.1 < 1e-17, "{r:?}");
         assert_eq!(finite_extent([f64::NAN, f64::INFINITY].into_iter()), None);
     }
 

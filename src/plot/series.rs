@@ -18,6 +18,10 @@ pub struct Series {
     pub color: Option<usize>,
     /// Marker shape, used by the styles that draw markers.
     pub marker: Marker,
+    /// Keeps the series out of the automatic axis ranges, so that a few far points (e.g. distant
+    /// attractors) do not squeeze the rest; its points beyond the range are marked by arrows
+    /// on the frame and counted in the legend.
+    pub outside_range: bool,
 }
 
 impl Series {
@@ -29,6 +33,7 @@ impl Series {
             style,
             color: None,
             marker: Marker::default(),
+            outside_range: false,
         }
     }
 
@@ -50,6 +55,17 @@ impl Series {
     /// A dashed line.
     pub fn dashed(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
         Self::new(label, points, SeriesStyle::Dashed)
+    }
+
+    /// A dotted line.
+    pub fn dotted(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Self::new(label, points, SeriesStyle::Dotted)
+    }
+
+    /// Keeps the series out of the automatic ranges (see [`Series::outside_range`]).
+    pub fn outside_range(mut self) -> Self {
+        self.outside_range = true;
+        self
     }
 
     /// Uses palette colour `i` (wrapping beyond the palette length).

@@ -8,7 +8,7 @@ use plotters::style::{register_font, FontStyle, RGBColor};
 /// `src/plot/font`, so rendering never depends on fonts installed on the machine.
 pub(crate) const FONT: &str = "sans-serif";
 
-static FONT_BYTES: &[u8] = include_bytes!("font/DejaVuSans.ttf");
+pub(crate) static FONT_BYTES: &[u8] = include_bytes!("font/DejaVuSans.ttf");
 static FONT_REGISTERED: OnceLock<bool> = OnceLock::new();
 
 /// Registers the shipped font under [`FONT`] once per process; returns whether it is usable.
@@ -16,20 +16,38 @@ pub(crate) fn ensure_font() -> bool {
     *FONT_REGISTERED.get_or_init(|| register_font(FONT, FontStyle::Normal, FONT_BYTES).is_ok())
 }
 
-/// Colour-blind-friendly palette: the eight Okabe-Ito colours (yellow moved back, as it is faint
-/// on white) followed by two Tableau-10 colours. Index with [`palette_color`].
+/// Colour-blind-friendly palette after Okabe-Ito, every colour at least 3:1 in contrast on white
+/// (WCAG 2 relative luminance): Okabe-Ito blue, vermillion and bluish green as they are, their
+/// orange, reddish purple and sky blue darkened to pass, black, an olive for their yellow (1.3:1),
+/// Tableau's brown and a dark purple. Index with [`palette_color`].
 pub const PALETTE: [RGBColor; 10] = [
-    RGBColor(0x00, 0x72, 0xB2), // blue
-    RGBColor(0xD5, 0x5E, 0x00), // vermillion
-    RGBColor(0x00, 0x9E, 0x73), // bluish green
-    RGBColor(0xE6, 0x9F, 0x00), // orange
-    RGBColor(0xCC, 0x79, 0xA7), // reddish purple
-    RGBColor(0x56, 0xB4, 0xE9), // sky blue
-    RGBColor(0x00, 0x00, 0x00), // black
-    RGBColor(0xF0, 0xE4, 0x42), // yellow
-    RGBColor(0x9C, 0x75, 0x5F), // brown (Tableau)
-    RGBColor(0xBA, 0xB0, 0xAC), // grey (Tableau)
+    RGBColor(0x00, 0x72, 0xB2), // blue 5.2:1
+    RGBColor(0xD5, 0x5E, 0x00), // vermillion 3.9:1
+    RGBColor(0x00, 0x9E, 0x73), // bluish green 3.4:1
+    RGBColor(0xB9, 0x77, 0x00), // dark orange 3.7:1
+    RGBColor(0xC0, 0x67, 0x9A), // reddish purple 3.7:1
+    RGBColor(0x3A, 0x93, 0xC3), // sky blue 3.4:1
+    RGBColor(0x00, 0x00, 0x00), // black 21:1
+    RGBColor(0x8F, 0x8A, 0x00), // olive 3.6:1
+    RGBColor(0x9C, 0x75, 0x5F), // brown 4.1:1
+    RGBColor(0x6A, 0x3D, 0x9A), // dark purple 8.8:1
 ];
+
+/// WCAG 2 contrast ratio of `c` against white: (1.05) / (L + 0.05) with L the relative
+/// luminance of the sRGB colour.
+#[cfg(test)]
+pub(crate) fn contrast_on_white(c: RGBColor) -> f64 {
+    let lin = |v: u8| {
+        let v = f64::from(v) / 255.0;
+        if v <= 0.03928 {
+            v / 12.92
+        } else {
+            ((v + 0.055) / 1.055).powf(2.4)
+        }
+    };
+    let l = 0.2126 * lin(c.0) + 0.7152 * lin(c.1) + 0.0722 * lin(c.2);
+    1.05 / (l + 0.05)
+}
 
 /// Colour for palette index `i`; indices beyond the palette wrap around.
 pub fn palette_color(i: usize) -> RGBColor {
@@ -48,6 +66,20 @@ pub enum SeriesStyle {
     LineMarkers,
     /// Dashed polyline (e.g. unstable branches, reference curves).
     Dashed,
+    /// Dotted polyline, a third line style beside solid and dashed (e.g. one edge of a band
+    /// whose other edge is dashed).
+    Dotted,
+}
+
+impl SeriesStyle {
+    /// Dash and gap lengths in pixels of a broken line style, `None` for solid lines.
+    pub(crate) fn dash(self) -> Option<(u32, u32)> {
+        match self {
+            SeriesStyle::Dashed => Some((9, 6)),
+            SeriesStyle::Dotted => Some((2, 4)),
+            _ => None,
+        }
+    }
 }
 
 /// Marker shape used by [`SeriesStyle::Markers`] and [`SeriesStyle::LineMarkers`].

@@ -45,7 +45,7 @@ fn xy_writes_png_and_svg_with_real_text() {
     let files = write_xy(&sample_plot(), &stem).unwrap();
     let svg = check_outputs(&files, &stem);
     assert!(svg.contains("<text"));
-    assert!(svg.contains("Sine") && svg.contains("zeta = 0.05") && svg.contains("samples"));
+    assert!(svg.contains("Sine") && svg.contains("ζ = 0.05") && svg.contains("samples"));
 }
 
 #[test]
@@ -176,4 +176,21 @@ fn mismatched_category_map_errors() {
     map.x.2 = 0;
     map.cells.clear();
     assert!(write_category_map(&map, &stem).is_err());
+}
+
+#[test]
+fn every_colour_has_3_to_1_contrast_on_white() {
+    use super::style::contrast_on_white;
+    use plotters::style::RGBColor;
+    // WCAG reference values: black 21:1, white 1:1, #767676 4.54:1 (the lightest grey at 4.5:1).
+    assert!((contrast_on_white(RGBColor(0, 0, 0)) - 21.0).abs() < 1e-9);
+    assert!((contrast_on_white(RGBColor(255, 255, 255)) - 1.0).abs() < 1e-9);
+    assert!((contrast_on_white(RGBColor(0x76, 0x76, 0x76)) - 4.54).abs() < 0.01);
+    for (i, c) in PALETTE
+        .iter()
+        .chain([&super::map::UNCLASSIFIED])
+        .enumerate()
+    {
+        assert!(contrast_on_white(*c) >= 3.0, "colour {i} {c:?}");
+    }
 }

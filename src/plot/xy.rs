@@ -106,10 +106,31 @@ impl XyPlot {
         self
     }
 
+    /// The plot with the paper's symbols in every text (see [`symbols`](super::symbols)).
+    pub(crate) fn with_symbols(&self) -> XyPlot {
+        let mut p = self.clone();
+        p.title = super::symbols(&p.title);
+        p.caption = p.caption.as_deref().map(super::symbols);
+        p.x_label = super::symbols(&p.x_label);
+        p.y_label = super::symbols(&p.y_label);
+        for s in &mut p.series {
+            s.label = super::symbols(&s.label);
+        }
+        for v in &mut p.vlines {
+            v.1 = super::symbols(&v.1);
+        }
+        p
+    }
+
     /// Axis ranges actually drawn: fixed ranges validated, the others fitted to finite data.
     pub fn resolved_ranges(&self) -> Result<((f64, f64), (f64, f64))> {
         let inside = |v: f64, r: Option<(f64, f64)>| r.is_none_or(|(lo, hi)| v >= lo && v <= hi);
-        let pts = || self.series.iter().flat_map(Series::finite_points);
+        let pts = || {
+            self.series
+                .iter()
+                .filter(|s| !s.outside_range)
+                .flat_map(Series::finite_points)
+        };
         let xs = pts().filter(|p| inside(p.1, self.y_range)).map(|p| p.0);
         let x = resolve("x_range", self.x_range, finite_extent(xs))?;
         let ys = pts().filter(|p| inside(p.0, self.x_range)).map(|p| p.1);
@@ -118,9 +139,11 @@ impl XyPlot {
     }
 }
 
-/// Writes `plot` to `stem.png` (1000 x 700) and `stem.svg`; returns both paths.
+/// Writes `plot` to `stem.png` (1000 x 700) and `stem.svg`, with the paper's symbols in its
+/// text; returns both paths.
 pub fn write_xy(plot: &XyPlot, stem: &Path) -> Result<Vec<PathBuf>> {
     let ranges = plot.resolved_ranges()?;
+    let plot = &plot.with_symbols();
     write_figure(&Single { plot, ranges }, stem)
 }
 

@@ -1,9 +1,9 @@
 //! Outputs of `validate kubo`: `fits/kubo.json` and `reports/kubo/` (D_L against the measured
 //! envelope, index.html, report.md).
 
-use super::data_kind_banner;
 use super::html::Page;
 use super::staging::{finish_report, Staged};
+use super::{data_kind_banner, interval_digits};
 use crate::data::{DataKind, KuboData};
 use crate::error::Result;
 use crate::plot::{write_xy, Series, XyPlot};
@@ -69,19 +69,9 @@ pub fn write_kubo_report(
     let kind = data.rig.source.kind.name();
     let stage = Staged::new(reports_dir)?;
     let mut page = Page::new("geardyn validate kubo: dynamic factor", &banner, synthetic);
-    page.paragraph(&format!(
-        "zeta = {:.4}, omega_n = {:.1} Hz ({}; {} points with D_L < {} used), STE {:.2} um ({}), load {} N (F_m = {:.4}).",
-        r.zeta,
-        r.omega_n_hz,
-        r.parameter_source,
-        r.points_used_in_fit,
-        crate::validate::KUBO_CONTACT_LIMIT,
-        r.ste_um,
-        r.ste_source,
-        r.load_n,
-        r.mean_force
-    ));
+    parameter_table(&mut page, r);
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
+    page.heading("Prediction against the measured envelope");
     page.table(
         &[
             "inside envelope",
@@ -98,6 +88,13 @@ pub fn write_kubo_report(
             opt(r.jump_error_rpm),
         ]],
     );
+    page.paragraph("Columns:");
+    page.definitions(&[
+        ("inside envelope", "share of the measured speeds where the model's D_L (speed-up sweep) lies between the envelope's minimum and maximum."),
+        ("RMS outside envelope", "root mean square distance of the model's D_L from the nearer envelope edge, over the speeds where it lies outside (dimensionless, as D_L)."),
+        ("jump measured / model up (rpm)", "speed of the steepest step of the envelope's mean, and of the model's speed-up sweep."),
+        ("jump error (rpm)", "model jump minus measured jump."),
+    ]);
     if let Some(t) = &data.rig.source.truth {
         page.heading("Truth of the synthetic data (recorded in rig.toml, never read by the fit)");
         page.preformatted(&toml::to_string(t).unwrap_or_default());
@@ -105,13 +102,15 @@ pub fn write_kubo_report(
     let plot = XyPlot {
         title: format!("Dynamic factor ({kind} data)"),
         caption: Some(format!(
-            "zeta = {:.4}, omega_n = {:.0} Hz, F_m = {:.4}, F_ah = {:.4}",
+            "zeta = {:.4}, omega_n = {:.0} Hz, F_m = {:.4}, F_ah = {:.4} (dimensionless forces)",
             r.zeta, r.omega_n_hz, r.mean_force, r.ste_amplitude
         )),
         x_label: "speed (rpm)".into(),
         y_label: "dynamic factor".into(),
+        // Envelope edges in two line styles; the down sweep dashed under the solid up sweep,
+        // so both show where they part and the legend notes where they coincide.
         series: vec![
-            Series::dashed(
+            Series::dotted(
                 format!("measured envelope min ({kind})"),
                 r.envelope.iter().map(|e| (e.0, e.1)).collect(),
             )
@@ -120,17 +119,17 @@ pub fn write_kubo_report(
                 format!("measured envelope max ({kind})"),
                 r.envelope.iter().map(|e| (e.0, e.2)).collect(),
             )
-            .with_color(0),
+            .with_color(9),
+            Series::dashed(
+                "model D_L, speed down",
+                r.down.iter().map(|u| (u.0, u.1)).collect(),
+            )
+            .with_color(2),
             Series::line(
                 "model D_L, speed up",
                 r.up.iter().map(|u| (u.0, u.1)).collect(),
             )
             .with_color(1),
-            Series::line(
-                "model D_L, speed down",
-                r.down.iter().map(|u| (u.0, u.1)).collect(),
-            )
-            .with_color(2),
         ],
         ..XyPlot::default()
     };
@@ -146,4 +145,79 @@ pub fn write_kubo_report(
         &fits_dir.join("kubo.json"),
         &kubo_json(data, r),
     )
+}
+
+/// The parameters first: estimate, 95% intervals, unit and source, then the load's setting.
+fn parameter_table(page: &mut Page, r: &KuboValidation) {
+    let fisher = |i: usize| r.fit.as_ref().and_then(|f| f.ci95.get(i).copied());
+    let interval = |c: Option<(f64, f64)>, min: usize| {
+        c.map_or("-".to_string(), |(lo, hi)| {
+            let d = interval_digits(lo, hi, min);
+            format!("[{lo:.d$}, {hi:.d$}]")
+        })
+    };
+    let profile = |i: usize, min: usize| match r.ci95_profile.get(i) {
+        Some((a, b)) => {
+            let f = |v: &Option<f64>| v.map_or("unbounded".to_string(), |v| format!("{v:.min$}"));
+            format!("[{}, {}]", f(a), f(b))
+        }
+        None => "-".into(),
+    };
+    let source = format!(
+        "{} ({} points with D_L < {})",
+        r.parameter_source,
+        r.points_used_in_fit,
+        crate::validate::KUBO_CONTACT_LIMIT
+    );
+    let digits =
+        |i: usize, min: usize| fisher(i).map_or(min, |(lo, hi)| interval_digits(lo, hi, min));
+    let (dz, dw) = (digits(0, 4), digits(1, 1));
+    page.heading("Parameters");
+    page.table(
+        &[
+            "parameter",
+            "estimate",
+            "95% interval (Fisher)",
+            "95% interval (profile)",
+            "unit",
+            "source",
+        ],
+        &[
+            vec![
+                "ζ (damping ratio)".into(),
+                format!("{:.dz$}", r.zeta),
+                interval(fisher(0), 4),
+                profile(0, dz),
+                "".into(),
+                source.clone(),
+            ],
+            vec![
+                "ωₙ (natural frequency)".into(),
+                format!("{:.dw$}", r.omega_n_hz),
+                interval(fisher(1), 1),
+                profile(1, dw),
+                "Hz".into(),
+                source,
+            ],
+            vec![
+                "STE amplitude".into(),
+                format!("{:.2}", r.ste_um),
+                "-".into(),
+                "-".into(),
+                "µm".into(),
+                r.ste_source.clone(),
+            ],
+            vec![
+                "load".into(),
+                format!("{}", r.load_n),
+                "-".into(),
+                "-".into(),
+                "N".into(),
+                format!(
+                    "rig.toml (Fₘ = {:.4}, Fₐₕ = {:.4}, dimensionless)",
+                    r.mean_force, r.ste_amplitude
+                ),
+            ],
+        ],
+    );
 }

@@ -9,8 +9,10 @@ mod staging;
 
 pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
-pub use munro::{munro_json, write_munro_report};
-pub use staging::{write_file_atomic, Staged};
+pub use munro::{munro_json, write_munro_report, MunroFigures};
+pub use staging::{
+    remove_unfinished, track_unfinished, untrack_unfinished, write_file_atomic, Staged,
+};
 
 /// Decimal places that show a 95% interval [lo, hi] and its estimate apart: at least `min`,
 /// and enough that the interval's width has two significant digits (so that a value near an

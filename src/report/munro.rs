@@ -278,10 +278,19 @@ fn geometry_section(
     );
 }
 
+/// How the report's figures are drawn.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MunroFigures {
+    /// Fit the pp DTE axis to every attractor. Off: the axis fits the data and the two sweeps,
+    /// and farther attractors are arrows on the frame, counted in the legend.
+    pub all_attractors_in_range: bool,
+}
+
 /// Write fits/munro.json and the report folder; returns the files written.
 pub fn write_munro_report(
     data: &MunroData,
     r: &MunroValidation,
+    figures: &MunroFigures,
     fits_dir: &Path,
     reports_dir: &Path,
 ) -> Result<Vec<PathBuf>> {
@@ -294,6 +303,7 @@ pub fn write_munro_report(
         &banner,
         synthetic,
     );
+    page.toc();
     parameter_table(&mut page, data, r);
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
     let rows: Vec<Vec<String>> = r
@@ -302,7 +312,12 @@ pub fn write_munro_report(
         .map(|l| {
             vec![
                 format!("{}", l.load_n),
-                if l.fitted { "fit" } else { "prediction" }.to_string(),
+                if l.fitted {
+                    "fitted (design load)"
+                } else {
+                    "predicted"
+                }
+                .to_string(),
                 format!("{:.2}", l.force_ratio),
                 format!(
                     "{} ({})",
@@ -336,14 +351,27 @@ pub fn write_munro_report(
             "RMS best (um)",
             "RMS up (um)",
             "RMS down (um)",
-            "RMS where the model is period-1 (um)",
-            "points where it is not: pp ranges (um)",
+            "RMS period-1 (um)",
+            "not period-1: points, pp ranges (um)",
             "jump measured (rpm)",
             "jump model up (rpm)",
             "jump error (rpm)",
         ],
         &rows,
     );
+    page.paragraph("Columns:");
+    page.definitions(&[
+        ("role", "fitted: the design-load curve that ζ and ωₙ were fitted to; predicted: a load the fit never saw, predicted with the fitted ζ and ωₙ and that load's STE."),
+        ("F_hat", "F_m / F_ah, the mean force over the STE force amplitude (dimensionless); above about 10 the teeth stay in contact."),
+        ("STE (um)", "amplitude of the static transmission error at this load, with its 95% interval and where it came from."),
+        ("RMS best (um)", "root mean square of measured minus model pp DTE, each point taken against the nearer of the two model sweeps (up or down): the error when the model is allowed to be on either branch of a jump."),
+        ("RMS up (um)", "the same against the speed-up sweep alone (speed increasing, each state carried to the next speed), the branch a run-up follows."),
+        ("RMS down (um)", "the same against the speed-down sweep alone; large where the down sweep stays on the upper branch of a jump that the data do not follow."),
+        ("RMS period-1 (um)", "RMS best over the speeds where the model's steady state is period-1 (one mesh period), where pp DTE is a single number."),
+        ("not period-1: points, pp ranges (um)", "number of speeds where the model is subharmonic or chaotic, and the pp DTE ranges there of the data and of the model."),
+        ("jump measured / model up (rpm)", "speed of the steepest step of the data, and of the model's speed-up sweep; - where there is none."),
+        ("jump error (rpm)", "model jump minus measured jump."),
+    ]);
     if let Some(g) = &r.geometry {
         geometry_section(&mut page, data, r, g);
     }
@@ -390,14 +418,19 @@ pub fn write_munro_report(
             );
         }
         if !l.all.is_empty() {
-            series.push(
-                Series::markers(
+            series.push({
+                let all = Series::markers(
                     "model, all attractors",
                     l.all.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
                 )
                 .with_color(3)
-                .with_marker(Marker::Cross),
-            );
+                .with_marker(Marker::Cross);
+                if figures.all_attractors_in_range {
+                    all
+                } else {
+                    all.outside_range()
+                }
+            });
         }
         let plot = XyPlot {
             title: format!(

@@ -2,6 +2,57 @@
 
 use crate::error::{GearError, Result};
 use std::path::{Path, PathBuf};
+use std::sync::{Mutex, MutexGuard};
+
+/// Staging folders and temporary files not yet moved into place: what an interrupted run must
+/// remove so that it leaves no half-written output. Held while a commit renames, so that an
+/// interrupt waits for the renames to finish.
+static UNFINISHED: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+fn unfinished() -> MutexGuard<'static, Vec<PathBuf>> {
+    UNFINISHED.lock().unwrap_or_else(|e| e.into_inner())
+}
+
+/// Record `path` (a folder or file being written) as unfinished until [`untrack_unfinished`].
+pub fn track_unfinished(path: &Path) {
+    unfinished().push(path.to_path_buf());
+}
+
+/// `path` is finished (moved into place, or removed).
+pub fn untrack_unfinished(path: &Path) {
+    unfinished().retain(|p| p != path);
+}
+
+/// For an interrupt (Ctrl-C) handler that ends the process next: remove every unfinished
+/// staging folder and temporary file, after any commit under way has completed, and keep new
+/// commits from starting.
+pub fn remove_unfinished() {
+    let mut list = unfinished();
+    let paths: Vec<PathBuf> = list.drain(..).collect();
+    // Worker threads may still be writing by path (and `create_dir_all` would make a removed
+    // folder again): each path is first renamed aside and replaced by an empty file, in which
+    // nothing can be created; the blockers go last, just before the process ends.
+    let mut blockers = Vec::new();
+    for p in &paths {
+        let mut aside = p.clone().into_os_string();
+        aside.push(".interrupted");
+        let aside = PathBuf::from(aside);
+        let target = if std::fs::rename(p, &aside).is_ok() {
+            if std::fs::write(p, "").is_ok() {
+                blockers.push(p.clone());
+            }
+            aside
+        } else {
+            p.clone()
+        };
+        let _ = std::fs::remove_dir_all(&target).or_else(|_| std::fs::remove_file(&target));
+    }
+    for b in blockers {
+        let _ = std::fs::remove_file(b);
+    }
+    // The lock is kept: the process is about to end, and no commit may start before it does.
+    std::mem::forget(list);
+}
 
 /// An output folder under construction; `commit` moves it to its destination.
 pub struct Staged {
@@ -22,6 +73,7 @@ impl Staged {
         if tmp.exists() {
             std::fs::remove_dir_all(&tmp).map_err(GearError::io(&tmp))?;
         }
+        track_unfinished(&tmp);
         std::fs::create_dir_all(&tmp).map_err(GearError::io(&tmp))?;
         Ok(Staged {
             tmp,
@@ -59,10 +111,12 @@ impl Staged {
         if self.dest.file_name().is_none() {
             return self.commit_merge();
         }
+        let mut list = unfinished();
         if self.dest.exists() {
             std::fs::remove_dir_all(&self.dest).map_err(GearError::io(&self.dest))?;
         }
         std::fs::rename(&self.tmp, &self.dest).map_err(GearError::io(&self.dest))?;
+        list.retain(|p| p != &self.tmp);
         Ok(self.dest.clone())
     }
 }
@@ -73,6 +127,7 @@ impl Staged {
     /// (`--out DIR`), which may hold other things. Nothing reaches the destination before this
     /// is called, so a failed command leaves it as it was.
     pub fn commit_merge(self) -> Result<PathBuf> {
+        let _list = unfinished();
         std::fs::create_dir_all(&self.dest).map_err(GearError::io(&self.dest))?;
         merge_into(&self.tmp, &self.dest)?;
         Ok(self.dest.clone())
@@ -101,14 +156,17 @@ fn merge_into(from: &Path, to: &Path) -> Result<()> {
 
 impl Drop for Staged {
     fn drop(&mut self) {
-        // Abandoned (error path): remove the partial folder.
+        // Abandoned (error path), or emptied by a merge: remove what is left.
         let _ = std::fs::remove_dir_all(&self.tmp);
+        untrack_unfinished(&self.tmp);
     }
 }
 
 /// Write a single file atomically (temporary file in the same folder, then rename).
 pub fn write_file_atomic(path: &Path, text: &str) -> Result<()> {
     let tmp = staged_file(path, text)?;
+    let mut list = unfinished();
+    list.retain(|p| p != &tmp);
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
         GearError::io(path)(e)
@@ -127,7 +185,11 @@ fn staged_file(path: &Path, text: &str) -> Result<PathBuf> {
         path.file_name().and_then(|n| n.to_str()).unwrap_or("out"),
         std::process::id()
     ));
-    std::fs::write(&tmp, text).map_err(GearError::io(&tmp))?;
+    track_unfinished(&tmp);
+    std::fs::write(&tmp, text).map_err(|e| {
+        untrack_unfinished(&tmp);
+        GearError::io(&tmp)(e)
+    })?;
     Ok(tmp)
 }
 
@@ -152,10 +214,13 @@ pub fn finish_report(
         Ok(d) => d,
         Err(e) => {
             let _ = std::fs::remove_file(&json_tmp);
+            untrack_unfinished(&json_tmp);
             return Err(e);
         }
     };
-    std::fs::rename(&json_tmp, json_path).map_err(GearError::io(json_path))?;
+    let renamed = std::fs::rename(&json_tmp, json_path).map_err(GearError::io(json_path));
+    untrack_unfinished(&json_tmp);
+    renamed?;
     Ok(vec![
         json_path.to_path_buf(),
         dest.join("index.html"),

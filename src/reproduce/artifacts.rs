@@ -4,7 +4,7 @@
 use crate::data::{KuboData, MunroData};
 use crate::error::Result;
 use crate::plot::{write_category_map, write_panels, CategoryMap, XyPlot};
-use crate::report::{write_kubo_report, write_munro_report};
+use crate::report::{write_kubo_report, write_munro_report, MunroFigures};
 use crate::study::{write_outputs, StudyOutput};
 use crate::validate::{KuboValidation, MunroValidation};
 use std::path::{Path, PathBuf};
@@ -103,7 +103,13 @@ pub fn write_artifact(a: &Artifact, out: &Path) -> Result<Vec<PathBuf>> {
         Artifact::Study { dir, output } => write_outputs(output, &out.join(dir).join(&output.name)),
         Artifact::Munro { dir, data, result } => {
             let d = out.join(dir);
-            write_munro_report(data, result, &d.join("fits"), &d.join("munro"))
+            write_munro_report(
+                data,
+                result,
+                &MunroFigures::default(),
+                &d.join("fits"),
+                &d.join("munro"),
+            )
         }
         Artifact::Kubo { dir, data, result } => {
             let d = out.join(dir);

@@ -108,6 +108,13 @@ pub fn motion_name(a: &Attractor) -> String {
     }
 }
 
+/// The name of an attractor or transient set: "period-2 single-sided", "chaotic transient
+/// double-sided" (its motion and impact regime; the one naming used by reports, maps and the
+/// command line).
+pub fn name(a: &Attractor) -> String {
+    format!("{} {}", motion_name(a), impact_name(a.steady.impact))
+}
+
 /// One attractor in words: "period-1 single-sided (q_a 0.512, basin 31.3%)"; a followed
 /// non-periodic set adds its escape rate, or the bound on it when none escaped.
 pub fn describe(a: &Attractor) -> String {
@@ -127,9 +134,8 @@ pub fn describe(a: &Attractor) -> String {
         None => String::new(),
     };
     format!(
-        "{} {} (q_a {:.3}, basin {:.1}%{lyap}{escape})",
-        motion_name(a),
-        impact_name(a.steady.impact),
+        "{} (q_a {:.3}, basin {:.1}%{lyap}{escape})",
+        name(a),
         a.steady.qa,
         100.0 * a.basin_fraction
     )

@@ -33,6 +33,7 @@ mod steady_figures;
 mod summary_values;
 
 pub use artifacts::{write_artifact, Artifact, FigureEntry};
+pub use attractor_set::{describe as describe_attractor, name as attractor_name};
 pub use claims::{verdict_counts, Claim, ReportTable, Verdict};
 pub use report::{figure_index, write_reproduction};
 pub use steady_figures::{steady_figures, SteadyFigures};

@@ -42,6 +42,8 @@ pub use steady::{
     default_transient, steady_state, Motion, SteadyOptions, SteadyState, MAX_KEEP, MAX_TRANSIENT,
     SETTLED_DECAY,
 };
-pub use sweep::{carry, frequency_range, sweep, Branch, FlowFactory, SweepPlan, SweepPoint};
+pub use sweep::{
+    carry, frequency_range, sweep, to_significant, Branch, FlowFactory, SweepPlan, SweepPoint,
+};
 pub use trajectory::{sample_trajectory, Sample};
 pub use window_spread::dte_pp_over_windows;

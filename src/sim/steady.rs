@@ -111,6 +111,20 @@ pub enum Motion {
     Unsettled,
 }
 
+impl Motion {
+    /// Name used in text, JSON and CSV outputs ("periodic", "chaotic", "aperiodic",
+    /// "converging", "unsettled"; the serde name).
+    pub fn name(self) -> &'static str {
+        match self {
+            Motion::Periodic => "periodic",
+            Motion::Chaotic => "chaotic",
+            Motion::Aperiodic => "aperiodic",
+            Motion::Converging => "converging",
+            Motion::Unsettled => "unsettled",
+        }
+    }
+}
+
 /// The steady state reached from one initial condition.
 #[derive(Clone, Debug, Serialize)]
 pub struct SteadyState {

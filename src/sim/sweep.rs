@@ -99,7 +99,26 @@ pub fn frequency_range(start: f64, stop: f64, step: f64) -> Result<Vec<f64>> {
             "at most 100000 frequencies per sweep",
         ));
     }
-    Ok((0..n).map(|i| start + i as f64 * step).collect())
+    Ok((0..n)
+        .map(|i| to_significant(start + i as f64 * step, GRID_DIGITS))
+        .collect())
+}
+
+/// Significant digits of the values of [`frequency_range`]: the grid is made by index (no
+/// accumulated steps) and rounded to 12 digits, so that 0.2 + 10 x 0.1 is the 1.2 that the user
+/// asked for, not 1.2000000000000002 (the change, below 1e-12 relative, is far below any
+/// tolerance of the solvers).
+const GRID_DIGITS: usize = 12;
+
+/// `x` rounded to `digits` significant decimal digits (through its decimal text, which is
+/// exact: Rust prints and parses floats correctly rounded).
+pub fn to_significant(x: f64, digits: usize) -> f64 {
+    if !x.is_finite() || x == 0.0 {
+        return x;
+    }
+    format!("{:.*e}", digits.saturating_sub(1), x)
+        .parse()
+        .unwrap_or(x)
 }
 
 /// What a sweep covers and how each frequency is started.
@@ -205,5 +224,21 @@ mod tests {
         assert!(frequency_range(1.0, 0.5, 0.1).is_err());
         assert!(frequency_range(0.5, 1.0, 0.0).is_err());
         assert!(frequency_range(0.5, 1.0, f64::NAN).is_err());
+    }
+
+    /// The grid values print as typed: 0.1 + 11 x 0.1 evaluates to 1.2000000000000002 in
+    /// binary floating point, and 1000 + 80 x 50 rpm stays an integer.
+    #[test]
+    fn grid_values_are_the_decimal_ones() {
+        assert_ne!(0.1 + 11.0 * 0.1, 1.2);
+        let r = frequency_range(0.1, 1.6, 0.1).unwrap();
+        assert_eq!(r.len(), 16);
+        assert_eq!(r[11], 1.2);
+        assert_eq!(format!("{}", r[11]), "1.2");
+        assert_eq!(format!("{}", r[15]), "1.6");
+        let rpm = frequency_range(1000.0, 5000.0, 50.0).unwrap();
+        assert_eq!((rpm.len(), rpm[80]), (81, 5000.0));
+        assert_eq!(to_significant(1.0 / 3.0, 3), 0.333);
+        assert_eq!(to_significant(-2.6e-7, 1), -3e-7);
     }
 }

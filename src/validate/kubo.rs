@@ -12,8 +12,9 @@
 //! state; refit until the selection repeats.
 
 use super::curve_metrics::{rms, transition_location};
+use super::fit_check::{fit_failed, fit_failure};
 use super::linear::load_factor_max;
-use crate::data::{KuboData, KuboPoint};
+use crate::data::{rig_key_error, KuboData, KuboPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
@@ -187,19 +188,27 @@ pub fn validate_kubo(
     let dim = Dimensional::from_rig(rig)?;
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
-    let ste_given = data.rig.ste.as_ref().and_then(|t| {
-        t.load_n
-            .iter()
-            .zip(&t.amplitude_um)
-            .find(|(l, _)| (*l - load).abs() <= 1e-6 * load)
-            .map(|(_, a)| *a)
-    });
+    let ste_given = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
     let contact: Vec<&KuboPoint> = data
         .points
         .iter()
         .filter(|p| p.dynamic_factor_max < CONTACT_LIMIT)
         .collect();
     let mut used_count = 0;
+    if let (Some(_), None) | (None, Some(_)) = (rig.zeta, rig.omega_n_hz) {
+        let key = if rig.zeta.is_some() {
+            "zeta"
+        } else {
+            "omega_n_hz"
+        };
+        return Err(rig_key_error(
+            &data.dir,
+            "rig",
+            key,
+            "validate kubo takes zeta and omega_n_hz as fixed values only when both are given \
+             (else it fits both): give the other one too, or remove this one",
+        ));
+    }
     let (fit_result, profile, zeta, wn, ste, source) = match (rig.zeta, rig.omega_n_hz) {
         (Some(z), Some(w)) => {
             let e = ste_given.ok_or_else(|| GearError::Data {
@@ -290,6 +299,9 @@ pub fn validate_kubo(
                 ste_um: ste_given,
             });
             let prof = problem.profile(&r)?;
+            if let Some(reason) = fit_failure(&r, &prof) {
+                return Err(fit_failed(&data.dir, "fit to the contact part", reason));
+            }
             let e = ste_of(ste_given, &r.params);
             let (z, w) = (r.params[0], r.params[1]);
             used_count = problem.points.len();

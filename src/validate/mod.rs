@@ -3,6 +3,7 @@
 
 mod curve_metrics;
 mod design_fit;
+mod fit_check;
 mod geometry_ste;
 mod kubo;
 mod linear;
@@ -12,7 +13,8 @@ mod study;
 mod synth;
 
 pub use curve_metrics::{jump_location, min_max, rms, transition_location};
-pub use design_fit::{fit_design_load, DesignLoadFit, LOW_SPEED_OMEGA};
+pub use design_fit::{fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA};
+pub use fit_check::{fit_failure, FITTED_ZETA};
 pub use geometry_ste::{
     GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
 };
@@ -22,8 +24,8 @@ pub use linear::{
     stays_in_contact_harmonics,
 };
 pub use munro::{
-    fit_munro_design_load, validate_munro, GeometryValidation, LoadResult, ModelPoint,
-    MunroOptions, MunroValidation, SteMode, SteSource,
+    fit_munro_design_load, noise_setting, validate_munro, GeometryValidation, LoadResult,
+    ModelPoint, MunroOptions, MunroValidation, SteMode, SteSource,
 };
 pub use noise::Rng;
 pub use study::{

@@ -10,13 +10,16 @@
 //! geometry path is run beside the per-curve one, so that both are reported side by side.
 
 use super::curve_metrics::{jump_location, min_max, rms};
-use super::design_fit::{fit_design_geometry, fit_design_load, DesignLoadFit, MunroNoise};
+use super::design_fit::{
+    fit_design_geometry, fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA,
+};
+use super::fit_check::{fit_failed, fit_failure};
 use super::geometry_ste::{
     GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
 };
 use super::linear::{stays_in_contact, stays_in_contact_harmonics};
 use super::synth::flow_with_rtol;
-use crate::data::{MunroData, MunroPoint};
+use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel, Robust};
 use crate::model::{Dimensional, GearPair, Term};
@@ -179,33 +182,73 @@ pub struct GeometryValidation {
 
 /// STE amplitude at a load from rig.toml, if listed.
 fn ste_from_rig(data: &MunroData, load: f64) -> Option<f64> {
-    let t = data.rig.ste.as_ref()?;
-    t.load_n
-        .iter()
-        .zip(&t.amplitude_um)
-        .find(|(l, _)| (*l - load).abs() <= 1e-6 * load.abs().max(1.0))
-        .map(|(_, a)| *a)
+    data.rig.ste.as_ref()?.amplitude_at(load)
 }
 
 /// The rig's dimensional scales, the design load (N) and its measured curve, which a fit needs
-/// with at least 5 points.
+/// with at least 5 points. rig.toml may not give zeta or omega_n_hz: this pipeline fits them.
 fn design_curve(data: &MunroData) -> Result<(Dimensional, f64, Vec<&MunroPoint>)> {
     let rig = &data.rig.rig;
+    for (key, given) in [("zeta", rig.zeta), ("omega_n_hz", rig.omega_n_hz)] {
+        if let Some(v) = given {
+            return Err(rig_key_error(
+                &data.dir,
+                "rig",
+                key,
+                format!(
+                    "{key} = {v}: validate munro fits zeta and omega_n_hz to the design-load \
+                     curve and would ignore this value; remove it from [rig] (sweep, simulate \
+                     and the other analysis commands with --rig take it as their default, \
+                     validate kubo as a fixed value)"
+                ),
+            ));
+        }
+    }
     let dim = Dimensional::from_rig(rig)?;
     let design = rig.design_load_n;
     let curve = data.curve(design);
     if curve.len() < 5 {
-        return Err(GearError::Data {
-            file: data.dir.join("rig.toml"),
-            line: 0,
-            field: "design_load_n".into(),
-            message: format!(
+        return Err(rig_key_error(
+            &data.dir,
+            "rig",
+            "design_load_n",
+            format!(
                 "the fit needs the design-load curve ({design} N) with at least 5 points; found {}",
                 curve.len()
             ),
-        });
+        ));
     }
     Ok((dim, design, curve))
+}
+
+/// The fit `fit` of the data set `data`, or the reason it failed (see [`fit_failure`]).
+fn usable(data: &MunroData, what: &str, fit: DesignLoadFit) -> Result<DesignLoadFit> {
+    match fit_failure(&fit.estimate, &fit.ci95_profile) {
+        Some(reason) => Err(fit_failed(&data.dir, what, reason)),
+        None => Ok(fit),
+    }
+}
+
+/// The STE of a load whose curve has fewer than 3 low-speed points in contact: half the pp DTE
+/// at its lowest speed over the linear gain there (quasi-static DTE equals STE). A zero reading
+/// there would give a zero STE and an infinite force ratio: it is an error naming the point.
+fn ste_from_lowest_speed(first: &MunroPoint, zeta: f64, omega: f64, load_n: f64) -> Result<f64> {
+    let ste = first.dte_pp_um / (2.0 * super::linear::dte_gain(zeta, omega));
+    if ste.is_finite() && ste > 0.0 {
+        return Ok(ste);
+    }
+    Err(GearError::Data {
+        file: first.file.clone(),
+        line: first.line,
+        field: "dte_pp_um".into(),
+        message: format!(
+            "the STE at {load_n} N is read from its lowest speed ({} rpm; fewer than 3 points \
+             lie below Omega = {LOW_SPEED_OMEGA} in contact), and the pp DTE there is {}: give \
+             the STE at this load in rig.toml ([ste] load_n, amplitude_um) or measure the curve \
+             at lower speeds",
+            first.speed_rpm, first.dte_pp_um
+        ),
+    })
 }
 
 /// The design-load fit of `validate munro` on a loaded set (its curve, the rig's STE when
@@ -246,6 +289,7 @@ pub fn validate_munro(
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
     let (fit, ste_given) = fit_munro_design_load(data, opts.robust)?;
+    let fit = usable(data, "design-load fit", fit)?;
     let (zeta, wn, ste_design) = fit.values(ste_given);
     let design_source = if ste_given.is_some() {
         SteSource::RigToml
@@ -273,14 +317,14 @@ pub fn validate_munro(
             } else if let Some(e) = ste_from_rig(data, load) {
                 Ok((e, None, SteSource::RigToml))
             } else {
-                Ok(match fit.other_ste(load) {
-                    Some((e, ci)) => (e, Some(ci), SteSource::LowSpeedFit),
+                match fit.other_ste(load) {
+                    Some((e, ci)) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
                     None => {
                         let p0 = curve[0];
-                        let gain = super::linear::dte_gain(zeta, dim.omega(p0.speed_rpm, wn));
-                        (p0.dte_pp_um / (2.0 * gain), None, SteSource::LowSpeedEnd)
+                        ste_from_lowest_speed(p0, zeta, dim.omega(p0.speed_rpm, wn), load)
+                            .map(|e| (e, None, SteSource::LowSpeedEnd))
                     }
-                })
+                }
             };
             let r = ste.and_then(|(ste, ci, source)| {
                 let exc = LoadExcitation {
@@ -302,7 +346,7 @@ pub fn validate_munro(
         })
         .collect();
     progress.finish();
-    let loads = results.into_iter().collect::<Result<Vec<_>>>()?;
+    let loads = check_predictions(data, results.into_iter().collect::<Result<Vec<_>>>()?)?;
     let geometry = match &opts.ste {
         SteMode::Curve => None,
         SteMode::Geometry(g) => Some(validate_geometry(data, g, opts, progress)?),
@@ -351,6 +395,14 @@ fn validate_geometry(
         noise_setting(data)?,
         opts.robust,
     )?;
+    let what = match g.relief {
+        ReliefRule::Fit => "design-load fit with the geometry's STE",
+        _ => {
+            "design-load fit with the geometry's STE (its relief not fitted: --relief fit fits \
+              the relief depth too, if the curve's STE differs from the geometry's)"
+        }
+    };
+    let fit = usable(data, what, fit)?;
     let p = &fit.estimate.params;
     let (zeta, wn) = (p[0], p[1]);
     let relief_um = if fit_depth { p[2] } else { start_um };
@@ -412,9 +464,27 @@ fn validate_geometry(
         omega_n_hz: wn,
         design_load_in_contact,
         excitation,
-        loads: results.into_iter().collect::<Result<Vec<_>>>()?,
+        loads: check_predictions(data, results.into_iter().collect::<Result<Vec<_>>>()?)?,
         fit,
     })
+}
+
+/// Every load's force ratio and RMS error must be finite; a prediction that is not is a failed
+/// fit, reported with the load.
+fn check_predictions(data: &MunroData, loads: Vec<LoadResult>) -> Result<Vec<LoadResult>> {
+    for l in &loads {
+        if !(l.force_ratio.is_finite() && l.rms_um.is_finite()) {
+            return Err(fit_failed(
+                &data.dir,
+                &format!("prediction at {} N", l.load_n),
+                format!(
+                    "force ratio F_hat = {} and RMS error {} um are not both finite (STE {} um)",
+                    l.force_ratio, l.rms_um, l.ste_um
+                ),
+            ));
+        }
+    }
+    Ok(loads)
 }
 
 /// The model at one load from the geometry: F_ahj = e_j / b with phases phi_j; with the
@@ -490,7 +560,7 @@ struct LoadExcitation {
 /// deviation (`dte_pp_sd_um`); the model of rig.toml's `[noise]` when it states a floor (with
 /// its relative part, 0 when not given); else estimated jointly with the fit, the floor never
 /// below a stated reading uncertainty.
-fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
+pub fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
     if !data.points.is_empty() && data.points.iter().all(|p| p.sd_um.is_some()) {
         return Ok(MunroNoise::PerPoint);
     }

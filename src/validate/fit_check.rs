@@ -1,0 +1,68 @@
+//! Whether a fit of `validate` can be used: a fit that ran zeta to a bound, left an interval
+//! infinite or unbounded, or ended on a non-finite residual is a failed fit, reported with its
+//! reason instead of being carried into predictions and reports.
+
+use crate::error::GearError;
+use crate::fit::Estimate;
+use crate::sim::to_significant;
+use std::path::Path;
+
+/// Damping ratios a fit may end at: the range the simulation accepts (below 1e-3 the transient
+/// outlasts the budget; at 0.9 the mesh is nearly critically damped). A fitted zeta outside ran
+/// to a bound of what the curve can determine (a flat curve drives it to 0 or past 1).
+pub const FITTED_ZETA: (f64, f64) = (1e-3, 0.9);
+
+/// The reason `est` (with the profile intervals `profile` of its first parameters) cannot be
+/// used, if any. Parameter 0 is zeta.
+pub fn fit_failure(est: &Estimate, profile: &[(Option<f64>, Option<f64>)]) -> Option<String> {
+    if !(est.chi_square.is_finite() && est.log_likelihood.is_finite()) {
+        return Some(format!(
+            "the residual sum is not finite (chi-square {})",
+            est.chi_square
+        ));
+    }
+    for (i, name) in est.names.iter().enumerate() {
+        let v = est.params[i];
+        if !(v.is_finite() && v > 0.0) {
+            return Some(format!("{name} = {v} is not a positive finite number"));
+        }
+        let (lo, hi) = est.ci95[i];
+        if !(lo.is_finite() && hi.is_finite()) {
+            return Some(format!(
+                "the 95% interval of {name} = {} is [{lo}, {hi}]: the curve does not determine it",
+                to_significant(v, 4)
+            ));
+        }
+    }
+    let zeta = est.params.first().copied().unwrap_or(f64::NAN);
+    if !(FITTED_ZETA.0..=FITTED_ZETA.1).contains(&zeta) {
+        return Some(format!(
+            "zeta = {} ran to a bound (plausible fits end in [{}, {}]): the curve shows no \
+             resonance that determines the damping",
+            to_significant(zeta, 4),
+            FITTED_ZETA.0,
+            FITTED_ZETA.1
+        ));
+    }
+    for (i, (lo, hi)) in profile.iter().enumerate() {
+        let side = match (lo, hi) {
+            (None, _) => "below",
+            (_, None) => "above",
+            _ => continue,
+        };
+        return Some(format!(
+            "the profile-likelihood 95% interval of {} is unbounded {side}: the curve does not \
+             determine it",
+            est.names.get(i).map_or("a parameter", |s| s.as_str())
+        ));
+    }
+    None
+}
+
+/// The error of a failed fit to the data set in `dir`.
+pub fn fit_failed(dir: &Path, what: &str, reason: String) -> GearError {
+    GearError::FitFailed {
+        data: dir.to_path_buf(),
+        reason: format!("{what}: {reason}"),
+    }
+}
