@@ -3,8 +3,8 @@
 
 use super::artifacts::Artifact;
 use super::attractor_set::{
-    confirmed, describe, describe_all, dominant, impact_name, match_expected, motion_name, search,
-    Expected, Horizon, Point,
+    confirmed, describe, describe_all, dominant, impact_name, match_expected, motion_name, name,
+    search, Expected, Horizon, Point,
 };
 use super::claims::{agree_if, Claim, ReportTable, Verdict};
 use super::sec3_transients::{chaos_claim, chaos_range_claim, sets_table};
@@ -710,12 +710,7 @@ fn phase_planes(stem: &str, title: &str, maps: &[(Point, &AttractorMap)]) -> Res
             // One closed orbit, or 12 forcing periods of non-periodic motion.
             let n = a.steady.period.map_or(12, |p| p as usize);
             let s = orbit_samples(&flow, &a.steady, n)?;
-            let label = format!(
-                "{} {} {:.0}%",
-                motion_name(a),
-                impact_name(a.steady.impact),
-                100.0 * a.basin_fraction
-            );
+            let label = format!("{} {:.1}%", name(a), 100.0 * a.basin_fraction);
             let pts: Vec<(f64, f64)> = s.iter().map(|x| (x.q, x.v)).collect();
             series.push(if a.steady.period.is_none() {
                 Series::markers(label, pts)
@@ -811,7 +806,7 @@ fn chaos_figure(pt: Point, m: &AttractorMap) -> Result<Artifact> {
     Ok(Artifact::Panels {
         dir: DIR.into(),
         stem: "fig04-chaos".into(),
-        title: "Fig. 4: chaotic response, (a) time history, (b) Poincare map".into(),
+        title: "Fig. 4: chaotic response, (a) time history, (b) Poincaré map".into(),
         panels,
         cols: 2,
     })
@@ -842,17 +837,17 @@ fn histories(
             let s = orbit_samples(&flow, &a.steady, n)?;
             panels.push(XyPlot {
                 title: format!(
-                    "F_hat = {:.2}, zeta = {}: {} {}, basin {:.1}%",
+                    "F_hat = {:.2}, zeta = {}: {}, basin {:.1}%",
                     pt.fm / pt.fah,
                     pt.zeta,
-                    motion_name(a),
-                    impact_name(a.steady.impact),
+                    name(a),
                     100.0 * a.basin_fraction
                 ),
                 caption: Some(pt.caption()),
-                x_label: "t".into(),
+                x_label: "t (dimensionless)".into(),
                 y_label: "q".into(),
                 series: vec![Series::line("q(t)", s.iter().map(|x| (x.t, x.q)).collect())],
+                legend: false,
                 ..XyPlot::default()
             });
         }

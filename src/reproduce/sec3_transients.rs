@@ -210,9 +210,8 @@ fn changes(paper: &AttractorMap, m: &AttractorMap) -> String {
             .filter(|a| a.kind == SetKind::Attractor)
             .map(|a| {
                 format!(
-                    "{} {} {:.1}% at {} periods, {} asymptotically",
-                    super::attractor_set::motion_name(a),
-                    impact_name(a.steady.impact),
+                    "{} {:.1}% at {} periods, {} asymptotically",
+                    super::attractor_set::name(a),
                     100.0 * a.basin_fraction,
                     m.horizon,
                     a.basin_fraction_asymptotic
