@@ -31,10 +31,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let m = a.model.resolve()?;
-    let omega = a.frequency.omega(&m)?;
-    m.print_conversion(omega);
-    let model = m.at(omega)?;
+    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);

@@ -41,11 +41,7 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let m = a.model.resolve()?;
-    let omega = a.frequency.omega(&m)?;
-    m.print_conversion(omega);
-    // Checks the model parameters before the long run.
-    m.at(omega)?;
+    let (m, omega, _) = a.model.at_frequency(&a.frequency)?;
     let opts = EscapeStudyOptions {
         fm: m.fm,
         fah: m.fah,

@@ -170,6 +170,18 @@ impl ModelArgs {
     }
 }
 
+impl ModelArgs {
+    /// The model at the one frequency of `f`: resolved, its conversion printed (rig units) and
+    /// checked, before any work.
+    pub fn at_frequency(&self, f: &Frequency) -> anyhow::Result<(Model, f64, GearPair)> {
+        let m = self.resolve()?;
+        let omega = f.omega(&m)?;
+        m.print_conversion(omega);
+        let model = m.at(omega)?;
+        Ok((m, omega, model))
+    }
+}
+
 impl Model {
     /// The paper's model (eq. 5, with eq. 4's torque when F_aT > 0) at frequency `omega`.
     pub fn at(&self, omega: f64) -> anyhow::Result<GearPair> {

@@ -38,10 +38,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.out {
         check_out_dir("--out", dir)?;
     }
-    let m = a.model.resolve()?;
-    let omega = a.frequency.omega(&m)?;
-    m.print_conversion(omega);
-    let model = m.at(omega)?;
+    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.lyapunov = a.lyapunov;

@@ -266,9 +266,8 @@ fn figure(maps: &[(String, AttractorMap)], caption: &str) -> Figure {
             let n1 = r.end_periods as f64;
             // The fitted line is named in the panel's caption, so the legend keeps two entries
             // and fits inside the plot.
-            log_series.push(
-                Series::dashed("", vec![(n0, 0.0), (n1, -r.rate * (n1 - n0))]).with_color(c),
-            );
+            log_series
+                .push(Series::dashed("", vec![(n0, 0.0), (n1, -r.rate * (n1 - n0))]).with_color(c));
             lin_series.push(Series::line(name.clone(), pts).with_color(c));
         }
     }
