@@ -60,9 +60,13 @@ pub fn bifurcation_figure(b: &Bifurcation, title: &str, caption: &str) -> XyPlot
         .collect();
     XyPlot {
         title: title.into(),
-        caption: Some(format!(
-            "{caption}; F, PD: AFT fold, period doubling; J*, PD*, P*: carried jump, doubling, period change"
-        )),
+        caption: Some(if b.marks.is_empty() {
+            caption.to_string()
+        } else {
+            format!(
+                "{caption}; F, PD: AFT fold, period doubling; J*, PD*, P*: carried jump, doubling, period change"
+            )
+        }),
         x_label: b.parameter.label().into(),
         y_label: "q at forcing phase 0 (Poincaré section)".into(),
         series,

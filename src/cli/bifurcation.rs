@@ -16,35 +16,36 @@ use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
-    /// Dimensionless mean load F_m, in [0, 1e4] (not used with --vary fhat).
+    /// Mean load F_m, dimensionless, in [0, 1e4] (not used with --vary fhat).
     #[arg(long = "fm", allow_hyphen_values = true, value_parser = real(FM.0, FM.1, false))]
     fm: Option<f64>,
-    /// Dimensionless STE amplitude F_ah, in [0, 1e3].
+    /// STE amplitude F_ah, dimensionless, in [0, 1e3].
     #[arg(long = "fah", allow_hyphen_values = true, value_parser = real(FAH.0, FAH.1, false))]
     fah: f64,
-    /// Damping ratio zeta, in [0.001, 0.9] (not used with --vary zeta).
+    /// Damping ratio ζ, dimensionless, in [0.001, 0.9] (not used with --vary zeta).
     #[arg(long, allow_hyphen_values = true, value_parser = real(ZETA.0, ZETA.1, false))]
     zeta: Option<f64>,
-    /// Mesh frequency Omega_h, in [0.001, 100] (not used with --vary omega).
+    /// Mesh frequency over natural frequency Ω_h, dimensionless, in [0.001, 100] (not used with
+    /// --vary omega).
     #[arg(long, allow_hyphen_values = true, value_parser = real(OMEGA.0, OMEGA.1, false))]
     omega: Option<f64>,
-    /// The parameter varied: omega, fhat (F_hat = F_m / F_ah through F_m at fixed F_ah, as
-    /// Fig. 7) or zeta (as Fig. 8).
+    /// The parameter varied: omega, fhat (F̂ = F_m / F_ah through F_m at fixed F_ah, as Fig. 7)
+    /// or zeta (as Fig. 8).
     #[arg(long, value_enum)]
     vary: Vary,
-    /// Values START:STOP:STEP of the varied parameter (Omega in [0.001, 100], F_hat in
-    /// [0.001, 1e4], zeta in [0.001, 0.9]; at most 2001 values).
+    /// Values START:STOP:STEP of the varied parameter, dimensionless (Ω_h in [0.001, 100], F̂ in
+    /// [0.001, 1e4], ζ in [0.001, 0.9]; at most 2001 values).
     #[arg(long, allow_hyphen_values = true)]
     range: String,
     /// grid: every attractor of the IC grid at each value; carried: one sweep carrying the last
     /// state; both.
     #[arg(long, value_enum, default_value_t = Mode::Both)]
     mode: Mode,
-    /// Grid of initial conditions at each value: LO:HI:N (at most 501 per axis and 2000000
-    /// initial conditions over all values).
+    /// Grid of initial conditions q(0), q'(0) at each value (dimensionless: half backlashes):
+    /// LO:HI:N (at most 501 per axis and 2000000 initial conditions over all values).
     #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
     ic_grid: String,
-    /// Poincare points drawn per non-periodic set, 10 to 2000.
+    /// Poincaré points drawn per non-periodic set, 10 to 2000.
     #[arg(long, default_value_t = 200, allow_hyphen_values = true,
           value_parser = super::limits::whole(10..=2000))]
     cloud_points: usize,

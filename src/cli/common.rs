@@ -42,13 +42,13 @@ pub struct EscapeArgs {
           value_parser = whole(0..=geardyn::sim::MAX_HORIZON))]
     pub horizon: usize,
     /// Trajectory-periods after which a non-periodic set is no longer followed, in [1000, 5e7]
-    /// (about 1 us each with the exact solver); without escapes the rate's 95% upper bound is
-    /// then 3.69 / this. Default 4e6 (attractors, basins), 1e6 (sweep, per frequency).
+    /// (about 1 µs each with the exact solver); without escapes the rate's 95% upper bound is
+    /// then 3.69 / this. Default 4e6 (attractors, basins), 1e6 (sweep, bifurcation: per value).
     #[arg(long, value_name = "E", allow_hyphen_values = true,
           value_parser = real(1e3, geardyn::sim::MAX_EXPOSURE, false))]
     pub max_exposure: Option<f64>,
     /// Escapes after which a set's escape rate counts as measured, 1 to 100000 (100 give about
-    /// +-20% at 95%).
+    /// ±20% at 95%).
     #[arg(long, value_name = "D", default_value_t = 100, allow_hyphen_values = true,
           value_parser = whole(1..=100_000))]
     pub target_escapes: usize,

@@ -17,7 +17,8 @@ pub struct Args {
     model: ModelArgs,
     #[command(flatten)]
     frequency: Frequency,
-    /// Grid of initial conditions q(0), q'(0): LO:HI:N (N values per axis, at most 501).
+    /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
+    /// values per axis, at most 501).
     #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
     ic_grid: String,
     /// Age, in forcing periods from the initial conditions, to which every trajectory is
@@ -26,7 +27,7 @@ pub struct Args {
     #[arg(long, value_name = "N", default_value_t = 40_000, allow_hyphen_values = true,
           value_parser = whole(1000..=geardyn::sim::MAX_HORIZON))]
     horizon: usize,
-    /// Relative tolerance of the DOP853 check, in [1e-14, 0.01].
+    /// Relative tolerance of the DOP853 check, dimensionless, in [1e-14, 0.01].
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true,
           value_parser = real(RTOL.0, RTOL.1, false))]
     rtol: f64,

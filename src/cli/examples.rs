@@ -40,7 +40,7 @@ Examples:
 
 pub const ESCAPE: &str = "\
 Example:
-  geardyn escape --fm 0.1 --fah 0.2 --zeta 0.02 --omega 1.0 --out escape-fig4   # Fig. 4's chaotic transient, ~2 min";
+  geardyn escape --fm 0.1 --fah 0.2 --zeta 0.02 --omega 1.0 --out escape-fig4   # Fig. 4's chaotic transient, ~1 min";
 
 pub const STUDY: &str = "\
 Example:
