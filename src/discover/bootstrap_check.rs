@@ -5,7 +5,7 @@
 //! sharp resonances and jumps, so the linearisation is not obviously adequate; it is if the two
 //! agree to a small fraction of each statistic's own spread under the null.
 
-use super::fit::{fit_model, fit_ste};
+use super::fit::{fit_model, fit_ste, EffectInFit};
 use super::forward::{predict, predict_many, CurvePrediction, Setup};
 use super::linearized::{Linearized, Statistics};
 use super::noise::{NoiseSpec, TailChoice};
@@ -28,7 +28,7 @@ fn refitted_statistics(setup: &Setup, fit: &M0Fit, train: &[usize], y: &[Vec<f64
         train,
         &fit.mask,
         &fit.scales,
-        None,
+        EffectInFit::None,
         &fit.m0.lm.params,
         Stop::converged(30),
     )

@@ -83,6 +83,13 @@ impl Candidate {
         delta[1].atan2(delta[0])
     }
 
+    /// Angle (rad, 0 to pi) between the first phases of two deltas, wrapped: 170 and -170
+    /// degrees are 20 degrees apart.
+    pub fn phase_distance(a: &[f64], b: &[f64]) -> f64 {
+        let diff = (Self::first_phase(a) - Self::first_phase(b)).rem_euclid(std::f64::consts::TAU);
+        diff.min(std::f64::consts::TAU - diff)
+    }
+
     /// A phase-carrying candidate's delta with every (A cos psi, A sin psi) pair turned to
     /// psi + `theta`: the same amplitudes, all phases shifted alike (theta = pi gives -delta).
     pub fn phase_shifted(delta: &[f64], theta: f64) -> Vec<f64> {
@@ -262,6 +269,38 @@ impl Effect {
         match self.candidate {
             Some(Candidate::DampingLaw) => zeta * load_ratio.powf(self.delta[0]),
             _ => zeta,
+        }
+    }
+
+    /// The effect's first-order part at the mesh frequency, as the complex amplitude (um, on
+    /// the STE's phase reference sin(Omega t)) it adds to the STE in the in-contact DTE, at a
+    /// load whose static deflection is `deflection_um` (the design load's:
+    /// `design_deflection_um`); `None` for an effect without one.
+    ///
+    /// Linearising eq. 3a in contact about the static deflection, q = 1 + F_m + y: the STE
+    /// term forces y with Omega^2 F_ah sin(Omega t) and the DTE y + e/b is F_ah (1 + 2 i zeta
+    /// Omega) H(Omega), H = 1 / (1 - Omega^2 + 2 i zeta Omega); k(t) = 1 + eps cos(Omega t +
+    /// psi) adds the force -eps F_m cos(Omega t + psi) = eps F_m sin(Omega t + psi - pi/2); an
+    /// external torque F_aT sin(Omega t + psi) (eq. 4) adds itself. To first order, and up to
+    /// the factor 1 + 2 i zeta Omega (within 4% of 1 at zeta 0.02 near resonance), each is an
+    /// STE of amplitude eps F_m e^{i (psi - pi/2)} or F_aT e^{i psi}, times b for um. A second
+    /// STE harmonic has none (it forces 2 Omega).
+    pub fn mesh_frequency_equivalent_um(
+        &self,
+        deflection_um: f64,
+        design_deflection_um: f64,
+    ) -> Option<(f64, f64)> {
+        let d = &self.delta;
+        match self.candidate {
+            // eps e^{i(psi - pi/2)} = (eps sin psi, -eps cos psi).
+            Some(Candidate::MeshStiffnessVariation) => {
+                Some((deflection_um * d[1], -deflection_um * d[0]))
+            }
+            // The ripple's amplitude is a fraction of the design load's F_m.
+            Some(Candidate::TorqueRipple) => {
+                Some((design_deflection_um * d[0], design_deflection_um * d[1]))
+            }
+            _ => None,
         }
     }
 

@@ -76,34 +76,57 @@ fn discovery_params(n_curves: usize, cand: Option<Candidate>, start: &[f64]) -> 
     p
 }
 
-fn unpack(p: &[f64], n_curves: usize, cand: Option<Candidate>) -> (Globals, Vec<f64>, Effect) {
+/// What a fit does with the effect.
+#[derive(Clone, Copy, Debug)]
+pub enum EffectInFit<'a> {
+    /// The paper's model, M0.
+    None,
+    /// M0 + the candidate, its delta fitted (the last parameters).
+    Fitted(Candidate),
+    /// M0 + this effect, held as it is.
+    Held(&'a Effect),
+}
+
+impl EffectInFit<'_> {
+    /// The candidate whose delta is fitted, if any.
+    fn fitted(self) -> Option<Candidate> {
+        match self {
+            EffectInFit::Fitted(c) => Some(c),
+            _ => None,
+        }
+    }
+}
+
+fn unpack(p: &[f64], n_curves: usize, effect: EffectInFit) -> (Globals, Vec<f64>, Effect) {
     let g = Globals {
         zeta: p[0],
         omega_n_hz: p[1],
     };
     let ste = p[2..2 + n_curves].to_vec();
-    let effect = match cand {
-        None => Effect::none(),
-        Some(c) => Effect::of(c, p[2 + n_curves..].to_vec()),
+    let effect = match effect {
+        EffectInFit::None => Effect::none(),
+        EffectInFit::Fitted(c) => Effect::of(c, p[2 + n_curves..].to_vec()),
+        EffectInFit::Held(e) => e.clone(),
     };
     (g, ste, effect)
 }
 
-/// Fit zeta, omega_n, the STE of each curve in `idx` and (with `cand`) the effect's delta from
-/// `start` (same layout as [`ModelFit::lm`]).
+/// Fit zeta, omega_n, the STE of each curve in `idx` and (with [`EffectInFit::Fitted`]) the
+/// effect's delta from `start` (same layout as [`ModelFit::lm`]).
 pub fn fit_model(
     setup: &Setup,
     idx: &[usize],
     mask: &Mask,
     scales: &Scales,
-    cand: Option<Candidate>,
+    effect_in_fit: EffectInFit,
     start: &[f64],
     stop: Stop,
 ) -> Result<ModelFit> {
     let n = idx.len();
+    let cand = effect_in_fit.fitted();
     let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
-        let (g, ste, effect) = unpack(p, n, cand);
+        let (g, ste, effect) = unpack(p, n, effect_in_fit);
         fitted_damping_admissible(setup, idx, g, &effect)?;
         let preds: Vec<CurvePrediction> = idx
             .par_iter()
@@ -113,7 +136,7 @@ pub fn fit_model(
         Ok(residuals_of(setup, idx, &preds, mask, scales))
     };
     let lm = least_squares(&f, &discovery_params(n, cand, start), stop)?;
-    let (globals, ste_um, effect) = unpack(&lm.params, n, cand);
+    let (globals, ste_um, effect) = unpack(&lm.params, n, effect_in_fit);
     Ok(ModelFit {
         globals,
         ste_um,

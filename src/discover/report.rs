@@ -189,12 +189,12 @@ fn gap_text(g: &Gap) -> String {
     )
 }
 
-/// Where a phase-carrying candidate's refit from the opposite phase ended, when it ran.
+/// Where a phase-carrying candidate's best refit in another phase basin ended, when one did.
 fn other_start_text(c: &CandidateResult) -> Option<String> {
     let (o, kept) = (c.other_start.as_ref()?, c.delta.as_ref()?);
     let deg = |d: &[f64]| Candidate::first_phase(d).to_degrees();
     Some(format!(
-        "{}: the refit from the opposite phase ended at phase {:.0} deg (kept: {:.0} deg) with a training residual sum of squares larger by {:.2} sigma^2{}",
+        "{}: the best refit in another phase basin ended at phase {:.0} deg (kept: {:.0} deg) with a training residual sum of squares larger by {:.2} sigma^2{}",
         c.name,
         deg(&o.delta),
         deg(kept),
