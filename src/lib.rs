@@ -4,6 +4,7 @@
 //! spur gear pair", J. Sound Vib. 142(1), 1990 (see `design.md` of the project for the generalised
 //! form). The library does no printing; the `geardyn` binary is a thin command line over it.
 
+pub mod bifurcation;
 pub mod compare;
 pub mod data;
 pub mod digitize;

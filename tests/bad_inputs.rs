@@ -321,6 +321,26 @@ fn table() -> Vec<Case> {
             "--zeta",
         ),
         cli(
+            "horizon beyond the limit",
+            &format!("attractors {M} --omega 1.0 --horizon 2000000"),
+            "--horizon",
+        ),
+        cli(
+            "max exposure 1e12",
+            &format!("basins {M} --omega 1.0 --max-exposure 1e12 --out out"),
+            "--max-exposure",
+        ),
+        cli(
+            "target escapes 0",
+            &format!("sweep {M} --omega 1.0 --direction all --target-escapes 0 --out out"),
+            "--target-escapes",
+        ),
+        cli(
+            "escape horizon 10",
+            &format!("escape {M} --omega 1.0 --horizon 10 --out out"),
+            "--horizon",
+        ),
+        cli(
             "rtol 0",
             &format!("simulate {M} --omega 0.5 --integrator dop853 --rtol 0"),
             "--rtol",
@@ -399,6 +419,27 @@ fn table() -> Vec<Case> {
             "speed without a rig",
             &format!("simulate {M} --speed-rpm 1000"),
             "--rig",
+        ),
+        cli(
+            "a load in newtons without a rig",
+            &format!("basins {M} --omega 0.5 --load-n 945 --out out"),
+            "--load-n is in the rig's units and needs --rig",
+        ),
+        cli(
+            "a torque in newtons without a rig",
+            &format!("sweep {M} --omega 0.5:0.7:0.1 --torque-n 100 --out out"),
+            "--torque-n is in the rig's units and needs --rig",
+        ),
+        cli(
+            "rig and a dimensionless torque",
+            "simulate --rig rig.toml --fat 0.1 --speed-rpm 1000",
+            "--fat",
+        ),
+        case(
+            "torque 1e8 N: F_aT above its range",
+            "simulate --rig data/rig.toml --ste-um 2.5 --zeta 0.02 --omega-n-hz 1600 --speed-rpm 3000 --torque-n 1e8",
+            "--torque-n: gives F_aT",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
         ),
         cli(
             "rig and a dimensionless load",

@@ -70,17 +70,48 @@ fn fhat_half_omega_08_is_dominated_by_a_period_two_attractor() {
     // tests/integrators_agree.rs.
 }
 
+/// Fig. 4's chaos (F_hat 0.5, zeta 0.02, Omega 1.0) is a chaotic transient (issue 23): the
+/// trajectories on the strange set keep escaping to the single-sided period-2 orbit. Issue 23
+/// measured the rate independently (DOP853 restarted at every contact event, rtol 1e-12, and a
+/// fixed-step RK4: 5-6e-5 per forcing period, mean lifetime ~18,000 periods); geardyn's estimate
+/// from the 21x21 grid (about 100 escapes: +-20% at 95%) must lie within a factor 1.5 of 5.5e-5,
+/// and its own 95% interval must hold it.
 #[test]
-fn fhat_half_omega_10_is_chaotic_with_positive_lyapunov_exponent() {
-    let a = attractors(0.1, 0.2, 0.02, 1.0, "-2:2:9", &[]);
-    let chaotic: Vec<_> = a.iter().filter(|x| x["motion"] == "chaotic").collect();
-    assert_eq!(chaotic.len(), 1, "{:?}", kinds(&a));
-    let c = chaotic[0];
-    assert!(c["period"].is_null());
-    assert_eq!(c["impact"], "double");
-    let lyap = c["lyapunov"].as_f64().unwrap();
-    assert!(lyap > 0.01, "largest Lyapunov exponent {lyap}");
-    assert!(c["basin_fraction"].as_f64().unwrap() > 0.8);
+fn fhat_half_omega_10_chaos_is_a_transient_to_the_period_two_orbit() {
+    let a = attractors(0.1, 0.2, 0.02, 1.0, GRID, &[]);
+    assert_eq!(a.len(), 2, "{:?}", kinds(&a));
+    let (p2, chaos) = (&a[0], &a[1]);
+    assert_eq!(
+        (p2["kind"].as_str(), p2["period"].as_u64()),
+        (Some("attractor"), Some(2))
+    );
+    assert_eq!(p2["impact"], "single");
+    assert_eq!(chaos["kind"], "chaotic_transient");
+    assert_eq!(
+        (chaos["motion"].as_str(), chaos["impact"].as_str()),
+        (Some("chaotic"), Some("double"))
+    );
+    assert!(chaos["lyapunov"].as_f64().unwrap() > 0.01);
+    let rate = chaos["escape_rate_per_period"].as_f64().unwrap();
+    assert!(
+        (5.5e-5 / 1.5..5.5e-5 * 1.5).contains(&rate),
+        "escape rate {rate}"
+    );
+    let ci = chaos["escape_rate_ci95"].as_array().unwrap();
+    assert!(
+        ci[0].as_f64().unwrap() < 5.5e-5 && 5.5e-5 < ci[1].as_f64().unwrap(),
+        "{ci:?}"
+    );
+    // Every escape ends on the period-2 orbit, so asymptotically it has the whole basin.
+    let dest = chaos["destinations"].as_array().unwrap();
+    assert_eq!(dest.len(), 1);
+    assert_eq!(dest[0]["attractor"], 0);
+    assert_eq!(p2["basin"], "finite_time");
+    assert!((p2["basin_fraction_asymptotic"].as_f64().unwrap() - 1.0).abs() < 1e-12);
+    // The survival curve falls: fewer trajectories on the set at its end than at its start.
+    let surv = chaos["survival"].as_array().unwrap();
+    let alive = |i: usize| surv[i][1].as_u64().unwrap();
+    assert!(alive(surv.len() - 1) < alive(0));
 }
 
 #[test]
@@ -112,10 +143,30 @@ fn fhat_two_has_period_two_coexisting_with_period_one_above_resonance() {
     }
 }
 
+/// Fig. 8(a)'s point, zeta 0.05: exactly the period-2, period-4 and period-8 orbits (issue 23:
+/// the slow approach to the period-8 orbit, multiplier -0.898, was reported as two more
+/// attractors, "period-16" and "aperiodic"). The multiplier is the value issue 23 found by an
+/// independent Newton shooting on the DOP853 flow.
 #[test]
 fn fig8_damping_turns_chaos_into_period_eight_then_period_two() {
     let a = attractors(0.1, 0.2, 0.05, 1.0, GRID, &[]);
-    assert!(!with_period(&a, 8).is_empty(), "zeta 0.05: {:?}", kinds(&a));
+    assert_eq!(
+        kinds(&a),
+        vec![
+            (2, "single".into()),
+            (4, "single".into()),
+            (8, "single".into())
+        ],
+        "zeta 0.05"
+    );
+    assert!(a
+        .iter()
+        .all(|x| x["kind"] == "attractor" && x["basin"] == "asymptotic"));
+    let mu = a[2]["floquet"][1][0].as_f64().unwrap();
+    assert!((mu + 0.898).abs() < 1e-3, "period-8 multiplier {mu}");
+    // Its Floquet rate is the "Lyapunov exponent" -0.0021 once reported for the slow approach.
+    let rate = a[2]["floquet_rate"].as_f64().unwrap();
+    assert!((rate - 0.898f64.ln() / (8.0 * 2.0 * std::f64::consts::PI)).abs() < 1e-5);
     let b = attractors(0.1, 0.2, 0.1, 1.0, GRID, &[]);
     assert_eq!(kinds(&b), vec![(2, "single".into())], "zeta 0.1");
 }
@@ -123,8 +174,10 @@ fn fig8_damping_turns_chaos_into_period_eight_then_period_two() {
 #[test]
 fn fig7_load_turns_chaos_into_period_two_then_period_one() {
     // F_ah = 0.2, zeta = 0.02, Omega = 1.0 (Fig. 4's frequency; Fig. 7 does not state it).
+    // The largest share after the default transient, as the paper saw it (--horizon 0: the
+    // chaotic set is not followed to its escape, see the test above).
     let dominant = |fm: f64| {
-        let a = attractors(fm, 0.2, 0.02, 1.0, "-2:2:11", &[]);
+        let a = attractors(fm, 0.2, 0.02, 1.0, "-2:2:11", &["--horizon", "0"]);
         let best = a
             .iter()
             .max_by(|x, y| {

@@ -289,3 +289,47 @@ fn wrong_combinations_are_rejected_with_the_option_named() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+/// Eq. 4's torque in the rig's units: `--torque-n T` is F_aT = T / (b k_h) (625 N on the round
+/// rig is 0.05), and in contact the two forces act as one sinusoid (F_ah Ω² + F_aT) sin(Ω t),
+/// so b q_a = b (F_ah Ω² + F_aT) / |1 - Ω² + 2 i ζ Ω| (computed here).
+#[test]
+fn torque_in_newtons_is_eq_4_in_contact() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let rig = dir.path().join("rig.toml");
+    std::fs::write(&rig, ROUND_RIG).expect("write rig");
+    let (csv, err) = run(&[
+        "sweep",
+        "--rig",
+        rig.to_str().unwrap(),
+        "--ste-um",
+        "2.5",
+        "--torque-n",
+        "625",
+        "--speed-rpm",
+        "400:1000:200",
+        "--out",
+        dir.path().join("out").to_str().unwrap(),
+    ]);
+    assert!(
+        err.contains("F_aT = T̄_a / (r_b b k_h) = 625 N / (b k_h) = 0.050000"),
+        "{err}"
+    );
+    let (fm, fah, fat, zeta) = (0.1, 0.05, 0.05, 0.05);
+    let rows = rows(&csv);
+    assert_eq!(rows.len(), 4);
+    for r in &rows {
+        let w = val(r, "speed_rpm") / 2000.0;
+        let den = ((1.0 - w * w).powi(2) + (2.0 * zeta * w).powi(2)).sqrt();
+        let qa = (fah * w * w + fat) / den;
+        assert!(qa < fm, "the check needs contact: q_a {qa} at Omega {w}");
+        assert_eq!(val(r, "case"), 1.0);
+        let got = val(r, "qa_um");
+        // 6 printed decimals of um at 2-5 um, the exact solver's extrema to ~1e-9.
+        assert!(
+            (got - 50.0 * qa).abs() <= 2e-6 * 50.0 * qa + 2e-6,
+            "qa_um at Omega {w}: {got} vs {}",
+            50.0 * qa
+        );
+    }
+}

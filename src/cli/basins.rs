@@ -1,7 +1,9 @@
 //! `geardyn basins`: the map of which steady state each initial condition reaches (Figs 3, 6, 14).
 
+use super::attractor_report;
 use super::common::{
-    check_out_dir, commit, print_text, stage, unsettled_warning, write_text, SolverArgs,
+    check_out_dir, commit, print_text, stage, unsettled_warning, with_omega, write_text,
+    EscapeArgs, SolverArgs,
 };
 use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use super::progress_bar::Bar;
@@ -24,6 +26,8 @@ pub struct Args {
     ic_grid: String,
     #[command(flatten)]
     solver: SolverArgs,
+    #[command(flatten)]
+    escape: EscapeArgs,
     /// Output folder for basins.csv, attractors.json and the basin map (PNG + SVG).
     #[arg(long)]
     out: PathBuf,
@@ -32,12 +36,10 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let m = a.model.resolve()?;
-    let omega = a.frequency.omega(&m)?;
-    m.print_conversion(omega);
-    let model = m.at(omega)?;
+    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
     let flow = a.solver.flow(&model)?;
-    let opts = a.solver.options()?;
+    let mut opts = a.solver.options()?;
+    opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
 
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -75,19 +77,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             format!("#{i} {}{units}", describe_attractor(at))
         })
         .collect();
-    let mut parameters = m.json();
-    parameters["omega"] = omega.into();
     let summary = json!({
-        "attractors": map.attractors.iter().map(|at| json!({
-            "period": at.steady.period, "settled": at.steady.settled, "motion": at.steady.motion, "impact": at.steady.impact,
-            "qa": at.steady.qa, "qm": at.steady.qm, "basin_fraction": at.basin_fraction,
-            "basin_count": at.basin_count, "example_ic": at.example_ic, "poincare": at.steady.poincare,
-            "lyapunov": at.steady.lyapunov, "floquet": at.steady.floquet,
-            "rig_units": SteadyInRigUnits::json(&SteadyInRigUnits::new(&m, omega, &at.steady)),
-        })).collect::<Vec<_>>(),
+        "attractors": map.attractors.iter().map(|at| attractor_report::entry(at, &map, &m, omega)).collect::<Vec<_>>(),
+        "basin": map.basin_time,
+        "basin_at_periods": map.horizon,
         "grid": {"lo": grid.lo, "hi": grid.hi, "n": grid.n},
         "integrator": flow.method(),
-        "parameters": parameters,
+        "parameters": with_omega(m.json(), omega),
     });
     let cat = CategoryMap {
         title: match &m.rig {
@@ -99,10 +95,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             None => format!("Domains of attraction, Ω_h = {}", num(omega)),
         },
         caption: Some(format!(
-            "{}, {}x{} initial conditions",
+            "{}, {}x{} initial conditions{}",
             m.caption(),
             grid.n,
-            grid.n
+            grid.n,
+            if map.basin_time == geardyn::sim::BasinTime::FiniteTime {
+                format!(", basins at {} periods (transients remain)", map.horizon)
+            } else {
+                String::new()
+            }
         )),
         x_label: "q(0)".into(),
         y_label: "q'(0)".into(),

@@ -5,7 +5,7 @@ use anyhow::Context;
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::model::GearPair;
 use geardyn::report::Staged;
-use geardyn::sim::{ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
+use geardyn::sim::{EscapeBudget, ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
 use std::path::{Path, PathBuf};
 
 /// Integration and steady-state options.
@@ -29,6 +29,46 @@ pub struct SolverArgs {
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true,
           value_parser = real(RTOL.0, RTOL.1, false))]
     pub rtol: f64,
+}
+
+/// How long attractor searches follow non-periodic sets (chaotic attractor or transient).
+#[derive(ClapArgs, Debug, Clone)]
+pub struct EscapeArgs {
+    /// Age, in forcing periods from the initial conditions, up to which non-periodic sets are
+    /// followed to tell a chaotic attractor from a chaotic transient (0: not followed), at most
+    /// 1000000. A set stops being followed earlier once --target-escapes left it or
+    /// --max-exposure trajectory-periods were spent on it.
+    #[arg(long, value_name = "N", default_value_t = 40_000, allow_hyphen_values = true,
+          value_parser = whole(0..=geardyn::sim::MAX_HORIZON))]
+    pub horizon: usize,
+    /// Trajectory-periods after which a non-periodic set is no longer followed, in [1000, 5e7]
+    /// (about 1 µs each with the exact solver); without escapes the rate's 95% upper bound is
+    /// then 3.69 / this. Default 4e6 (attractors, basins), 1e6 (sweep, bifurcation: per value).
+    #[arg(long, value_name = "E", allow_hyphen_values = true,
+          value_parser = real(1e3, geardyn::sim::MAX_EXPOSURE, false))]
+    pub max_exposure: Option<f64>,
+    /// Escapes after which a set's escape rate counts as measured, 1 to 100000 (100 give about
+    /// ±20% at 95%).
+    #[arg(long, value_name = "D", default_value_t = 100, allow_hyphen_values = true,
+          value_parser = whole(1..=100_000))]
+    pub target_escapes: usize,
+}
+
+impl EscapeArgs {
+    /// Default exposure of a single attractor search.
+    pub const SEARCH_EXPOSURE: f64 = 4e6;
+    /// Default exposure per frequency of a sweep.
+    pub const SWEEP_EXPOSURE: f64 = 1e6;
+
+    /// The budget, with `default_exposure` unless --max-exposure is given.
+    pub fn budget(&self, default_exposure: f64) -> EscapeBudget {
+        EscapeBudget {
+            horizon: self.horizon,
+            target_escapes: self.target_escapes,
+            max_exposure: self.max_exposure.unwrap_or(default_exposure),
+            ..EscapeBudget::default()
+        }
+    }
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -121,6 +161,12 @@ pub fn commit(stage: Staged, written: &[PathBuf]) -> anyhow::Result<Vec<PathBuf>
     let paths = written.iter().map(|p| stage.final_path(p)).collect();
     stage.commit_merge()?;
     Ok(paths)
+}
+
+/// `params` (a JSON object) with "omega" added.
+pub fn with_omega(mut params: serde_json::Value, omega: f64) -> serde_json::Value {
+    params["omega"] = serde_json::json!(omega);
+    params
 }
 
 /// The warning printed for a steady state that did not settle within its transient budget.

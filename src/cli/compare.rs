@@ -45,6 +45,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let settings = CompareSettings {
         fm: m.fm,
         fah: m.fah,
+        fat: m.fat,
         zeta: m.zeta,
         omegas: a.frequencies.omegas(&m)?,
         grid: IcGrid::parse(&a.ic_grid)?,

@@ -25,12 +25,22 @@ Examples:
 pub const HBM: &str = "\
 Examples:
   geardyn hbm --fm 0.1 --fah 0.05 --zeta 0.05 --omega 0.2:1.6:0.01 --method aft --harmonics 15 > aft.csv
+  geardyn hbm --fm 0.1 --fah 0.05 --fat 0.05 --zeta 0.05 --omega 0.2:1.6:0.01 > both.csv   # STE and torque (eq. 4)
   geardyn hbm --rig data/munro/rig.toml --load-n 1890 --speed-rpm 1000:5000:20 --ste-um 2.5 --zeta 0.0175 --omega-n-hz 1600";
 
 pub const COMPARE: &str = "\
 Examples:
   geardyn compare --fm 0.1 --fah 0.05 --zeta 0.05 --omega 0.2:1.6:0.02 --out compare   # Figs 11-13, ~1 min
   geardyn compare --rig data/munro/rig.toml --load-n 1890 --speed-rpm 1000:5000:100 --ste-um 2.5 --zeta 0.0175 --omega-n-hz 1600";
+
+pub const BIFURCATION: &str = "\
+Examples:
+  geardyn bifurcation --fm 0.1 --fah 0.2 --zeta 0.02 --vary omega --range 0.3:1.5:0.02 --out bif   # ~30 s
+  geardyn bifurcation --fm 0.1 --fah 0.2 --omega 1.0 --vary zeta --range 0.02:0.06:0.002 --mode grid --out bif-zeta";
+
+pub const ESCAPE: &str = "\
+Example:
+  geardyn escape --fm 0.1 --fah 0.2 --zeta 0.02 --omega 1.0 --out escape-fig4   # Fig. 4's chaotic transient, ~1 min";
 
 pub const STUDY: &str = "\
 Example:
@@ -82,13 +92,15 @@ Example:
 
 /// Every example text, for the test.
 #[cfg(test)]
-pub const ALL: [&str; 17] = [
+pub const ALL: [&str; 19] = [
     SIMULATE,
     ATTRACTORS,
     BASINS,
     SWEEP,
     HBM,
     COMPARE,
+    BIFURCATION,
+    ESCAPE,
     STUDY,
     REPRODUCE,
     MESH,

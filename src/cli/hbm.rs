@@ -7,7 +7,8 @@ use super::progress_bar::Bar;
 use super::response_plot::{write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::hb::{
-    continue_branch, df_response, transition_frequencies, AftOptions, ContinuationOptions, DfMethod,
+    continue_branch, df_response_forced, forced_transition_frequencies, AftOptions,
+    ContinuationOptions, DfMethod,
 };
 use std::path::PathBuf;
 
@@ -89,7 +90,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     w.write_record(&header)?;
     let mut rows = Vec::new();
-    let (t1, t2) = transition_frequencies(m.fm, m.fah, m.zeta)?;
+    let transitions = forced_transition_frequencies(m.fm, m.forcing(), m.zeta)?;
     let method_name = match a.method {
         Method::DfExact | Method::DfTruncated => {
             let method = if a.method == Method::DfExact {
@@ -97,7 +98,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             } else {
                 DfMethod::Truncated
             };
-            let sols = df_response(m.fm, m.fah, m.zeta, &omegas, method)?;
+            let sols = df_response_forced(m.fm, m.forcing(), m.zeta, &omegas, method)?;
             for s in &sols {
                 w.write_record(hbm_record(
                     &m,
@@ -170,17 +171,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         }
     };
     let csv_text = String::from_utf8(w.into_inner()?)?;
-    let fmt = |t: Option<f64>| match (t, &m.rig) {
-        (None, _) => "none".to_string(),
-        (Some(v), Some(op)) => format!("{:.0} rpm (Ω_h {v:.4})", op.speed_rpm(v)),
-        (Some(v), None) => format!("{v:.4}"),
+    let fmt = |v: f64| match &m.rig {
+        Some(op) => format!("{:.0} rpm (Ω_h {v:.4})", op.speed_rpm(v)),
+        None => format!("{v:.4}"),
     };
     let caption = format!(
-        "{}, {}; eq. 14 transitions {} and {}",
+        "{}, {}; case I ends / resumes at {} (eq. 14)",
         m.caption(),
         method_name,
-        fmt(t1),
-        fmt(t2)
+        if transitions.is_empty() {
+            "none".to_string()
+        } else {
+            transitions
+                .iter()
+                .map(|&t| fmt(t))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
     );
     let stage = stage("--out", &a.out)?;
     let d = stage.dir().to_path_buf();

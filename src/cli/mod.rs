@@ -1,14 +1,17 @@
 //! Command definitions (design.md section 3) and dispatch.
 
+mod attractor_report;
 mod attractors;
 mod basins;
 mod bench;
+mod bifurcation;
 mod common;
 mod compare;
 mod digitize;
 mod digitize_parse;
 mod discover;
 mod discover_study;
+mod escape;
 mod examples;
 mod hbm;
 mod init_data;
@@ -73,6 +76,14 @@ enum Command {
     /// frequency, dimensionless or in the rig's units (--rig).
     #[command(after_help = examples::SWEEP)]
     Sweep(sweep::Args),
+    /// Bifurcation diagram: Poincare points against Omega, F_hat or zeta (IC grid and carried
+    /// sweep), chaotic transients apart, folds and period doublings marked (CSV, PNG, SVG).
+    #[command(after_help = examples::BIFURCATION)]
+    Bifurcation(bifurcation::Args),
+    /// Transient chaos at one point: every initial condition followed to a long horizon by both
+    /// integrators; survival curves, escape rates with 95% intervals (PNG, SVG, CSV, JSON).
+    #[command(after_help = examples::ESCAPE)]
+    Escape(escape::Args),
     /// Figure image (PNG) to CSV: the curve of one colour, with axis calibration (Figs 19-23).
     #[command(after_help = examples::DIGITIZE)]
     Digitize(digitize::Args),
@@ -142,6 +153,8 @@ pub fn run(cli: Cli) -> anyhow::Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Attractors(a) => attractors::run(a),
         Command::Sweep(a) => sweep::run(a),
+        Command::Escape(a) => escape::run(a),
+        Command::Bifurcation(a) => bifurcation::run(a),
         Command::Basins(a) => basins::run(a),
         Command::Bench(a) => bench::run(a),
         Command::Hbm(a) => hbm::run(a),

@@ -47,6 +47,17 @@ pub struct ModelArgs {
     #[arg(long, value_name = "HZ", requires = "rig", allow_hyphen_values = true,
           value_parser = real(OMEGA_N_HZ.0, OMEGA_N_HZ.1, false))]
     pub omega_n_hz: Option<f64>,
+    /// External torque amplitude F_aT of eq. 4, dimensionless (a force F_aT sin(Ω t) at the
+    /// mesh frequency, Ω_T = Ω_h as in Sec. 8.1), in [0, 1e3]; with --fah 0 the model is eq. 4
+    /// alone, otherwise both excitations act together (or --rig with --torque-n).
+    #[arg(long = "fat", allow_hyphen_values = true, value_parser = real(FAH.0, FAH.1, false),
+          conflicts_with = "rig")]
+    pub fat: Option<f64>,
+    /// External torque amplitude of eq. 4 as a mesh force T̄_a / r_b, N, in [0, 1e8] (with
+    /// --rig; F_aT = T̄_a / (r_b b k_h)). Default 0: no external torque.
+    #[arg(long, value_name = "N", requires = "rig", allow_hyphen_values = true,
+          value_parser = real(0.0, MAX_LOAD_N, false))]
+    pub torque_n: Option<f64>,
 }
 
 /// The model's dimensionless parameters and, with `--rig`, the operating point they came from.
@@ -54,6 +65,8 @@ pub struct ModelArgs {
 pub struct Model {
     pub fm: f64,
     pub fah: f64,
+    /// External torque amplitude F_aT of eq. 4 (0: the paper's eq. 5 alone).
+    pub fat: f64,
     pub zeta: f64,
     /// The rig's units (None: dimensionless use).
     pub rig: Option<OperatingPoint>,
@@ -86,9 +99,24 @@ impl ModelArgs {
     /// converted (and checked against the dimensionless ranges, naming the option).
     pub fn resolve(&self) -> anyhow::Result<Model> {
         let Some(path) = &self.rig else {
+            // clap lets a `requires = "rig"` option through when an option that conflicts
+            // with --rig (--fm) is present, so the rig-unit options are checked here.
+            let rig_only = [
+                ("--load-n", self.load_n),
+                ("--ste-um", self.ste_um),
+                ("--omega-n-hz", self.omega_n_hz),
+                ("--torque-n", self.torque_n),
+            ];
+            if let Some((flag, _)) = rig_only.iter().find(|(_, v)| v.is_some()) {
+                anyhow::bail!(
+                    "{flag} is in the rig's units and needs --rig rig.toml (dimensionless: --fm, \
+                     --fah, --fat)"
+                );
+            }
             return Ok(Model {
                 fm: self.fm.context("--fm is required")?,
                 fah: self.fah.context("--fah is required")?,
+                fat: self.fat.unwrap_or(0.0),
                 zeta: self.zeta.context("--zeta is required")?,
                 rig: None,
                 origins: Vec::new(),
@@ -129,9 +157,12 @@ impl ModelArgs {
         let (fm, fah) = (op.mean_force(), op.ste_amplitude());
         check_range("--load-n", "gives F_m", fm, FM)?;
         check_range("--ste-um", "gives F_ah", fah, FAH)?;
+        let fat = op.dim.mean_force(self.torque_n.unwrap_or(0.0));
+        check_range("--torque-n", "gives F_aT", fat, FAH)?;
         Ok(Model {
             fm,
             fah,
+            fat,
             zeta,
             rig: Some(op),
             origins,
@@ -139,10 +170,32 @@ impl ModelArgs {
     }
 }
 
+impl ModelArgs {
+    /// The model at the one frequency of `f`: resolved, its conversion printed (rig units) and
+    /// checked, before any work.
+    pub fn at_frequency(&self, f: &Frequency) -> anyhow::Result<(Model, f64, GearPair)> {
+        let m = self.resolve()?;
+        let omega = f.omega(&m)?;
+        m.print_conversion(omega);
+        let model = m.at(omega)?;
+        Ok((m, omega, model))
+    }
+}
+
 impl Model {
-    /// The paper's model at frequency `omega`.
+    /// The paper's model (eq. 5, with eq. 4's torque when F_aT > 0) at frequency `omega`.
     pub fn at(&self, omega: f64) -> anyhow::Result<GearPair> {
-        Ok(GearPair::paper(self.fm, self.fah, self.zeta, omega)?)
+        Ok(GearPair::excited(
+            self.fm, self.fah, self.fat, self.zeta, omega,
+        )?)
+    }
+
+    /// The forcing of the describing-function solution (STE and external torque).
+    pub fn forcing(&self) -> geardyn::hb::DfForcing {
+        geardyn::hb::DfForcing {
+            ste: self.fah,
+            torque: self.fat,
+        }
     }
 
     /// Print the conversion to standard error (rig units only), with `omega` as the example.
@@ -151,23 +204,51 @@ impl Model {
             for line in op.conversion_lines(num_value(op.speed_rpm(omega))) {
                 eprintln!("{line}");
             }
+            if self.fat > 0.0 {
+                eprintln!(
+                    "  F_aT = T̄_a / (r_b b k_h) = {} N / (b k_h) = {:.6} (external torque of eq. 4)",
+                    num(self.torque_n()),
+                    self.fat
+                );
+            }
             if !self.origins.is_empty() {
                 eprintln!("  ({})", self.origins.join("; "));
             }
         }
     }
 
+    /// The external torque's amplitude as a mesh force T̄_a / r_b, N (rig units only; 0
+    /// otherwise).
+    fn torque_n(&self) -> f64 {
+        self.rig
+            .as_ref()
+            .map_or(0.0, |op| self.fat / op.mean_force() * op.load_n)
+    }
+
     /// The parameters for a plot caption, briefly: the rig's units, or the dimensionless values.
     pub fn caption(&self) -> String {
         match &self.rig {
             Some(op) => format!(
-                "load {} N, ē {} µm, ζ {}, f_n {} Hz",
-                op.load_n, op.ste_um, op.zeta, op.omega_n_hz
+                "load {} N, ē {} µm{}, ζ {}, f_n {} Hz",
+                op.load_n,
+                op.ste_um,
+                if self.fat > 0.0 {
+                    format!(", torque {} N", num(self.torque_n()))
+                } else {
+                    String::new()
+                },
+                op.zeta,
+                op.omega_n_hz
             ),
             None => format!(
-                "F_m {}, F_ah {}, ζ {}",
+                "F_m {}, F_ah {}{}, ζ {}",
                 num(self.fm),
                 num(self.fah),
+                if self.fat > 0.0 {
+                    format!(", F_aT {}", num(self.fat))
+                } else {
+                    String::new()
+                },
                 self.zeta
             ),
         }
@@ -175,11 +256,13 @@ impl Model {
 
     /// The parameters as JSON: the dimensionless ones, and the rig's units when given.
     pub fn json(&self) -> serde_json::Value {
-        let mut v = serde_json::json!({"fm": self.fm, "fah": self.fah, "zeta": self.zeta});
+        let mut v =
+            serde_json::json!({"fm": self.fm, "fah": self.fah, "fat": self.fat, "zeta": self.zeta});
         if let Some(op) = &self.rig {
             v["load_n"] = op.load_n.into();
             v["ste_um"] = op.ste_um.into();
             v["omega_n_hz"] = op.omega_n_hz.into();
+            v["torque_n"] = num_value(self.torque_n()).into();
             v["half_backlash_um"] = (op.dim.half_backlash_m * 1e6).into();
             v["mesh_stiffness_n_per_um"] = (op.dim.mesh_stiffness_n_per_m * 1e-6).into();
             v["mesh_stiffness_source"] = op.dim.stiffness_source.tag().into();

@@ -25,6 +25,8 @@ pub fn sweep_csv(points: &[SweepPoint], model: &Model) -> anyhow::Result<String>
         "dte_pp",
         "dl_max",
         "lyapunov",
+        "kind",
+        "escape_rate_per_period",
     ]);
     if units.is_some() {
         header.extend(["qa_um", "qm_um", "dte_pp_um", "mesh_force_max_n"]);
@@ -54,6 +56,8 @@ pub fn sweep_csv(points: &[SweepPoint], model: &Model) -> anyhow::Result<String>
             format!("{:.10}", s.dte_pp),
             opt(s.dl_max),
             opt(s.lyapunov),
+            p.kind.map_or("", |k| k.name()).to_string(),
+            p.escape_rate.map_or(String::new(), |r| format!("{r:.4e}")),
         ]);
         if let Some(op) = units {
             let um = |x: f64| format!("{:.6}", op.micrometres(x));

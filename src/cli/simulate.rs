@@ -1,6 +1,6 @@
 //! `geardyn simulate`: the steady state from one initial condition.
 
-use super::common::{check_out_dir, print_json, print_text, SolverArgs};
+use super::common::{check_out_dir, print_json, print_text, with_omega, SolverArgs};
 use super::limits::{real, STATE};
 use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use clap::Args as ClapArgs;
@@ -38,10 +38,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.out {
         check_out_dir("--out", dir)?;
     }
-    let m = a.model.resolve()?;
-    let omega = a.frequency.omega(&m)?;
-    m.print_conversion(omega);
-    let model = m.at(omega)?;
+    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.lyapunov = a.lyapunov;
@@ -67,8 +64,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     let rig_units = SteadyInRigUnits::new(&m, omega, &s);
     if a.json {
-        let mut parameters = m.json();
-        parameters["omega"] = omega.into();
+        let mut parameters = with_omega(m.json(), omega);
         parameters["q0"] = a.q0.into();
         parameters["v0"] = a.v0.into();
         print_json(&json!({
@@ -85,6 +81,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "dl_max": s.dl_max,
             "lyapunov": s.lyapunov,
             "floquet": s.floquet,
+            "floquet_rate": s.floquet_rate,
             "poincare": s.poincare,
             "transient_periods": s.transient_periods,
             "integrator": flow.method(),
@@ -103,8 +100,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s.dte_pp,
             s.dl_max
                 .map_or(String::new(), |d| format!(", D_L {d:.4}")),
-            s.lyapunov
-                .map_or(String::new(), |l| format!(", lyapunov {l:.5}"))
+            match (s.floquet_rate, s.lyapunov) {
+                (Some(r), _) => format!(", floquet rate {r:.5}"),
+                (None, Some(l)) => format!(", lyapunov {l:.5}"),
+                (None, None) => String::new(),
+            }
         );
         if let Some(r) = rig_units {
             text.push_str(&r.text(true));

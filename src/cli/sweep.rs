@@ -1,6 +1,6 @@
 //! `geardyn sweep`: steady states over a frequency range (carried up/down, or all attractors).
 
-use super::common::{check_out_dir, commit, print_text, stage, SolverArgs};
+use super::common::{check_out_dir, commit, print_text, stage, EscapeArgs, SolverArgs};
 use super::limits::{real, STATE};
 use super::model_args::{FrequencyRange, ModelArgs};
 use super::progress_bar::Bar;
@@ -33,6 +33,8 @@ pub struct Args {
     v0: f64,
     #[command(flatten)]
     solver: SolverArgs,
+    #[command(flatten)]
+    escape: EscapeArgs,
     /// Output format on standard output (columns: docs/output-columns.md).
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -89,7 +91,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     m.print_conversion(omegas[0]);
     let model = m.at(omegas[0])?;
-    let opts = a.solver.options()?;
+    let mut opts = a.solver.options()?;
+    opts.escape = a.escape.budget(EscapeArgs::SWEEP_EXPOSURE);
     let factory = a.solver.factory();
     let branches: &[Branch] = match a.direction {
         Direction::Up => &[Branch::Up],

@@ -8,11 +8,12 @@ use crate::study::figures::{branch_series, panel};
 /// sweeps up and down and every attractor (non-period-1 attractors as crosses).
 pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
     let s = &c.settings;
+    let torque = crate::model::GearPair::torque_caption(s.fat);
     let caption = format!(
-        "F_m = {}, F_ah = {} (F_hat = {:.3}), zeta = {}, AFT H = {}, IC grid {}:{}:{}",
+        "F_m = {}, F_ah = {} (F_hat = {}){torque}, ζ = {}, AFT H = {}, IC grid {}:{}:{}",
         s.fm,
         s.fah,
-        s.fm / s.fah,
+        crate::sim::to_significant(s.fm / s.fah, 4),
         s.zeta,
         s.harmonics,
         s.grid.lo,

@@ -4,7 +4,8 @@ use super::matching::{gaps, Gaps};
 use super::{ComparePoint, Source};
 use crate::error::{GearError, Result};
 use crate::hb::{
-    branch_at, branch_from_start, df_response, AftOptions, ContinuationOptions, DfMethod,
+    branch_at, branch_from_start, df_response_forced, AftOptions, ContinuationOptions, DfForcing,
+    DfMethod,
 };
 use crate::model::{GearPair, OperatingPoint};
 use crate::progress::{NoProgress, Progress};
@@ -22,13 +23,16 @@ const AFT_START: f64 = 0.2;
 /// back above the grid (the upper branch of a jump, Figs 11-12) returns into it.
 const AFT_OVERSHOOT: f64 = 0.5;
 
-/// Parameters of a comparison of harmonic balance and simulation for eq. 5.
+/// Parameters of a comparison of harmonic balance and simulation for eq. 5 (with an external
+/// torque of eq. 4 when `fat` > 0).
 #[derive(Clone, Debug)]
 pub struct CompareSettings {
     /// Mean load F_m.
     pub fm: f64,
     /// STE amplitude F_ah.
     pub fah: f64,
+    /// External torque amplitude F_aT of eq. 4, at the mesh frequency (0: eq. 5 alone).
+    pub fat: f64,
     /// Damping ratio zeta.
     pub zeta: f64,
     /// Frequency grid (increasing) shared by the sweeps, the df-exact solution and the AFT grid.
@@ -85,15 +89,19 @@ pub fn compare(settings: &CompareSettings, progress: &dyn Progress) -> Result<Co
             "match tolerance must be finite and > 0",
         ));
     }
-    let model = GearPair::paper(settings.fm, settings.fah, settings.zeta, first)?;
-    let mut points = Vec::new();
-    for s in df_response(
+    let model = GearPair::excited(
         settings.fm,
         settings.fah,
+        settings.fat,
         settings.zeta,
-        omegas,
-        DfMethod::Exact,
-    )? {
+        first,
+    )?;
+    let mut points = Vec::new();
+    let forcing = DfForcing {
+        ste: settings.fah,
+        torque: settings.fat,
+    };
+    for s in df_response_forced(settings.fm, forcing, settings.zeta, omegas, DfMethod::Exact)? {
         points.push(ComparePoint::hb(
             Source::DfExact,
             s.omega,
@@ -161,15 +169,7 @@ pub fn compare(settings: &CompareSettings, progress: &dyn Progress) -> Result<Co
             Ok(map
                 .attractors
                 .into_iter()
-                .map(|a| {
-                    let p = SweepPoint {
-                        omega: w,
-                        branch: Branch::All,
-                        steady: a.steady,
-                        basin_fraction: Some(a.basin_fraction),
-                    };
-                    sim_point(&p, Source::Attractors)
-                })
+                .map(|a| sim_point(&SweepPoint::from_attractor(w, a), Source::Attractors))
                 .collect())
         })
         .collect();
@@ -244,7 +244,7 @@ impl Comparison {
         let count = |src: Source| self.points.iter().filter(|p| p.source == src).count();
         serde_json::json!({
             "parameters": {
-                "fm": s.fm, "fah": s.fah, "zeta": s.zeta,
+                "fm": s.fm, "fah": s.fah, "fat": s.fat, "zeta": s.zeta,
                 "force_ratio": s.fm / s.fah,
                 "omega_first": s.omegas.first(), "omega_last": s.omegas.last(),
                 "omega_count": s.omegas.len(),

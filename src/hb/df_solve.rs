@@ -114,7 +114,6 @@ fn qa_bounds(fah: f64, zeta: f64, omega: f64) -> (f64, f64) {
 struct Solver {
     method: DfMethod,
     fm: f64,
-    fah: f64,
     zeta: f64,
     tables: Vec<Table>,
 }
@@ -138,7 +137,6 @@ impl Solver {
         Ok(Solver {
             method,
             fm,
-            fah,
             zeta,
             tables: branches
                 .iter()
@@ -147,8 +145,9 @@ impl Solver {
         })
     }
 
-    fn at(&self, omega: f64) -> Vec<DfSolution> {
-        let (qa1, qm1) = cases::case1(self.fm, self.fah, self.zeta, omega);
+    /// Every solution at `omega` for the STE amplitude `fah` (eq. 10).
+    fn at(&self, omega: f64, fah: f64) -> Vec<DfSolution> {
+        let (qa1, qm1) = cases::case1(self.fm, fah, self.zeta, omega);
         let case1 = DfSolution {
             omega,
             qa: qa1,
@@ -157,15 +156,15 @@ impl Solver {
             case: Impact::None,
             stable: Some(true),
         };
-        if self.fah == 0.0 {
+        if fah == 0.0 {
             // q_a = 0: the static equilibrium q = F_m + 1, case I, for either method.
             return vec![case1];
         }
-        let (lo, hi) = qa_bounds(self.fah, self.zeta, omega);
+        let (lo, hi) = qa_bounds(fah, self.zeta, omega);
         let mut out: Vec<DfSolution> = self
             .tables
             .iter()
-            .flat_map(|t| t.roots(self.fah, self.zeta, omega, lo, hi))
+            .flat_map(|t| t.roots(fah, self.zeta, omega, lo, hi))
             .collect();
         if self.method == DfMethod::Truncated && cases::case1_valid(qm1, qa1) {
             out.push(case1);
@@ -189,7 +188,47 @@ pub fn df_solutions(
     validate(fm, fah, zeta)?;
     validate_omega(omega)?;
     let (lo, hi) = qa_bounds(fah, zeta, omega);
-    Ok(Solver::new(fm, fah, zeta, method, lo, hi)?.at(omega))
+    Ok(Solver::new(fm, fah, zeta, method, lo, hi)?.at(omega, fah))
+}
+
+/// The forcing of the describing-function solution: the STE excitation of eq. 5 (force
+/// F_ah Omega^2 sin(Omega t)) and an external torque of eq. 4 at the same frequency and phase
+/// (force F_aT sin(Omega t)). Their sum is one sinusoid, so the ansatz and eq. 10 are those of
+/// eq. 5 with the STE amplitude F_ah + F_aT / Omega^2.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DfForcing {
+    /// STE amplitude F_ah (eq. 5).
+    pub ste: f64,
+    /// Torque amplitude F_aT (eq. 4).
+    pub torque: f64,
+}
+
+impl DfForcing {
+    /// The STE excitation of eq. 5 alone.
+    pub fn ste(fah: f64) -> Self {
+        DfForcing {
+            ste: fah,
+            torque: 0.0,
+        }
+    }
+
+    /// The external torque of eq. 4 alone.
+    pub fn torque(fat: f64) -> Self {
+        DfForcing {
+            ste: 0.0,
+            torque: fat,
+        }
+    }
+
+    /// The STE amplitude of eq. 10 that gives this forcing's force amplitude at `omega`.
+    pub fn ste_amplitude(self, omega: f64) -> f64 {
+        self.ste + self.torque / (omega * omega)
+    }
+
+    /// Force amplitude F_ah Omega^2 + F_aT at `omega`.
+    pub fn force(self, omega: f64) -> f64 {
+        self.ste * omega * omega + self.torque
+    }
 }
 
 /// The describing-function frequency response (Fig. 10, 15-18): every solution at every Omega of
@@ -204,20 +243,43 @@ pub fn df_response(
     omegas: &[f64],
     method: DfMethod,
 ) -> Result<Vec<DfSolution>> {
-    validate(fm, fah, zeta)?;
+    df_response_forced(fm, DfForcing::ste(fah), zeta, omegas, method)
+}
+
+/// [`df_response`] for the STE excitation of eq. 5, an external torque of eq. 4, or both.
+///
+/// Errors: as [`df_solutions`] (F_aT like F_ah), for any entry of `omegas`.
+pub fn df_response_forced(
+    fm: f64,
+    forcing: DfForcing,
+    zeta: f64,
+    omegas: &[f64],
+    method: DfMethod,
+) -> Result<Vec<DfSolution>> {
+    validate(fm, forcing.ste, zeta)?;
+    check(
+        "F_aT",
+        forcing.torque,
+        forcing.torque >= 0.0,
+        "torque amplitude must be finite and >= 0",
+    )?;
     for &w in omegas {
         validate_omega(w)?;
     }
     let (lo, hi) = omegas
         .iter()
-        .map(|&w| qa_bounds(fah, zeta, w))
+        .map(|&w| qa_bounds(forcing.ste_amplitude(w), zeta, w))
         .fold((f64::INFINITY, 0.0f64), |(l, h), (a, b)| {
             (l.min(a), h.max(b))
         });
     if omegas.is_empty() {
         return Ok(Vec::new());
     }
-    let solver = Solver::new(fm, fah, zeta, method, lo, hi)?;
-    let per_omega: Vec<Vec<DfSolution>> = omegas.par_iter().map(|&w| solver.at(w)).collect();
+    let amp = forcing.ste.max(forcing.torque);
+    let solver = Solver::new(fm, amp, zeta, method, lo, hi)?;
+    let per_omega: Vec<Vec<DfSolution>> = omegas
+        .par_iter()
+        .map(|&w| solver.at(w, forcing.ste_amplitude(w)))
+        .collect();
     Ok(per_omega.into_iter().flatten().collect())
 }

@@ -21,6 +21,7 @@ pub mod describing;
 mod df_solve;
 mod mean_balance;
 mod resample;
+mod response_ranges;
 mod roots;
 mod scan;
 mod transitions;
@@ -31,9 +32,12 @@ pub use aft_point::HbPoint;
 pub use aft_solve::solve_at;
 pub use continuation::{continue_branch, continue_from, ContinuationOptions};
 pub use describing::{g_exact, g_truncated, h_exact, h_truncated, mean_force, n_a, n_m, DfMethod};
-pub use df_solve::{df_response, df_solutions, DfSolution};
+pub use df_solve::{df_response, df_response_forced, df_solutions, DfForcing, DfSolution};
 pub use resample::{branch_at, branch_from_start, branches_covering};
-pub use transitions::transition_frequencies;
+pub use response_ranges::{response_ranges, ResponseRanges};
+pub use transitions::{
+    forced_transition_frequencies, linear_peak, transition_frequencies, LinearPeak,
+};
 
 #[cfg(test)]
 mod tests;

@@ -7,7 +7,7 @@
 //!
 //! whose roots are eq. 14: x = ((1 - 2 zeta^2) -+ sqrt((1 - 2 zeta^2)^2 - (1 - r^2))) / (1 - r^2).
 
-use super::df_solve::validate;
+use super::df_solve::{validate, DfForcing};
 use crate::error::Result;
 
 /// Transition frequencies (Omega_t1, Omega_t2) of eq. 14: where the case I amplitude q_aI of
@@ -53,6 +53,85 @@ pub fn transition_frequencies(fm: f64, fah: f64, zeta: f64) -> Result<(Option<f6
     })
 }
 
+/// The largest linear (case I) amplitude over frequency, and where it is reached, for the STE
+/// excitation of eq. 5 (force F_ah Omega^2, eq. 13a) and for an external torque of the same
+/// amplitude (eq. 4, force F_ah): both peaks are F_ah / (2 zeta sqrt(1 - zeta^2)), at
+/// Omega^2 = 1 / (1 - 2 zeta^2) and Omega^2 = 1 - 2 zeta^2 (the maxima of Omega^2 / |D| and
+/// 1 / |D|, |D|^2 = (1 - Omega^2)^2 + (2 zeta Omega)^2).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearPeak {
+    /// Peak amplitude q_a.
+    pub qa: f64,
+    /// Frequency of the peak under the STE excitation (eq. 5).
+    pub omega_ste: f64,
+    /// Frequency of the peak under the torque excitation (eq. 4).
+    pub omega_torque: f64,
+}
+
+/// [`LinearPeak`] of a forcing amplitude `fah` at damping `zeta` (0 < zeta < 1/sqrt(2), where
+/// the resonance has a peak).
+///
+/// Errors: `InvalidParameter` unless F_ah >= 0 and 0 < zeta < 1/sqrt(2), finite.
+pub fn linear_peak(fah: f64, zeta: f64) -> Result<LinearPeak> {
+    validate(1.0, fah, zeta)?;
+    let b = 1.0 - 2.0 * zeta * zeta;
+    if b <= 0.0 {
+        return Err(crate::error::GearError::param(
+            "zeta",
+            zeta,
+            "the linear response has a resonance peak only for zeta < 1/sqrt(2)",
+        ));
+    }
+    Ok(LinearPeak {
+        qa: fah / (2.0 * zeta * (1.0 - zeta * zeta).sqrt()),
+        omega_ste: (1.0 / b).sqrt(),
+        omega_torque: b.sqrt(),
+    })
+}
+
+/// Transition frequencies of eq. 14 for any [`DfForcing`]: where the case I amplitude
+/// F / |D| (F = F_ah Omega^2 + F_aT, |D|^2 = (1 - Omega^2)^2 + (2 zeta Omega)^2) reaches F_m.
+/// With x = Omega^2 this is
+///
+///   (F_ah^2 - F_m^2) x^2 + 2 (F_ah F_aT + F_m^2 (1 - 2 zeta^2)) x + F_aT^2 - F_m^2 = 0,
+///
+/// eq. 14 for the STE alone and eq. 14 with x replaced by 1 / x for the torque of eq. 4 alone.
+/// Returns the positive roots as frequencies, increasing; case I holds where F / |D| < F_m.
+///
+/// Errors: `InvalidParameter` unless F_m > 0, F_ah >= 0, F_aT >= 0, 0 < zeta < 1, all finite.
+pub fn forced_transition_frequencies(fm: f64, f: DfForcing, zeta: f64) -> Result<Vec<f64>> {
+    validate(fm, f.ste, zeta)?;
+    validate(fm, f.torque, zeta)?;
+    let m2 = fm * fm;
+    let a = f.ste * f.ste - m2;
+    let b = 2.0 * (f.ste * f.torque + m2 * (1.0 - 2.0 * zeta * zeta));
+    let c = f.torque * f.torque - m2;
+    let mut xs = Vec::new();
+    if a == 0.0 {
+        if b != 0.0 {
+            xs.push(-c / b);
+        }
+    } else {
+        let disc = b * b - 4.0 * a * c;
+        if disc >= 0.0 {
+            // Without cancellation: q = -(b + sign(b) sqrt(disc)) / 2, roots q / a and c / q.
+            let q = -0.5 * (b + disc.sqrt().copysign(b));
+            xs.push(q / a);
+            if q != 0.0 {
+                xs.push(c / q);
+            }
+        }
+    }
+    let mut out: Vec<f64> = xs
+        .into_iter()
+        .filter(|x| x.is_finite() && *x > 0.0)
+        .map(f64::sqrt)
+        .collect();
+    out.sort_by(f64::total_cmp);
+    out.dedup();
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -70,6 +149,47 @@ mod tests {
         // At both, eq. 13a gives q_aI = F_m exactly (to rounding).
         for t in [t1, t2] {
             assert!((case1(0.1, 0.05, 0.05, t).0 - 0.1).abs() < 1e-12);
+        }
+    }
+
+    /// The peak of eq. 13a found by a fine scan equals the closed form (F_hat 10, zeta 0.05:
+    /// 0.01 / (0.1 sqrt(0.9975)) = 0.1001252, issue 23's grazing depth 1.25e-4 over F_m); at
+    /// the torque transitions the eq. 4 amplitude F_T / |D| equals F_m.
+    #[test]
+    fn linear_peak_and_torque_transitions() {
+        let p = linear_peak(0.01, 0.05).unwrap();
+        assert!((p.qa - 0.100_125_2).abs() < 1e-7, "{}", p.qa);
+        let scan = (0..=200_000)
+            .map(|i| 0.9 + 2e-6 * i as f64)
+            .map(|w| (case1(0.1, 0.01, 0.05, w).0, w))
+            .fold((0.0, 0.0), |a, b| if b.0 > a.0 { b } else { a });
+        assert!((scan.0 - p.qa).abs() < 1e-10 && (scan.1 - p.omega_ste).abs() < 1e-5);
+        let torque_qa = |w: f64| 0.01 / ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
+        assert!((torque_qa(p.omega_torque) - p.qa).abs() < 1e-12);
+        let t = forced_transition_frequencies(0.1, DfForcing::torque(0.01), 0.05).unwrap();
+        let (t1, t2) = (t[0], t[1]);
+        assert!(t1 < p.omega_torque && p.omega_torque < t2);
+        for t in [t1, t2] {
+            assert!((torque_qa(t) - 0.1).abs() < 1e-9, "{t}");
+        }
+        // The eq. 4 roots are the reciprocals of eq. 14's.
+        let (s1, s2) = transition_frequencies(0.1, 0.01, 0.05).unwrap();
+        assert!((t1 * s2.unwrap() - 1.0).abs() < 1e-9 && (t2 * s1.unwrap() - 1.0).abs() < 1e-9);
+        // F_T > F_m: case I only above the one root.
+        let t = forced_transition_frequencies(0.1, DfForcing::torque(0.2), 0.05).unwrap();
+        assert_eq!(t.len(), 1);
+        assert!((torque_qa(t[0]) * 20.0 - 0.1).abs() < 1e-9);
+        // The STE alone gives eq. 14's roots; STE and torque together the roots of F / |D| = F_m.
+        let s = forced_transition_frequencies(0.1, DfForcing::ste(0.05), 0.05).unwrap();
+        let (e1, e2) = transition_frequencies(0.1, 0.05, 0.05).unwrap();
+        assert!((s[0] - e1.unwrap()).abs() < 1e-12 && (s[1] - e2.unwrap()).abs() < 1e-12);
+        let both = DfForcing {
+            ste: 0.03,
+            torque: 0.02,
+        };
+        for w in forced_transition_frequencies(0.1, both, 0.05).unwrap() {
+            let d = ((1.0 - w * w).powi(2) + (0.1 * w).powi(2)).sqrt();
+            assert!((both.force(w) / d - 0.1).abs() < 1e-9, "{w}");
         }
     }
 

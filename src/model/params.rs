@@ -78,6 +78,32 @@ impl GearPair {
         .validated()
     }
 
+    /// The STE excitation of eq. 5 (F_ah, phase 0) together with an external torque of eq. 4
+    /// (F_aT sin(Omega t), the same frequency, Omega_h = Omega_T as in Sec. 8.1); `fat = 0` is
+    /// [`GearPair::paper`], `fah = 0` eq. 4 alone.
+    pub fn excited(
+        mean_force: f64,
+        ste_amplitude: f64,
+        torque_amplitude: f64,
+        zeta: f64,
+        omega: f64,
+    ) -> Result<Self> {
+        let mut m = GearPair::paper(mean_force, ste_amplitude, zeta, omega)?;
+        if torque_amplitude != 0.0 {
+            m.torque = vec![Term::new(1, torque_amplitude)];
+        }
+        m.validated()
+    }
+
+    /// ", F_aT = .." for a caption when an external torque of eq. 4 acts, else nothing.
+    pub fn torque_caption(torque_amplitude: f64) -> String {
+        if torque_amplitude > 0.0 {
+            format!(", F_aT = {torque_amplitude}")
+        } else {
+            String::new()
+        }
+    }
+
     /// Return the same model at another fundamental frequency (used by sweeps).
     pub fn at_omega(&self, omega: f64) -> Result<Self> {
         GearPair {

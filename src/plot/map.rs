@@ -234,9 +234,13 @@ impl Figure for MapFigure<'_> {
             .map_err(msg)?;
 
         let row_h = (sz.legend * 1.6) as i32;
+        let line_h = (sz.legend * 1.25) as i32;
         let text = font.pos(Pos::new(HPos::Left, VPos::Center));
-        for (k, (label, color)) in entries.iter().enumerate() {
-            let y = margin_top + k as i32 * row_h;
+        // A label wider than the legend column (at most 420 px) continues on further lines.
+        let text_w = (legend_w - 28 - swatch).max(40) as u32;
+        let mut y = margin_top;
+        for (label, color) in &entries {
+            let lines = super::layout::wrap(&legend_area, label, sz.legend, text_w)?;
             let corners = [(12, y), (12 + swatch, y + swatch)];
             legend_area
                 .draw(&Rectangle::new(corners, color.filled()))
@@ -247,9 +251,16 @@ impl Figure for MapFigure<'_> {
                     RGBColor(0x60, 0x60, 0x60).stroke_width(1),
                 ))
                 .map_err(msg)?;
-            legend_area
-                .draw_text(label, &text, (20 + swatch, y + swatch / 2))
-                .map_err(msg)?;
+            for (i, line) in lines.iter().enumerate() {
+                legend_area
+                    .draw_text(
+                        line,
+                        &text,
+                        (20 + swatch, y + swatch / 2 + i as i32 * line_h),
+                    )
+                    .map_err(msg)?;
+            }
+            y += row_h + (lines.len() as i32 - 1) * line_h;
         }
         Ok(())
     }

@@ -31,6 +31,8 @@ pub fn symbols(text: &str) -> String {
     let flush = |word: &mut String, out: &mut String| {
         match SYMBOLS.iter().find(|(w, _)| *w == word.as_str()) {
             Some((_, s)) => out.push_str(s),
+            // "Ω_h", as the command line prints it, gets its subscript too.
+            None if word == "_h" && out.ends_with('Ω') => out.push('ₕ'),
             None => out.push_str(word),
         }
         word.clear();
@@ -58,6 +60,7 @@ mod tests {
             "F\u{302} = 2, ζ = 0.05, Ωₕ 0.3, pp DTE (µm)"
         );
         assert_eq!(symbols("omega_n = 1600 Hz"), "ωₙ = 1600 Hz");
+        assert_eq!(symbols("Ω_h = 1, Ω_T, x_h"), "Ωₕ = 1, Ω_T, x_h");
         // Keys, file names and longer words are left alone.
         assert_eq!(
             symbols("zeta_ci95 omega_n_hz drum Omegas fig11"),

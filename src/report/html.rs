@@ -74,7 +74,7 @@ th{background:#f0f0f0}code{background:#f4f4f4;padding:0 2px}\
 figure{margin:1em 0}figure img{max-width:100%;border:1px solid #ddd;cursor:zoom-in}\
 figcaption{color:#444;font-size:0.95em}dt{font-weight:bold}dd{margin:0 0 0.4em 1.5em}\
 nav.toc{background:#f7f7f7;border:1px solid #ddd;padding:0.3em 1em}\
-.agree{background:#d8f0d8}.differ{background:#fbdcd7}.more{background:#d9e8fb}.untestable{background:#e8e8e8}";
+.agree{background:#d8f0d8}.differ{background:#fbdcd7}.more{background:#d9e8fb}.beyond{background:#fbefc9}.untestable{background:#e8e8e8}";
 
 /// Builder of an HTML report.
 #[derive(Default)]

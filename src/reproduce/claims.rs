@@ -14,16 +14,21 @@ pub enum Verdict {
     /// geardyn finds what the paper reports and more (e.g. additional coexisting orbits),
     /// confirmed by both integrators in the same run.
     MoreThanPaper,
+    /// What the paper saw holds over the time it integrated, but geardyn followed it further and
+    /// found it is something else in the long run (a chaotic transient, not a strange
+    /// attractor); the finding and its numbers are in the explanation.
+    BeyondPaper,
     /// The claim is about agreement with measurements; the shipped data are synthetic.
     NotTestableSynthetic,
 }
 
 impl Verdict {
     /// Every verdict, in table order.
-    pub const ALL: [Verdict; 4] = [
+    pub const ALL: [Verdict; 5] = [
         Verdict::Agree,
         Verdict::Differ,
         Verdict::MoreThanPaper,
+        Verdict::BeyondPaper,
         Verdict::NotTestableSynthetic,
     ];
 
@@ -33,6 +38,7 @@ impl Verdict {
             Verdict::Agree => "agree",
             Verdict::Differ => "differ",
             Verdict::MoreThanPaper => "more than the paper",
+            Verdict::BeyondPaper => "beyond the paper (transient chaos)",
             Verdict::NotTestableSynthetic => "not testable (synthetic data)",
         }
     }
@@ -105,4 +111,18 @@ pub fn fmt_opt(x: Option<f64>) -> String {
 /// A range "lo-hi" with 3 decimals, or "none".
 pub fn fmt_range(r: Option<(f64, f64)>) -> String {
     r.map_or("none".to_string(), |(a, b)| format!("{a:.3}-{b:.3}"))
+}
+
+/// A table of evidence behind some claims, written after the claim table (e.g. the Sec. 3
+/// attractor sets followed past the paper's time scale, the case III normalisation readings).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct ReportTable {
+    /// Section heading.
+    pub heading: String,
+    /// Paragraph before the table: what was computed and how to read it.
+    pub intro: String,
+    /// Column names.
+    pub header: Vec<String>,
+    /// Rows of cells.
+    pub rows: Vec<Vec<String>>,
 }

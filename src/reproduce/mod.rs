@@ -9,6 +9,8 @@
 //! | `attractor_set.rs` | attractor searches, matching against the paper, DOP853 confirmation |
 //! | `steady_figures.rs` | time history / phase plane / Poincare figures of a steady state |
 //! | `sec3.rs` | Figs 2-9 and the Sec. 3 claims (simulation) |
+//! | `sec3_transients.rs` | the chaos claims and the Sec. 3 sets followed past the paper's time scale |
+//! | `normalisation.rs` | the case III claims under each reading of the forcing (a table) |
 //! | `sec4_6.rs` | Figs 10-14 and the Secs 4-6 claims (harmonic balance, comparison, studies) |
 //! | `sec7.rs` | Figs 19-23 on the shipped data (labelled synthetic) |
 //! | `sec8.rs` | the Sec. 8 claims (Figs 24-29 come from `src/study`) |
@@ -20,8 +22,10 @@
 mod artifacts;
 mod attractor_set;
 mod claims;
+mod normalisation;
 mod report;
 mod sec3;
+mod sec3_transients;
 mod sec4_6;
 mod sec7;
 mod sec8;
@@ -29,8 +33,8 @@ mod steady_figures;
 mod summary_values;
 
 pub use artifacts::{write_artifact, Artifact, FigureEntry};
-pub use attractor_set::describe as describe_attractor;
-pub use claims::{verdict_counts, Claim, Verdict};
+pub use attractor_set::{describe as describe_attractor, name as attractor_name};
+pub use claims::{verdict_counts, Claim, ReportTable, Verdict};
 pub use report::{figure_index, write_reproduction};
 pub use steady_figures::{steady_figures, SteadyFigures};
 
@@ -114,6 +118,8 @@ pub struct Reproduction {
     pub resolution: Resolution,
     /// Claim rows, by section.
     pub claims: Vec<Claim>,
+    /// Evidence tables behind some claims, written after the claim table.
+    pub tables: Vec<ReportTable>,
     /// Outputs to write (figures, studies, validation reports).
     pub artifacts: Vec<Artifact>,
 }
@@ -159,9 +165,11 @@ pub fn reproduce(opts: &ReproduceOptions, progress: &dyn Progress) -> Result<Rep
     );
     let (searches, comparisons, studies, (c7, f7)) =
         (searches?, comparisons?, studies?, validation?);
-    let (c3, f3, confirmations) = sec3::build(res, &searches, progress)?;
+    let (c3, f3, confirmations, t3) = sec3::build(res, &searches, progress)?;
     let (c46, f46) = sec4_6::build(res, &comparisons, &searches, &confirmations, &studies)?;
     let c8 = sec8::claims(&studies)?;
+    let mut tables = t3;
+    tables.push(normalisation::normalisation_table()?);
     progress.finish();
     let mut artifacts = f3;
     artifacts.extend(f46);
@@ -177,6 +185,7 @@ pub fn reproduce(opts: &ReproduceOptions, progress: &dyn Progress) -> Result<Rep
     Ok(Reproduction {
         resolution: res.clone(),
         claims,
+        tables,
         artifacts,
     })
 }

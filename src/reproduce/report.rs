@@ -67,7 +67,7 @@ pub fn figure_index() -> Vec<FigureEntry> {
             "7",
             "time histories for F_hat 0.75, 1, 1.5",
             &[s3("fig07-time-histories")],
-            "dominant attractor at Omega 1.0, plus F_hat 0.5",
+            "chaotic set (else the dominant attractor) at Omega 1.0, plus F_hat 0.5",
         ),
         entry(
             "8",
@@ -280,6 +280,7 @@ fn verdict_class(v: Verdict) -> &'static str {
         Verdict::Agree => "agree",
         Verdict::Differ => "differ",
         Verdict::MoreThanPaper => "more",
+        Verdict::BeyondPaper => "beyond",
         Verdict::NotTestableSynthetic => "untestable",
     }
 }
@@ -290,6 +291,7 @@ fn verdict_meaning(v: Verdict) -> &'static str {
         Verdict::Agree => "geardyn's number supports the claim within the stated tolerance",
         Verdict::Differ => "geardyn's number does not support the claim; the explanation says how it differs",
         Verdict::MoreThanPaper => "the paper's attractors plus further coexisting ones, each found again by the independent DOP853 integrator (rtol 1e-11) with q_a within 1e-6 in the same run",
+        Verdict::BeyondPaper => "what the paper saw holds over the few hundred periods it integrated, but followed further (up to 40,000 periods) the chaotic set loses its trajectories to a periodic orbit at a measured escape rate: a chaotic transient, not a strange attractor, a finding of geardyn beyond the paper (the rate is measured again with DOP853 in the same run)",
         Verdict::NotTestableSynthetic => "a claim about agreement with measurements, which the shipped synthetic data cannot test",
     }
 }
@@ -410,6 +412,17 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
         ],
         &rows,
     );
+    for t in &r.tables {
+        page.heading(&t.heading);
+        page.paragraph(&t.intro);
+        let header: Vec<&str> = t.header.iter().map(String::as_str).collect();
+        let rows: Vec<Vec<String>> = t
+            .rows
+            .iter()
+            .map(|row| row.iter().map(|c| cell(c)).collect())
+            .collect();
+        page.table(&header, &rows);
+    }
     page.heading("Figure index");
     let index = figure_index_of(r);
     let frows: Vec<Vec<Cell>> = index
@@ -495,6 +508,7 @@ pub fn write_reproduction(r: &Reproduction, out: &Path) -> Result<Vec<PathBuf>> 
                     "resolution": res.name,
                     "verdict_counts": counts.iter().map(|(v, n)| (v.name().to_string(), *n)).collect::<std::collections::BTreeMap<_, _>>(),
                     "claims": r.claims,
+                    "tables": r.tables,
                 }))
                 .map_err(|e| GearError::Numerical(format!("JSON: {e}")))?
             ),

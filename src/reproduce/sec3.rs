@@ -3,17 +3,18 @@
 
 use super::artifacts::Artifact;
 use super::attractor_set::{
-    confirmed, describe, describe_all, dominant, impact_name, match_expected, motion_name, search,
-    Expected, Point,
+    confirmed, describe, describe_all, dominant, impact_name, match_expected, motion_name, name,
+    search, Expected, Horizon, Point,
 };
-use super::claims::{agree_if, Claim, Verdict};
+use super::claims::{agree_if, Claim, ReportTable, Verdict};
+use super::sec3_transients::{chaos_claim, chaos_range_claim, sets_table};
 use super::steady_figures::{orbit_samples, periods_to_draw, steady_figures};
 use super::Resolution;
 use crate::error::Result;
 use crate::model::Impact;
 use crate::plot::{CategoryMap, Series, XyPlot};
 use crate::progress::Progress;
-use crate::sim::{AttractorMap, ExactFlow, IcGrid, Motion};
+use crate::sim::{AttractorMap, ExactFlow, IcGrid, Motion, SetKind};
 use rayon::prelude::*;
 
 /// Output sub-folder of the Sec. 3 figures.
@@ -31,23 +32,32 @@ const FIG2_OMEGAS: [f64; 6] = [0.3, 0.5, 0.6, 0.7, 0.8, 1.0];
 /// Every attractor search of Sec. 3 (and the damping maps of Fig. 14 used in Sec. 5).
 pub(crate) struct Searches {
     pub(crate) points: Vec<(Point, IcGrid)>,
+    /// Non-periodic sets followed to their escape (the default search).
     pub(crate) maps: Vec<AttractorMap>,
+    /// The same searches at the paper's time scale (no following), for the claim grid only.
+    pub(crate) paper: Vec<Option<AttractorMap>>,
 }
 
 impl Searches {
+    fn index(&self, p: Point, grid: &IcGrid) -> Option<usize> {
+        self.points.iter().position(|(q, g)| *q == p && g == grid)
+    }
+
     /// The map computed for `p` on `grid`.
     pub(crate) fn get(&self, p: Point, grid: &IcGrid) -> Option<&AttractorMap> {
-        self.points
-            .iter()
-            .position(|(q, g)| *q == p && g == grid)
-            .map(|i| &self.maps[i])
+        self.index(p, grid).map(|i| &self.maps[i])
+    }
+
+    /// The map of `p` on `grid` at the paper's time scale, when computed.
+    pub(crate) fn get_paper(&self, p: Point, grid: &IcGrid) -> Option<&AttractorMap> {
+        self.index(p, grid).and_then(|i| self.paper[i].as_ref())
     }
 }
 
 /// One of the paper's parameter sets at a frequency (or other swept value).
 type PointAt = fn(f64) -> Point;
 
-fn light(omega: f64) -> Point {
+pub(crate) fn light(omega: f64) -> Point {
     Point {
         fm: FM,
         fah: FAH_LIGHT,
@@ -113,20 +123,33 @@ pub(crate) fn plan(res: &Resolution) -> Result<Vec<(Point, IcGrid)>> {
     Ok(v)
 }
 
-/// Run every search in parallel (order of `plan` kept).
+/// Run every search in parallel (order of `plan` kept); the claim-grid points also at the
+/// paper's time scale.
 pub(crate) fn run_searches(res: &Resolution, progress: &dyn Progress) -> Result<Searches> {
     let points = plan(res)?;
-    let maps: Vec<Result<AttractorMap>> = points
+    let claim_grid = IcGrid::new(-2.0, 2.0, res.ic_n)?;
+    let maps: Vec<Result<(AttractorMap, Option<AttractorMap>)>> = points
         .par_iter()
         .map(|(p, g)| {
-            let r = search(p, g, false);
+            let followed = search(p, g, false, Horizon::Followed)?;
+            let paper = if *g == claim_grid {
+                Some(search(p, g, false, Horizon::Paper)?)
+            } else {
+                None
+            };
             progress.advance(1);
-            r
+            Ok((followed, paper))
         })
         .collect();
+    let (maps, paper) = maps
+        .into_iter()
+        .collect::<Result<Vec<_>>>()?
+        .into_iter()
+        .unzip();
     Ok(Searches {
         points,
-        maps: maps.into_iter().collect::<Result<_>>()?,
+        maps,
+        paper,
     })
 }
 
@@ -246,11 +269,15 @@ fn specs() -> Vec<Spec> {
 
 /// Sec. 3 claims and figures. `searches` holds the exact maps; points whose extra attractors need
 /// confirmation are searched again with DOP853 here.
+/// What Sec. 3 contributes: claims, figures, the DOP853 confirmations (used by Sec. 5) and the
+/// evidence tables.
+pub(crate) type Sec3Outputs = (Vec<Claim>, Vec<Artifact>, Confirmations, Vec<ReportTable>);
+
 pub(crate) fn build(
     res: &Resolution,
     searches: &Searches,
     progress: &dyn Progress,
-) -> Result<(Vec<Claim>, Vec<Artifact>, Confirmations)> {
+) -> Result<Sec3Outputs> {
     let g = IcGrid::new(-2.0, 2.0, res.ic_n)?;
     let b = IcGrid::new(-2.0, 2.0, res.basin_n)?;
     let get = |pt: Point, grid: &IcGrid| -> Result<&AttractorMap> {
@@ -275,7 +302,7 @@ pub(crate) fn build(
     }
     let rk: Vec<Result<AttractorMap>> = to_confirm
         .par_iter()
-        .map(|pt| search(pt, &g, true))
+        .map(|pt| search(pt, &g, true, Horizon::Followed))
         .collect();
     let rk: Vec<AttractorMap> = rk.into_iter().collect::<Result<_>>()?;
     progress.advance(1);
@@ -289,11 +316,17 @@ pub(crate) fn build(
         let m = get(s.point, &g)?;
         claims.push(list_claim(s, m, &confirmations));
     }
-    claims.push(chaos_claim(get(light(1.0), &g)?, &confirmations));
+    let both = |pt: Point| -> Result<(&AttractorMap, &AttractorMap)> {
+        let paper = searches.get_paper(pt, &g).ok_or_else(|| {
+            crate::error::GearError::Numerical(format!("internal: no search at {}", pt.caption()))
+        })?;
+        Ok((paper, get(pt, &g)?))
+    };
+    claims.push(chaos_claim(both(light(1.0))?, &confirmations));
     claims.push(chaos_range_claim(
         &[1.0, 1.25, 1.5]
             .iter()
-            .map(|&w| get(light(w), &g).map(|m| (w, m)))
+            .map(|&w| both(light(w)).map(|m| (w, m)))
             .collect::<Result<Vec<_>>>()?,
     ));
     claims.push(heavy_period_one_claim(
@@ -327,10 +360,21 @@ pub(crate) fn build(
             .iter()
             .map(|&f| {
                 let pt = if f == FM { light(1.0) } else { fig7(f) };
-                get(pt, &g).map(|m| (f / FAH_LIGHT, m))
+                both(pt).map(|m| (f / FAH_LIGHT, m))
             })
             .collect::<Result<Vec<_>>>()?,
     ));
+    let mut table_points: Vec<Point> = LIGHT_OMEGAS.iter().map(|&w| light(w)).collect();
+    table_points.extend(HEAVY_OMEGAS.iter().map(|&w| heavy(w)));
+    table_points.extend(FIG7_FM[1..].iter().map(|&f| fig7(f)));
+    table_points.extend(FIG8_ZETA.iter().map(|&z| fig8(z)));
+    let table = sets_table(
+        &table_points
+            .iter()
+            .map(|&pt| both(pt).map(|(a, b)| (pt, a, b)))
+            .collect::<Result<Vec<_>>>()?,
+        &confirmations,
+    );
     claims.sort_by(|a, b| a.id.cmp(&b.id));
 
     let mut figs = Vec::new();
@@ -373,7 +417,7 @@ pub(crate) fn build(
     figs.push(chaos_figure(light(1.0), get(light(1.0), &g)?)?);
     figs.push(histories(
         "fig07-time-histories",
-        "Fig. 7: time histories (dominant attractor), F_ah = 0.2, zeta = 0.02, Omega_h = 1.0",
+        "Fig. 7: time histories (chaotic set, else dominant attractor), F_ah = 0.2, ζ = 0.02, Ω = 1.0",
         &FIG7_FM
             .iter()
             .map(|&f| {
@@ -391,7 +435,7 @@ pub(crate) fn build(
             .collect::<Result<Vec<_>>>()?,
     )?);
     figs.push(impact_regimes(light(0.5), get(light(0.5), &g)?)?);
-    Ok((claims, figs, confirmations))
+    Ok((claims, figs, confirmations, vec![table]))
 }
 
 /// DOP853 re-searches of the points where the exact flow found more than the paper.
@@ -451,7 +495,7 @@ fn list_claim(s: &Spec, m: &AttractorMap, conf: &Confirmations) -> Claim {
 
 /// Verdict for attractors beyond the paper's list: "more than the paper" for those DOP853 finds
 /// too; the others are named but not counted.
-fn extra_verdict(
+pub(crate) fn extra_verdict(
     pt: Point,
     m: &AttractorMap,
     extra: &[usize],
@@ -490,80 +534,6 @@ fn extra_verdict(
             ),
         )
     }
-}
-
-fn chaos_claim(m: &AttractorMap, conf: &Confirmations) -> Claim {
-    let dom = dominant(m);
-    let chaotic = m
-        .attractors
-        .iter()
-        .filter(|a| a.steady.motion == Motion::Chaotic)
-        .collect::<Vec<_>>();
-    let ok = dom.is_some_and(|d| d.steady.motion == Motion::Chaotic);
-    let extra: Vec<usize> = (0..m.attractors.len())
-        .filter(|&i| m.attractors[i].steady.motion != Motion::Chaotic)
-        .collect();
-    let (verdict, expl) = if !ok {
-        (
-            Verdict::Differ,
-            "the dominant attractor is not chaotic".to_string(),
-        )
-    } else if extra.is_empty() || chaotic.len() != 1 {
-        (
-            Verdict::Agree,
-            format!(
-                "dominant attractor chaotic with largest Lyapunov exponent {:+.4} > 0",
-                dom.and_then(|d| d.steady.lyapunov).unwrap_or(f64::NAN)
-            ),
-        )
-    } else {
-        let (v, e) = extra_verdict(light(1.0), m, &extra, conf);
-        (
-            v,
-            format!(
-                "chaotic with Lyapunov exponent {:+.4} > 0; {e}",
-                dom.and_then(|d| d.steady.lyapunov).unwrap_or(f64::NAN)
-            ),
-        )
-    };
-    Claim::new(
-        "S3-06",
-        "3",
-        "Fig. 4",
-        "F_hat 0.5, zeta 0.02, Omega_h 1.0: chaotic response, strange attractor in the Poincare map",
-        describe_all(m),
-        verdict,
-        expl,
-    )
-}
-
-fn chaos_range_claim(maps: &[(f64, &AttractorMap)]) -> Claim {
-    let parts: Vec<String> = maps
-        .iter()
-        .map(|(w, m)| {
-            format!(
-                "Omega {w}: {}",
-                dominant(m).map_or("nothing".into(), describe)
-            )
-        })
-        .collect();
-    let non_periodic: Vec<bool> = maps
-        .iter()
-        .map(|(_, m)| dominant(m).is_some_and(|d| d.steady.period.is_none()))
-        .collect();
-    let n = non_periodic.iter().filter(|&&b| b).count();
-    Claim::new(
-        "S3-07",
-        "3",
-        "Sec. 3 text",
-        "F_hat 0.5: non-periodic (chaotic) steady state within 1.0 <= Omega_h <= 1.5",
-        parts.join("; "),
-        agree_if(n == maps.len()),
-        format!(
-            "dominant attractor non-periodic at {n} of {} frequencies checked",
-            maps.len()
-        ),
-    )
 }
 
 fn heavy_period_one_claim(maps: &[(f64, &AttractorMap)]) -> Claim {
@@ -668,34 +638,58 @@ fn basin_claim(id: &str, fig: &str, paper: &str, m: &AttractorMap, impacts: &[Im
     )
 }
 
-fn fig7_claim(maps: &[(f64, &AttractorMap)]) -> Claim {
-    let dom: Vec<(f64, String)> = maps
+/// Fig. 7's sequence from the dominant set at the paper's time scale; a dominant set that is a
+/// chaotic transient when followed is named as such.
+fn fig7_claim(maps: &[(f64, (&AttractorMap, &AttractorMap))]) -> Claim {
+    let dom: Vec<(f64, String, bool)> = maps
         .iter()
-        .map(|(fh, m)| (*fh, dominant(m).map_or("nothing".into(), motion_name)))
+        .map(|(fh, (paper, followed))| {
+            let transient = followed
+                .attractors
+                .iter()
+                .any(|a| a.kind == SetKind::ChaoticTransient);
+            (
+                *fh,
+                dominant(paper).map_or("nothing".into(), motion_name),
+                transient,
+            )
+        })
         .collect();
     let at = |fh: f64| {
         dom.iter()
-            .find(|(f, _)| (f - fh).abs() < 1e-9)
-            .map(|(_, k)| k.clone())
+            .find(|(f, _, _)| (f - fh).abs() < 1e-9)
+            .map(|(_, k, _)| k.clone())
             .unwrap_or_default()
     };
     let paper_ok = at(0.75) == "chaotic" && at(1.0) == "period-2" && at(1.5) == "period-1";
     let shifted = at(0.5) == "chaotic" && at(0.75) == "period-2" && at(1.0) == "period-1";
     let text: Vec<String> = dom
         .iter()
-        .map(|(f, k)| format!("F_hat {f:.2}: {k}"))
+        .map(|(f, k, t)| {
+            format!(
+                "F_hat {f:.2}: {k}{}",
+                if *t {
+                    " (a chaotic transient when followed)"
+                } else {
+                    ""
+                }
+            )
+        })
         .collect();
     Claim::new(
         "S3-13",
         "3",
         "Fig. 7",
         "F_ah 0.2, zeta 0.02: chaos, then period-2, then period-1 as F_hat goes 0.75, 1.0, 1.5 (Omega_h not stated; geardyn uses Fig. 4's 1.0)",
-        format!("dominant attractor at Omega_h 1.0: {}", text.join(", ")),
+        format!(
+            "dominant set at Omega_h 1.0 after the default transient (the paper's time scale): {}",
+            text.join(", ")
+        ),
         agree_if(paper_ok),
         if paper_ok {
             "the paper's sequence at the paper's force ratios".into()
         } else if shifted {
-            "the same sequence chaos, period-2, period-1, shifted to lower F_hat (0.5, 0.75, 1.0)".into()
+            "the same sequence chaos, period-2, period-1, shifted to lower F_hat (0.5, 0.75, 1.0); the chaos at F_hat 0.5 is itself a transient (row S3-06)".into()
         } else {
             "a different sequence of dominant attractors".into()
         },
@@ -716,12 +710,7 @@ fn phase_planes(stem: &str, title: &str, maps: &[(Point, &AttractorMap)]) -> Res
             // One closed orbit, or 12 forcing periods of non-periodic motion.
             let n = a.steady.period.map_or(12, |p| p as usize);
             let s = orbit_samples(&flow, &a.steady, n)?;
-            let label = format!(
-                "{} {} {:.0}%",
-                motion_name(a),
-                impact_name(a.steady.impact),
-                100.0 * a.basin_fraction
-            );
+            let label = format!("{} {:.1}%", name(a), 100.0 * a.basin_fraction);
             let pts: Vec<(f64, f64)> = s.iter().map(|x| (x.q, x.v)).collect();
             series.push(if a.steady.period.is_none() {
                 Series::markers(label, pts)
@@ -793,29 +782,38 @@ fn chaos_figure(pt: Point, m: &AttractorMap) -> Result<Artifact> {
         .or_else(|| dominant(m));
     let panels = match a {
         Some(a) => {
-            let f = steady_figures(&flow, &a.steady, &pt.caption())?;
-            let what = format!(
-                " ({}, Lyapunov {:+.4})",
+            // What the motion is goes into the caption: the panel titles stay short enough
+            // not to run into each other.
+            let escape = a
+                .escape
+                .as_ref()
+                .filter(|r| r.escapes > 0)
+                .map_or(String::new(), |r| format!(", κ = {:.1e}/period", r.rate));
+            let caption = format!(
+                "F_m {}, F_ah {}, ζ {}, Ω {}; {}, λ = {:+.4}{escape}",
+                pt.fm,
+                pt.fah,
+                pt.zeta,
+                pt.omega,
                 motion_name(a),
                 a.steady.lyapunov.unwrap_or(f64::NAN)
             );
-            let (mut h, mut p) = (f.history, f.poincare);
-            h.title.push_str(&what);
-            p.title.push_str(&what);
-            vec![h, p]
+            let f = steady_figures(&flow, &a.steady, &caption)?;
+            vec![f.history, f.poincare]
         }
         None => Vec::new(),
     };
     Ok(Artifact::Panels {
         dir: DIR.into(),
         stem: "fig04-chaos".into(),
-        title: "Fig. 4: chaotic response, (a) time history, (b) Poincare map".into(),
+        title: "Fig. 4: chaotic response, (a) time history, (b) Poincaré map".into(),
         panels,
         cols: 2,
     })
 }
 
-/// Time histories of the attractor of the stated period (else the dominant one) at each point.
+/// Time histories of the attractor of the stated period (else the chaotic set, else the dominant
+/// attractor) at each point.
 fn histories(
     stem: &str,
     title: &str,
@@ -823,26 +821,33 @@ fn histories(
 ) -> Result<Artifact> {
     let mut panels = Vec::new();
     for (pt, m, want) in maps {
-        let a = want
-            .and_then(|p| m.attractors.iter().find(|a| a.steady.period == Some(p)))
-            .or_else(|| dominant(m));
+        // The stated period; else the chaotic set when there is one (what the paper drew, a
+        // transient or not), else the largest basin.
+        let a = match want {
+            Some(p) => m.attractors.iter().find(|a| a.steady.period == Some(*p)),
+            None => m
+                .attractors
+                .iter()
+                .find(|a| a.steady.motion == Motion::Chaotic),
+        }
+        .or_else(|| dominant(m));
         if let Some(a) = a {
             let flow = flow_of(pt)?;
             let n = periods_to_draw(&a.steady).max(8);
             let s = orbit_samples(&flow, &a.steady, n)?;
             panels.push(XyPlot {
                 title: format!(
-                    "F_hat = {:.2}, zeta = {}: {} {}, basin {:.1}%",
+                    "F_hat = {:.2}, zeta = {}: {}, basin {:.1}%",
                     pt.fm / pt.fah,
                     pt.zeta,
-                    motion_name(a),
-                    impact_name(a.steady.impact),
+                    name(a),
                     100.0 * a.basin_fraction
                 ),
                 caption: Some(pt.caption()),
-                x_label: "t".into(),
+                x_label: "t (dimensionless)".into(),
                 y_label: "q".into(),
                 series: vec![Series::line("q(t)", s.iter().map(|x| (x.t, x.q)).collect())],
+                legend: false,
                 ..XyPlot::default()
             });
         }

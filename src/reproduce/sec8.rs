@@ -2,9 +2,10 @@
 //! superposition, superposition-hb and combined studies of `src/study`.
 
 use super::claims::{agree_if, fmt_range, Claim};
-use super::sec4_6::OMEGA_TOL;
+use super::sec4_6::{fhat10_grazing, fmt_range4, MARGINAL_GRAZING, OMEGA_TOL};
 use super::summary_values::{flag, list, num, range};
 use crate::error::{GearError, Result};
+use crate::hb::{forced_transition_frequencies, DfForcing};
 use crate::study::StudyOutput;
 use serde_json::Value;
 
@@ -62,22 +63,57 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
     };
     let (r05, r15) = (ratio(0.5), ratio(1.5));
     let close_below = r05.is_some_and(|r| (r - 1.0).abs() < 0.2);
+    // Both linear peaks are F_ah / (2 zeta sqrt(1 - zeta^2)) and graze the backlash by the same
+    // depth as S6-01, on bands narrower than the AFT grid step (closed forms).
+    let g = fhat10_grazing()?;
+    let (depth, band5) = (g.depth, g.band);
+    let band4 = match forced_transition_frequencies(0.1, DfForcing::torque(0.01), 0.05)?[..] {
+        [a, b] => Some((a, b)),
+        _ => None,
+    };
+    let marginal = depth / 0.1 <= MARGINAL_GRAZING;
+    // Case II on the AFT grid is the grazing band when the grid happens to sample it.
+    let grid_sep = c5.contains(&2) || c4.contains(&2);
+    let no_case3 = !c5.contains(&3) && !c4.contains(&3);
+    let case_one = no_case3 && ((depth <= 0.0 && !grid_sep) || marginal);
+    let bands = format!(
+        "closed form: both linear peaks exceed F_m by {depth:.2e}, on Omega {} (eq. 5) and {} (eq. 4)",
+        fmt_range4(band5),
+        fmt_range4(band4)
+    );
     out.push(Claim::new(
         "S8-01",
         "8.1",
         "Fig. 24(a)",
         "F_hat 10: only case I for both excitations; responses close to each other for Omega < 1, a difference growing with Omega above 1",
         format!(
-            "cases present eq. 5 {c5:?}, eq. 4 {c4:?}; q_a(eq. 5) / q_a(eq. 4) at Omega 0.5: {}, at 1.5: {}",
+            "AFT grid cases present eq. 5 {c5:?}, eq. 4 {c4:?}; {bands}; q_a(eq. 5) / q_a(eq. 4) at Omega 0.5: {}, at 1.5: {}",
             r05.map_or("-".into(), |r| format!("{r:.3}")),
             r15.map_or("-".into(), |r| format!("{r:.3}"))
         ),
-        agree_if(c5 == [1] && c4 == [1] && close_below),
-        if close_below {
-            "linear responses close below resonance".into()
-        } else {
-            "both linear, but the amplitude ratio is Omega^2 (eq. 5's force is F_ah Omega^2), so they differ below resonance as much as above".into()
-        },
+        agree_if(case_one && close_below),
+        format!(
+            "{}; {}",
+            if case_one && depth > 0.0 {
+                format!(
+                    "case I for both, up to the marginal grazing at the peak of row S6-01 ({})",
+                    if grid_sep {
+                        "the AFT grid samples the bands: case II there"
+                    } else {
+                        "the AFT grid steps over the bands"
+                    }
+                )
+            } else if case_one {
+                "case I for both".to_string()
+            } else {
+                "not only case I".to_string()
+            },
+            if close_below {
+                "linear responses close below resonance"
+            } else {
+                "but the amplitude ratio is Omega^2 (eq. 5's force is F_ah Omega^2), so they differ below resonance as much as above"
+            }
+        ),
     ));
     // Fig. 24(b): F_hat 2 (index 1).
     let w = |i: usize, eq: &str| -> Option<(f64, f64)> {

@@ -60,11 +60,13 @@ pub fn steady_figures(
     .iter()
     .map(|p| (p[0], p[1]))
     .collect();
+    // A single curve is named by its axis label: no legend box for it.
     let base = |title: &str, x: &str, y: &str, series: Vec<Series>| XyPlot {
         title: title.to_string(),
         caption: Some(caption.to_string()),
         x_label: x.into(),
         y_label: y.into(),
+        legend: series.len() > 1,
         series,
         ..XyPlot::default()
     };
@@ -85,13 +87,13 @@ pub fn steady_figures(
             vec![
                 Series::line("trajectory", samples.iter().map(|x| (x.q, x.v)).collect()),
                 Series::markers(
-                    "Poincare points",
+                    "Poincaré points",
                     s.poincare.iter().map(|p| (p[0], p[1])).collect(),
                 ),
             ],
         ),
         poincare: base(
-            "Poincare map (stroboscopic, phase 0)",
+            "Poincaré map (stroboscopic, phase 0)",
             "q",
             "q'",
             vec![Series::markers("section points", section)],

@@ -2,6 +2,7 @@
 //! steady states, Poincare sections, period and chaos classification, attractors, basins, sweeps.
 
 mod attractors;
+mod escape;
 mod exact;
 mod exact_bounds;
 mod extrema;
@@ -12,12 +13,19 @@ mod lyapunov;
 mod period;
 mod rk;
 mod rk_flow;
+mod set_follow;
+mod shooting;
 mod steady;
 mod sweep;
 mod trajectory;
 mod window_spread;
 
-pub use attractors::{find_attractors, same_attractor, Attractor, AttractorMap};
+pub use attractors::{
+    find_attractors, same_attractor, Attractor, AttractorMap, BasinTime, SetKind,
+};
+pub use escape::{
+    escape_rate, EscapeBudget, EscapeRecord, SurvivalPoint, MAX_EXPOSURE, MAX_HORIZON, MIN_ESCAPES,
+};
 pub use exact::ExactFlow;
 pub(crate) use extrema::golden_max;
 pub use extrema::Extremes;
@@ -35,7 +43,7 @@ pub use steady::{
     SETTLED_DECAY,
 };
 pub use sweep::{
-    frequency_range, sweep, to_significant, Branch, FlowFactory, SweepPlan, SweepPoint,
+    carry, frequency_range, sweep, to_significant, Branch, FlowFactory, SweepPlan, SweepPoint,
 };
 pub use trajectory::{sample_trajectory, Sample};
 pub use window_spread::dte_pp_over_windows;

@@ -2,10 +2,12 @@
 //! Poincare section, period detection up to 32 forcing periods, refinement of periodic orbits,
 //! chaos flagged by the largest Lyapunov exponent, and the response measures of design.md 1.
 
+use super::escape::EscapeBudget;
 use super::extrema::extremes_over;
 use super::flow::{PeriodFlow, State};
 use super::lyapunov::largest_lyapunov;
 use super::period::{detect_period, distance, refine_orbit, scale, PeriodicOrbit, MAX_PERIOD};
+use super::shooting::{follow, shoot};
 use crate::error::{GearError, Result};
 use crate::model::Impact;
 use serde::Serialize;
@@ -24,6 +26,9 @@ pub struct SteadyOptions {
     pub lyapunov: bool,
     /// Forcing periods averaged for the Lyapunov exponent of non-periodic motion.
     pub lyapunov_periods: usize,
+    /// How long attractor searches follow non-periodic sets to measure their escape (used by
+    /// [`super::find_attractors`], not by a single steady state).
+    pub escape: EscapeBudget,
 }
 
 impl Default for SteadyOptions {
@@ -34,6 +39,7 @@ impl Default for SteadyOptions {
             settle: true,
             lyapunov: false,
             lyapunov_periods: 2000,
+            escape: EscapeBudget::default(),
         }
     }
 }
@@ -93,8 +99,12 @@ pub enum Motion {
     Periodic,
     /// No period up to 32 and a positive largest Lyapunov exponent.
     Chaotic,
-    /// No period up to 32 and a non-positive exponent (quasi-periodic, or a very long period).
+    /// No period up to 32 and an exponent indistinguishable from zero (quasi-periodic motion).
     Aperiodic,
+    /// No periodic orbit identified within the budget, but a negative largest Lyapunov exponent:
+    /// the motion is still contracting onto a stable orbit (of period above 32, or approached
+    /// too slowly); its exponent is that orbit's Floquet rate.
+    Converging,
     /// No periodic orbit found and the transient budget too short for the free decay to have
     /// died out: the motion is still converging, so it is neither classified as aperiodic nor
     /// as chaotic ([`SteadyState::settled`] is false).
@@ -103,12 +113,13 @@ pub enum Motion {
 
 impl Motion {
     /// Name used in text, JSON and CSV outputs ("periodic", "chaotic", "aperiodic",
-    /// "unsettled").
+    /// "converging", "unsettled"; the serde name).
     pub fn name(self) -> &'static str {
         match self {
             Motion::Periodic => "periodic",
             Motion::Chaotic => "chaotic",
             Motion::Aperiodic => "aperiodic",
+            Motion::Converging => "converging",
             Motion::Unsettled => "unsettled",
         }
     }
@@ -139,6 +150,10 @@ pub struct SteadyState {
     pub lyapunov: Option<f64>,
     /// Floquet multipliers of a periodic orbit as (re, im).
     pub floquet: Option<[(f64, f64); 2]>,
+    /// Floquet rate of a periodic orbit, ln(largest |multiplier|) / (p T): the exponent at which
+    /// nearby trajectories approach it, per unit dimensionless time. A negative "Lyapunov
+    /// exponent" measured on a slow approach to the orbit is this rate.
+    pub floquet_rate: Option<f64>,
     /// Section points of the steady state: the p points of a periodic orbit (refined), or the
     /// analysed section points of non-periodic motion.
     pub poincare: Vec<State>,
@@ -152,6 +167,12 @@ pub struct SteadyState {
     /// used to tell coexisting chaotic attractors apart.
     #[serde(skip)]
     pub cloud: Vec<State>,
+    /// Section point where the integration stopped (after the analysis and, for non-periodic
+    /// motion, the Lyapunov run): where a longer observation continues.
+    #[serde(skip)]
+    pub end: State,
+    /// Forcing periods integrated from the initial condition to [`SteadyState::end`].
+    pub age: usize,
 }
 
 impl SteadyState {
@@ -170,6 +191,10 @@ const SETTLE_TOL: f64 = 1e-9;
 const NEAR_TOL: f64 = 1e-4;
 /// The transient is extended at most to this multiple of its nominal length.
 const EXTENSION: usize = 8;
+/// Periods between two shooting attempts from near returns during a transient.
+const SHOOT_EVERY: usize = 8;
+/// Longest continuation of a contracting motion (negative Lyapunov exponent, no orbit yet).
+const MAX_CONVERGING_EXTENSION: usize = 20_000;
 
 /// Integrate from `x0` to the steady state and analyse it.
 pub fn steady_state<F: PeriodFlow + ?Sized>(
@@ -178,8 +203,8 @@ pub fn steady_state<F: PeriodFlow + ?Sized>(
     opts: &SteadyOptions,
 ) -> Result<SteadyState> {
     match steady_state_watched::<F, ()>(flow, x0, opts, &mut |_| Ok(None))? {
-        Watched::Steady(s) => Ok(s),
-        Watched::Stopped(()) => unreachable_stop(),
+        Watched::Steady(s) => Ok(*s),
+        Watched::Stopped(_) => unreachable_stop(),
     }
 }
 
@@ -194,7 +219,15 @@ pub(crate) enum Watched<T> {
     /// The watcher recognised the trajectory during the transient and stopped it.
     Stopped(T),
     /// The trajectory was integrated to its steady state and analysed.
-    Steady(SteadyState),
+    Steady(Box<SteadyState>),
+}
+
+/// Where a transient ended: the state, the periods integrated, and the stable orbit it was
+/// captured by, if any.
+pub(crate) struct TransientEnd {
+    pub(crate) x: State,
+    pub(crate) used: usize,
+    pub(crate) orbit: Option<PeriodicOrbit>,
 }
 
 /// [`steady_state`] with a watcher called on each transient section point; returning `Some`
@@ -211,12 +244,51 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
     let transient = opts
         .transient
         .unwrap_or_else(|| default_transient(model.zeta, flow.period()));
+    let end = match run_transient(flow, x0, transient, opts.settle, watch)? {
+        Ok(end) => end,
+        Err((t, _)) => return Ok(Watched::Stopped(t)),
+    };
+    let s = analyse(flow, end.x, end.orbit, end.used, opts)?;
+    if s.motion != Motion::Converging {
+        return Ok(Watched::Steady(Box::new(s)));
+    }
+    // A negative largest Lyapunov exponent without an orbit: the motion contracts onto a stable
+    // orbit more slowly than the transient allowed. Continue for the time the exponent needs
+    // to shrink a unit deviation to 1e-9 (twice that), bounded, and analyse again.
+    let rate = s.lyapunov.unwrap_or(0.0).abs().max(f64::MIN_POSITIVE);
+    let needed = 2.0 * (1e9f64).ln() / (rate * flow.period()) + 100.0;
+    let more = (needed.min(MAX_CONVERGING_EXTENSION as f64) as usize)
+        .min(MAX_TRANSIENT.saturating_sub(s.age));
+    match run_transient(flow, s.end, more, opts.settle, watch)? {
+        Err((t, _)) => Ok(Watched::Stopped(t)),
+        Ok(e) if e.orbit.is_some() => Ok(Watched::Steady(Box::new(analyse(
+            flow,
+            e.x,
+            e.orbit,
+            s.age + e.used,
+            opts,
+        )?))),
+        Ok(_) => Ok(Watched::Steady(Box::new(s))),
+    }
+}
+
+/// Integrate the transient from `x0` for `nominal` periods (extended while the points nearly
+/// repeat), ending early when the trajectory settles on a stable periodic orbit: its points
+/// repeat to [`SETTLE_TOL`] and Newton refines the orbit, or a near return shot by Newton gives a
+/// stable orbit that captures the trajectory (see [`shoot`], [`follow`]). `Err((t, used))` when
+/// the watcher stopped it.
+pub(crate) fn run_transient<F: PeriodFlow + ?Sized, T>(
+    flow: &F,
+    x0: State,
+    nominal: usize,
+    settle: bool,
+    watch: &mut dyn FnMut(State) -> Result<Option<T>>,
+) -> Result<std::result::Result<TransientEnd, (T, usize)>> {
     let history_len = 3 * MAX_PERIOD as usize;
     let mut history: Vec<State> = Vec::with_capacity(history_len + 1);
     let mut x = x0;
     let mut used = 0;
-    let mut orbit: Option<PeriodicOrbit> = None;
-    let mut limit = transient;
+    let mut limit = nominal;
     while used < limit {
         x = flow.step(x, None)?;
         used += 1;
@@ -224,42 +296,53 @@ pub(crate) fn steady_state_watched<F: PeriodFlow + ?Sized, T>(
             return Err(GearError::Numerical("the response diverged".into()));
         }
         if let Some(t) = watch(x)? {
-            return Ok(Watched::Stopped(t));
+            return Ok(Err((t, used)));
         }
-        if !opts.settle {
+        if !settle {
             continue;
         }
         history.push(x);
         if history.len() > history_len {
             history.remove(0);
         }
-        // Newton is tried once the points repeat tightly, and every few periods while they
-        // repeat loosely: a slowly contracting orbit (multiplier near +-1) is then found by
-        // shooting instead of waiting for the transient to die out.
-        let candidate = settled_period(&history, SETTLE_TOL).or_else(|| {
-            (used % 8 == 0)
-                .then(|| settled_period(&history, NEAR_TOL))
-                .flatten()
-        });
-        if let Some(p) = candidate {
+        if let Some(p) = settled_period(&history, SETTLE_TOL) {
             if let Some(o) = refine_orbit(flow, x, p)? {
                 if o.spectral_radius() < 1.0 {
                     x = o.points[0];
-                    orbit = Some(o);
-                    break;
+                    return Ok(Ok(TransientEnd {
+                        x,
+                        used,
+                        orbit: Some(o),
+                    }));
+                }
+            }
+        } else if used % SHOOT_EVERY == 0 {
+            // A slowly contracting orbit (a multiplier near +-1) is found by shooting from a near
+            // return instead of waiting for the transient to die out.
+            if let Some(o) = shoot(flow, &history)? {
+                if let Some((_, n)) = follow(flow, x, &o, MAX_TRANSIENT.saturating_sub(used))? {
+                    return Ok(Ok(TransientEnd {
+                        x: o.points[0],
+                        used: used + n,
+                        orbit: Some(o),
+                    }));
                 }
             }
         }
-        // A slowly contracting orbit (multiplier near 1) that is periodic to 1e-4 but not yet to
-        // 1e-9 gets more time rather than being reported as aperiodic.
+        // A motion that is periodic to 1e-4 but not yet to 1e-9 and that Newton could not
+        // refine (a grazing orbit) gets more time rather than being reported as aperiodic.
         if used == limit
-            && limit < EXTENSION * transient
+            && limit < EXTENSION * nominal
             && settled_period(&history, NEAR_TOL).is_some()
         {
-            limit += transient;
+            limit += nominal;
         }
     }
-    Ok(Watched::Steady(analyse(flow, x, orbit, used, opts)?))
+    Ok(Ok(TransientEnd {
+        x,
+        used,
+        orbit: None,
+    }))
 }
 
 /// Period of the last section points at the settling tolerance, if they repeat.
@@ -276,15 +359,15 @@ fn settled_period(history: &[State], rel_tol: f64) -> Option<u32> {
     })
 }
 
-/// Analyse the steady state that starts at section point `x`.
+/// Analyse the steady state that starts at section point `x`, `age` periods after the initial
+/// condition.
 fn analyse<F: PeriodFlow + ?Sized>(
     flow: &F,
     x: State,
     orbit: Option<PeriodicOrbit>,
-    transient_periods: usize,
+    age: usize,
     opts: &SteadyOptions,
 ) -> Result<SteadyState> {
-    let model = flow.model();
     let keep = opts.keep.max(1);
     // Section points of the kept periods (cheap: no observer).
     let mut points = Vec::with_capacity(keep);
@@ -293,61 +376,87 @@ fn analyse<F: PeriodFlow + ?Sized>(
         points.push(y);
         y = flow.step(y, None)?;
     }
-    let sc = scale(&points);
-    let mut period = match &orbit {
-        Some(o) => Some(o.period),
-        None => detect_period(
+    let mut orbit = orbit;
+    if orbit.is_none() {
+        let sc = scale(&points);
+        let detected = detect_period(
             &points,
             MAX_PERIOD.min(keep as u32 / 2).max(1),
             REPEAT_TOL * sc,
-        ),
-    };
-    // A periodic orbit is fully described by p periods; otherwise analyse all kept periods.
-    let mut orbit = match (orbit, period) {
-        (Some(o), _) => Some(o),
-        (None, Some(p)) => refine_orbit(flow, x, p)?,
-        _ => None,
-    };
-    if period.is_none() {
-        // A long chaotic transient may end inside the kept window: the last points then repeat
-        // and Newton from the last one finds the stable orbit the motion is converging to.
-        if let Some(p) = settled_period(&points, NEAR_TOL) {
-            if let Some(o) = refine_orbit(flow, y, p)? {
-                if o.spectral_radius() < 1.0 {
-                    period = Some(p);
-                    orbit = Some(o);
-                }
+        );
+        if let Some(p) = detected {
+            orbit = refine_orbit(flow, x, p)?;
+            if orbit.is_none() {
+                // Repeating points Newton cannot refine (a grazing orbit): periodic, unrefined.
+                return describe(flow, x, None, Some(p), points, age, opts);
             }
         }
     }
+    if orbit.is_none() && opts.settle {
+        // A slow approach to a stable orbit, or a long chaotic transient ending inside the kept
+        // window: Newton from a near return of the last points, confirmed by capture.
+        if let Some(o) = shoot(flow, &points)? {
+            if let Some((_, n)) = follow(flow, y, &o, MAX_TRANSIENT.saturating_sub(age))? {
+                let start = o.points[0];
+                return describe(flow, start, Some(o), None, points, age + keep + n, opts);
+            }
+        }
+    }
+    describe(flow, x, orbit, None, points, age, opts)
+}
+
+/// The steady state from its kept section points `points` (starting at `x`) and the periodic
+/// orbit found, if any (or the period of points Newton could not refine, `unrefined`).
+fn describe<F: PeriodFlow + ?Sized>(
+    flow: &F,
+    x: State,
+    orbit: Option<PeriodicOrbit>,
+    unrefined: Option<u32>,
+    points: Vec<State>,
+    age: usize,
+    opts: &SteadyOptions,
+) -> Result<SteadyState> {
+    let model = flow.model();
+    let keep = points.len();
+    let period = orbit.as_ref().map(|o| o.period).or(unrefined);
     // Without a periodic orbit, the motion counts as settled only if the transient was long
     // enough for the free decay of the initial condition to die out; otherwise the kept points
     // are still a transient and say nothing about chaos or quasi-periodicity.
-    let settled =
-        period.is_some() || model.zeta * transient_periods as f64 * flow.period() >= SETTLED_DECAY;
+    let settled = period.is_some() || model.zeta * age as f64 * flow.period() >= SETTLED_DECAY;
+    // A periodic orbit is fully described by p periods; otherwise analyse all kept periods.
     let (start, analysed) = match (&orbit, period) {
         (Some(o), _) => (o.points[0], o.period as usize),
         (None, Some(p)) => (x, p as usize),
         (None, None) => (x, keep),
     };
-    let (ext, _) = extremes_over(flow, start, analysed)?;
+    let (ext, after) = extremes_over(flow, start, analysed)?;
+    let floquet_rate = orbit
+        .as_ref()
+        .map(|o| o.spectral_radius().ln() / (o.period as f64 * flow.period()));
     let mut cloud = Vec::new();
-    let lyapunov = match (&orbit, period) {
-        (Some(o), _) if opts.lyapunov => {
-            Some(o.spectral_radius().ln() / (o.period as f64 * flow.period()))
+    let lyapunov_periods = 20 + opts.lyapunov_periods;
+    let (lyapunov, end, end_age) = match period {
+        Some(_) => (
+            floquet_rate.filter(|_| opts.lyapunov),
+            after,
+            age + analysed,
+        ),
+        None if settled => {
+            let (l, end) = largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?;
+            (Some(l), end, age + lyapunov_periods)
         }
-        (None, None) if settled => {
-            Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?.0)
+        None if opts.lyapunov => {
+            let (l, end) = largest_lyapunov(flow, x, 20, opts.lyapunov_periods, None)?;
+            (Some(l), end, age + lyapunov_periods)
         }
-        (None, _) if opts.lyapunov => {
-            Some(largest_lyapunov(flow, x, 20, opts.lyapunov_periods, None)?.0)
-        }
-        _ => None,
+        None => (None, after, age + analysed),
     };
+    let threshold = 1e-3 * model.zeta.max(1e-3);
     let motion = match (period, lyapunov) {
         (Some(_), _) => Motion::Periodic,
         (None, _) if !settled => Motion::Unsettled,
-        (None, Some(l)) if l > 1e-3 * model.zeta.max(1e-3) => Motion::Chaotic,
+        (None, Some(l)) if l > threshold => Motion::Chaotic,
+        (None, Some(l)) if l < -threshold => Motion::Converging,
         _ => Motion::Aperiodic,
     };
     let (q_min, q_max) = ext.q;
@@ -364,13 +473,16 @@ fn analyse<F: PeriodFlow + ?Sized>(
         dl_max,
         lyapunov,
         floquet: orbit.as_ref().map(|o| o.multipliers),
+        floquet_rate,
         poincare: match &orbit {
             Some(o) => o.points.clone(),
             None => points,
         },
-        transient_periods,
+        transient_periods: age,
         settled,
         cloud,
+        end,
+        age: end_age,
     })
 }
 
@@ -453,5 +565,22 @@ mod tests {
         for (re, im) in s.floquet.unwrap() {
             assert!((re.hypot(im) - rho).abs() < 1e-10);
         }
+    }
+
+    /// Fig. 8(a)'s point from rest: a slow approach to the period-8 orbit (multiplier -0.898,
+    /// issue 23's independent shooting), once reported as period-16 or aperiodic with a
+    /// "Lyapunov exponent" -0.0021. It is the period-8 orbit, and -0.0021 is its Floquet rate,
+    /// ln(0.898) / (8 T).
+    #[test]
+    fn slow_approach_is_reported_as_the_orbit() {
+        let m = GearPair::paper(0.1, 0.2, 0.05, 1.0).unwrap();
+        let f = ExactFlow::new(&m).unwrap();
+        let s = steady_state(&f, [0.0, 0.0], &SteadyOptions::default()).unwrap();
+        assert_eq!((s.period, s.motion), (Some(8), Motion::Periodic));
+        let mu = s.floquet.unwrap()[1].0;
+        assert!((mu + 0.898).abs() < 1e-3, "{mu}");
+        let rate = s.floquet_rate.unwrap();
+        assert!((rate - 0.898f64.ln() / (8.0 * m.period())).abs() < 1e-5);
+        assert!((rate + 0.0021).abs() < 1e-4);
     }
 }

@@ -2,7 +2,7 @@
 //! (the procedure behind Fig. 13, which finds one branch only), or every attractor at each
 //! frequency from a grid of initial conditions.
 
-use super::attractors::find_attractors;
+use super::attractors::{find_attractors, Attractor, SetKind};
 use super::flow::{PeriodFlow, State};
 use super::ic_grid::IcGrid;
 use super::steady::{steady_state, SteadyOptions, SteadyState};
@@ -45,6 +45,24 @@ pub struct SweepPoint {
     pub steady: SteadyState,
     /// Share of the initial-condition grid reaching it (all-attractor sweeps only).
     pub basin_fraction: Option<f64>,
+    /// Attractor or transient set (all-attractor sweeps only).
+    pub kind: Option<SetKind>,
+    /// Escape rate per forcing period of a followed non-periodic set that trajectories left.
+    pub escape_rate: Option<f64>,
+}
+
+impl SweepPoint {
+    /// A point of an all-attractor search at `omega`.
+    pub fn from_attractor(omega: f64, a: Attractor) -> Self {
+        SweepPoint {
+            omega,
+            branch: Branch::All,
+            escape_rate: a.escape.as_ref().filter(|r| r.escapes > 0).map(|r| r.rate),
+            kind: Some(a.kind),
+            steady: a.steady,
+            basin_fraction: Some(a.basin_fraction),
+        }
+    }
 }
 
 /// Builds the period map for the model at one frequency (exact or Runge-Kutta).
@@ -118,6 +136,32 @@ pub struct SweepPlan {
     pub opts: SteadyOptions,
 }
 
+/// Steady states of `models` in order, each integrated from the first section point of the
+/// previous one's steady state (the first from `x0`): the procedure behind Fig. 13, which follows
+/// one branch and misses the states it does not lead to.
+pub fn carry(
+    factory: FlowFactory<'_>,
+    models: &[GearPair],
+    x0: State,
+    opts: &SteadyOptions,
+    progress: &dyn Progress,
+) -> Result<Vec<SteadyState>> {
+    progress.start(models.len() as u64, "carried steady states");
+    let mut x = x0;
+    let mut out = Vec::with_capacity(models.len());
+    for m in models {
+        let flow = factory(m)?;
+        let steady = steady_state(flow.as_ref(), x, opts)?;
+        if let Some(p) = steady.poincare.first() {
+            x = *p;
+        }
+        out.push(steady);
+        progress.advance(1);
+    }
+    progress.finish();
+    Ok(out)
+}
+
 /// Sweep `model` over the plan's frequencies along its branch.
 pub fn sweep(
     factory: FlowFactory<'_>,
@@ -128,39 +172,38 @@ pub fn sweep(
     let mut out = Vec::new();
     match plan.branch {
         Branch::Up | Branch::Down => {
-            progress.start(plan.omegas.len() as u64, "frequencies");
             let mut ordered = plan.omegas.clone();
             if plan.branch == Branch::Down {
                 ordered.reverse();
             }
-            let mut x = plan.x0;
-            for om in ordered {
-                let flow = factory(&model.at_omega(om)?)?;
-                let steady = steady_state(flow.as_ref(), x, &plan.opts)?;
-                // Carry the phase-0 state of this steady state to the next frequency.
-                if let Some(p) = steady.poincare.first() {
-                    x = *p;
-                }
-                out.push(SweepPoint {
-                    omega: om,
-                    branch: plan.branch,
-                    steady,
-                    basin_fraction: None,
-                });
-                progress.advance(1);
-            }
-            progress.finish();
+            let models = ordered
+                .iter()
+                .map(|&om| model.at_omega(om))
+                .collect::<Result<Vec<_>>>()?;
+            let states = carry(factory, &models, plan.x0, &plan.opts, progress)?;
+            out.extend(
+                ordered
+                    .into_iter()
+                    .zip(states)
+                    .map(|(om, steady)| SweepPoint {
+                        omega: om,
+                        branch: plan.branch,
+                        steady,
+                        basin_fraction: None,
+                        kind: None,
+                        escape_rate: None,
+                    }),
+            );
         }
         Branch::All => {
             for &om in &plan.omegas {
                 let flow = factory(&model.at_omega(om)?)?;
                 let map = find_attractors(flow.as_ref(), &plan.grid, &plan.opts, progress)?;
-                out.extend(map.attractors.into_iter().map(|a| SweepPoint {
-                    omega: om,
-                    branch: Branch::All,
-                    steady: a.steady,
-                    basin_fraction: Some(a.basin_fraction),
-                }));
+                out.extend(
+                    map.attractors
+                        .into_iter()
+                        .map(|a| SweepPoint::from_attractor(om, a)),
+                );
             }
         }
     }

@@ -11,8 +11,12 @@
 //! | `superposition` | Figs 26, 27 | simulation sweeps, three STE harmonics (eq. 20) |
 //! | `superposition-hb` | Fig. 28 | df-exact per harmonic, superposed with phases; AFT simultaneous |
 //! | `combined` | Fig. 29 | AFT, torque at Omega_T and STE at Omega_h = 2 Omega_T |
+//!
+//! [`escape_study`] (not one of the paper's: issue 23) follows Fig. 4's chaos for 40,000 periods
+//! with both integrators; `geardyn escape` runs it.
 
 mod combined;
+mod escape;
 mod excitation;
 pub mod figures;
 mod output;
@@ -20,6 +24,7 @@ mod parametric;
 mod superposition;
 mod superposition_hb;
 
+pub use escape::{escape_study, write_escape_study, EscapeStudy, EscapeStudyOptions};
 pub use figures::Figure;
 pub use output::{write_outputs, StudyOutput, StudyRow};
 

@@ -4,7 +4,7 @@
 use super::figures::{case_markers, panel, Figure};
 use super::output::{StudyOutput, StudyRow};
 use crate::error::Result;
-use crate::hb::{df_response, transition_frequencies, DfMethod, DfSolution};
+use crate::hb::{df_response, response_ranges, transition_frequencies, DfMethod, DfSolution};
 use crate::model::Impact;
 
 /// Frequency range of Figs 15-18.
@@ -93,23 +93,8 @@ pub(crate) fn damping(n: usize) -> Result<StudyOutput> {
 /// case I solutions with eq. 13.
 fn summarize(c: &Case, sols: &[DfSolution], omegas: &[f64]) -> Result<serde_json::Value> {
     let (t1, t2) = transition_frequencies(c.fm, c.fah, c.zeta)?;
-    let per_omega = |w: f64| sols.iter().filter(|s| s.omega == w).count();
-    let multi: Vec<f64> = omegas
-        .iter()
-        .copied()
-        .filter(|&w| per_omega(w) > 1)
-        .collect();
-    let max_count = omegas.iter().map(|&w| per_omega(w)).max().unwrap_or(0);
-    let span = |imp: Impact| {
-        let ws: Vec<f64> = sols
-            .iter()
-            .filter(|s| s.case == imp)
-            .map(|s| s.omega)
-            .collect();
-        let lo = ws.iter().copied().fold(f64::INFINITY, f64::min);
-        let hi = ws.iter().copied().fold(f64::NEG_INFINITY, f64::max);
-        (!ws.is_empty()).then_some([lo, hi])
-    };
+    let r = response_ranges(sols, omegas);
+    let pair = |x: Option<(f64, f64)>| x.map(|(a, b)| [a, b]);
     let eq13_err = sols
         .iter()
         .filter(|s| s.case == Impact::None)
@@ -122,11 +107,11 @@ fn summarize(c: &Case, sols: &[DfSolution], omegas: &[f64]) -> Result<serde_json
     Ok(serde_json::json!({
         "fm": c.fm, "fah": c.fah, "zeta": c.zeta, "force_ratio": c.fm / c.fah,
         "eq14_transitions": [t1, t2],
-        "max_solutions_per_omega": max_count,
-        "multivalued_omega_range": multi.first().zip(multi.last()).map(|(a, b)| [*a, *b]),
-        "case_i_omega_range": span(Impact::None),
-        "case_ii_omega_range": span(Impact::Single),
-        "case_iii_omega_range": span(Impact::Double),
+        "max_solutions_per_omega": r.max_solutions,
+        "multivalued_omega_range": pair(r.multivalued),
+        "case_i_omega_range": pair(r.case_i),
+        "case_ii_omega_range": pair(r.case_ii),
+        "case_iii_omega_range": pair(r.case_iii),
         "case_i_max_abs_diff_from_eq13": eq13_err,
         "peak": peak.map(|p| serde_json::json!({"omega": p.omega, "qa": p.qa, "case": p.case.case()})),
     }))
