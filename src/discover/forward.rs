@@ -124,8 +124,8 @@ pub struct CurvePrediction {
     pub separated: Vec<bool>,
     /// The back flanks touch somewhere in the period (q_min < -1, double-sided impacts).
     pub back_contact: Vec<bool>,
-    /// Phase-0 section state where no period up to 32 was found (chaotic or aperiodic): the
-    /// start of the analysed window, from which [`aperiodic_pp_range`] samples later ones.
+    /// Phase-0 section state from which [`aperiodic_pp_range`] samples observation windows at
+    /// the points that are not period-1 ([`window_starts`]).
     pub aperiodic_start: Vec<Option<State>>,
 }
 
@@ -187,23 +187,33 @@ pub fn predict(
         period1: pts.iter().map(|p| p.steady.period == Some(1)).collect(),
         separated: pts.iter().map(|p| p.steady.q_min < 1.0).collect(),
         back_contact: pts.iter().map(|p| p.steady.q_min < -1.0).collect(),
-        aperiodic_start: pts
-            .iter()
-            .map(|p| {
-                p.steady
-                    .period
-                    .is_none()
-                    .then(|| p.steady.poincare.first().copied())
-                    .flatten()
-            })
-            .collect(),
+        aperiodic_start: window_starts(&pts),
     })
 }
 
+/// Where the observation windows of each sweep point start: where no period up to 32 was
+/// found (chaotic or aperiodic), the start of the analysed window; at a subharmonic point, the
+/// state the sweep arrived with from the speed before. A measurement at such a point can show
+/// the motion on its way to the orbit, and that way can be a chaotic transient of thousands of
+/// periods: at 945 N, 4350-4425 rpm on Munro's stand-in the steady-state search finds a
+/// period-6 orbit while the sweep's own motion stays chaotic for thousands of periods, and
+/// the stand-in's data, made with the truth's parameters, show 83 um there, beyond every
+/// window of the orbit (75 um). None at period-1 points and at a sweep's first point.
+fn window_starts(pts: &[crate::sim::SweepPoint]) -> Vec<Option<State>> {
+    pts.iter()
+        .enumerate()
+        .map(|(k, p)| match p.steady.period {
+            Some(1) => None,
+            None => p.steady.poincare.first().copied(),
+            Some(_) => k.checked_sub(1).map(|j| pts[j].steady.end),
+        })
+        .collect()
+}
+
 /// Smallest and largest pp DTE (um) over [`SPREAD_WINDOWS`] consecutive observation windows of
-/// the analysed length, at each non-periodic point of `pred` (the prediction of
-/// `setup.curves[i]` with these parameters); `None` at periodic points, whose pp every window
-/// repeats. The first window is the predicted pp itself.
+/// the analysed length, at each point of `pred` that is not period-1 (the prediction of
+/// `setup.curves[i]` with these parameters), from its window start ([`window_starts`]);
+/// `None` at period-1 points, whose pp every window repeats.
 pub fn aperiodic_pp_range(
     setup: &Setup,
     i: usize,

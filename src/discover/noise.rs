@@ -405,13 +405,12 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
 mod tests {
     use super::*;
 
+    /// Speeds, residuals, levels and mask of a test set.
+    type TestSet = (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<bool>>);
+
     /// Residuals drawn from a model on a resonance-like level curve over `curves` curves of an
     /// uneven speed grid, with a smooth misfit `misfit(x)` added.
-    fn set(
-        truth: NoiseModel,
-        seed: u64,
-        misfit: impl Fn(f64) -> f64,
-    ) -> (Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<f64>>, Vec<Vec<bool>>) {
+    fn set(truth: NoiseModel, seed: u64, misfit: impl Fn(f64) -> f64) -> TestSet {
         let mut rng = Rng::new(seed);
         let mut speeds = Vec::new();
         let mut residuals = Vec::new();

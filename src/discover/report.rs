@@ -283,7 +283,7 @@ fn excluded_text(d: &Discovery) -> String {
     let mut s = String::new();
     for e in &d.excluded_by_load {
         s.push_str(&format!(
-            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {:.1}-{:.1} um, M0 predicted {:.1}-{:.1} um and {:.1}-{:.1} um over 32 observation windows at its non-periodic points, {} measured far outside M0's range\n",
+            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {:.1}-{:.1} um, M0 predicted {:.1}-{:.1} um and {:.1}-{:.1} um over 32 observation windows at its points that are not period-1, {} measured far outside M0's range\n",
             e.load_n,
             e.points,
             e.non_period1,

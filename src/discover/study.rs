@@ -265,7 +265,7 @@ pub fn run_study(
         let true_phase = hidden.has_phase().then(|| {
             if opts.random_phase {
                 // Its own stream, so that the noise of seed k is the same with or without it.
-                2.0 * std::f64::consts::PI * Rng::new(seed ^ 0x5eed_0f_9a5e).uniform()
+                2.0 * std::f64::consts::PI * Rng::new(seed ^ 0x005e_ed0f_9a5e).uniform()
             } else {
                 0.0
             }
