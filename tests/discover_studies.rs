@@ -98,3 +98,43 @@ fn stiffness_variation_at_random_phases_is_named_and_covered() {
 fn second_ste_harmonic_at_random_phases_is_named_and_covered() {
     recovered("ste_harmonics", "relative");
 }
+
+/// A second STE harmonic of 40% (phase 0) on Munro's 50 rpm grid with constant noise, the set
+/// `geardyn bench --discover-refit` times: named, 0.4 inside its interval. With the probes'
+/// gains computed on clipped residuals its dictionary LR was 0 and the answer "unexplained".
+#[test]
+#[ignore = "slow study: cargo test --release --test discover_studies -- --ignored"]
+fn strong_second_ste_harmonic_on_munros_grid_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let set = tmp.path().join("set");
+    let out = tmp.path().join("out");
+    let s = set.to_str().unwrap();
+    let o = geardyn(&[
+        "synth",
+        "munro",
+        "--ste2-ratio",
+        "0.4",
+        "--seed",
+        "1",
+        "--out",
+        s,
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = geardyn(&["discover", "--data", s, "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let d: Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("discovery.json")).unwrap())
+            .unwrap();
+    assert_eq!(d["effect"], "ste_harmonics", "{}", d["candidates"]);
+    let c = d["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == "ste_harmonics")
+        .unwrap();
+    let (lo, hi) = (
+        c["ci95"][0].as_f64().unwrap(),
+        c["ci95"][1].as_f64().unwrap(),
+    );
+    assert!(lo <= 0.4 && 0.4 <= hi, "[{lo}, {hi}]");
+}
