@@ -743,21 +743,16 @@ impl Refit<'_> {
                     self.scored_on(light, g, self.m0.ste_um[0], e, others0)
                 }
             })
-            .map(|starts| (g, starts))
         };
         let profiles: Vec<_> = PROFILE_ZETA_FACTORS
             .par_iter()
             .map(|&f| profile_at(f))
             .collect();
         let mut first_error = None;
-        let mut starts: Vec<(Globals, Vec<f64>)> = Vec::new();
+        let mut starts: Vec<Scored> = Vec::new();
         for p in profiles {
             match p {
-                Ok((g, s)) => starts.extend(
-                    s.into_iter()
-                        .take(PROFILE_STARTS_PER_ZETA)
-                        .map(|(d, _)| (g, d)),
-                ),
+                Ok(s) => starts.extend(s.into_iter().take(PROFILE_STARTS_PER_ZETA)),
                 Err(e) => {
                     first_error.get_or_insert(e);
                 }
@@ -770,15 +765,13 @@ impl Refit<'_> {
         }
         starts
             .par_iter()
-            .map(|(g0, d)| {
-                let (g0, effect) = (*g0, Effect::of(self.cand, d.clone()));
-                let start = if matched {
-                    self.matched_start(g0, &effect)?
-                } else {
-                    let (g1, ste1, effect) = self.design_stage(d, false)?;
-                    self.start_at(g1, ste1, &effect)?
-                };
-                self.all_loads(&start.0)
+            .map(|s| {
+                // A matched profile value is already the all-load stage's start.
+                if matched {
+                    return self.all_loads(&s.start);
+                }
+                let (g1, ste1, effect) = self.design_stage(&s.delta, false)?;
+                self.all_loads(&self.start_at(g1, ste1, &effect)?.0)
             })
             .collect()
     }
@@ -1007,7 +1000,7 @@ fn polar_profile(
     cand: Candidate,
     delta1: &[f64],
     score: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
-) -> Result<Vec<(Vec<f64>, f64)>> {
+) -> Result<Vec<Scored>> {
     let steps = (360.0 / PHASE_PROFILE_STEP_DEG).round() as usize;
     let a1 = delta1[0].hypot(delta1[1]);
     let mut amps = cand.profile_amplitudes().to_vec();
@@ -1040,20 +1033,17 @@ fn polar_profile(
         );
         v
     };
-    let refined = |start: &(Vec<f64>, f64)| -> (Vec<f64>, f64) {
-        scored_deltas(cand, refine(&start.0), score)
+    let refined = |start: &Scored| -> Scored {
+        scored_deltas(cand, refine(&start.delta), score)
             .ok()
-            .and_then(|r| r.into_iter().min_by(|a, b| a.1.total_cmp(&b.1)))
-            .filter(|r| r.1 < start.1)
+            .and_then(|r| r.into_iter().min_by(|a, b| a.rss.total_cmp(&b.rss)))
+            .filter(|r| r.rss < start.rss)
             .unwrap_or_else(|| start.clone())
     };
-    let lowest = |it: &mut dyn Iterator<Item = &(Vec<f64>, f64)>| {
-        it.min_by(|a, b| a.1.total_cmp(&b.1)).cloned()
-    };
-    let best = lowest(&mut scored.iter())
+    let best = lowest(scored.iter())
         .ok_or_else(|| GearError::Numerical("no profile value gives a finite residual".into()))?;
-    let best = refined(&best);
-    let best_delta = best.0.clone();
+    let best = refined(best);
+    let best_delta = best.delta.clone();
     let from_best = |d: &[f64]| Candidate::phase_distance(d, &best_delta);
     let mut starts = vec![best];
     let bin_width = PHASE_PROFILE_STEP_DEG.to_radians();
@@ -1062,13 +1052,13 @@ fn polar_profile(
             break;
         }
         // A minimum beside the best one is the best one's basin.
-        if from_best(&m.0) > 1.5 * bin_width {
-            starts.push(refined(&m));
+        if from_best(&m.delta) > 1.5 * bin_width {
+            starts.push(refined(m));
         }
     }
     if starts.len() == 1 {
         let apart = |d: &[f64]| from_best(d) > std::f64::consts::FRAC_PI_2;
-        starts.extend(lowest(&mut scored.iter().filter(|(d, _)| apart(d))).map(|o| refined(&o)));
+        starts.extend(lowest(scored.iter().filter(|s| apart(&s.delta))).map(refined));
     }
     Ok(starts)
 }
@@ -1094,39 +1084,48 @@ const PROFILE_BASINS: usize = 3;
 /// The local minima over the phase of a polar profile's `scored` values (each phase bin's
 /// lowest over the amplitudes; bins of [`PHASE_PROFILE_STEP_DEG`] from `phase0`, `steps` of
 /// them around the circle), lowest first.
-fn phase_minima(scored: &[(Vec<f64>, f64)], phase0: f64, steps: usize) -> Vec<(Vec<f64>, f64)> {
+fn phase_minima(scored: &[Scored], phase0: f64, steps: usize) -> Vec<&Scored> {
     let bin_width = std::f64::consts::TAU / steps as f64;
-    let mut bins: Vec<Option<&(Vec<f64>, f64)>> = vec![None; steps];
+    let mut bins: Vec<Option<&Scored>> = vec![None; steps];
     for v in scored {
-        let k = ((Candidate::first_phase(&v.0) - phase0) / bin_width)
+        let k = ((Candidate::first_phase(&v.delta) - phase0) / bin_width)
             .round()
             .rem_euclid(steps as f64) as usize
             % steps;
-        if bins[k].is_none_or(|b| v.1 < b.1) {
+        if bins[k].is_none_or(|b| v.rss < b.rss) {
             bins[k] = Some(v);
         }
     }
-    let at = |k: usize| bins[k % steps].map_or(f64::INFINITY, |b| b.1);
-    let mut minima: Vec<(Vec<f64>, f64)> = (0..steps)
+    let at = |k: usize| bins[k % steps].map_or(f64::INFINITY, |b| b.rss);
+    let mut minima: Vec<&Scored> = (0..steps)
         .filter_map(|k| {
             let here = bins[k]?;
-            (here.1 <= at(k + steps - 1) && here.1 <= at(k + 1)).then(|| here.clone())
+            (here.rss <= at(k + steps - 1) && here.rss <= at(k + 1)).then_some(here)
         })
         .collect();
-    minima.sort_by(|a, b| a.1.total_cmp(&b.1));
+    minima.sort_by(|a, b| a.rss.total_cmp(&b.rss));
     minima
 }
 
 /// Steps of the amplitude around the polar profile's best value, as factors.
 const AMPLITUDE_REFINE: [f64; 2] = [0.85, 1.15];
 
-/// `score`'s residual sum of squares at every delta of `deltas` (in parallel); values it
-/// rejects or scores as non-finite are left out, and it fails only when every value is.
+/// A profile value: the delta, the all-load start its score built, and the residual sum of
+/// squares (sigma^2) that scored it.
+#[derive(Clone, Debug)]
+struct Scored {
+    delta: Vec<f64>,
+    start: Vec<f64>,
+    rss: f64,
+}
+
+/// `score` at every delta of `deltas` (in parallel); values it rejects or scores as
+/// non-finite are left out, and it fails only when every value is.
 fn scored_deltas(
     cand: Candidate,
     deltas: Vec<Vec<f64>>,
     score: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
-) -> Result<Vec<(Vec<f64>, f64)>> {
+) -> Result<Vec<Scored>> {
     let all: Vec<(Vec<f64>, Result<ScoredStart>)> = deltas
         .into_par_iter()
         .map(|d| {
@@ -1136,9 +1135,9 @@ fn scored_deltas(
         .collect();
     let mut first_error = None;
     let mut out = Vec::new();
-    for (d, r) in all {
+    for (delta, r) in all {
         match r {
-            Ok((_, rss)) if rss.is_finite() => out.push((d, rss)),
+            Ok((start, rss)) if rss.is_finite() => out.push(Scored { delta, start, rss }),
             Ok(_) => {}
             Err(e) => {
                 first_error.get_or_insert(e);
@@ -1153,6 +1152,11 @@ fn scored_deltas(
     Ok(out)
 }
 
+/// The lowest of `scored` (the first of equals, in scan order).
+fn lowest<'a>(scored: impl Iterator<Item = &'a Scored>) -> Option<&'a Scored> {
+    scored.min_by(|a, b| a.rss.total_cmp(&b.rss))
+}
+
 /// The (delta, start) with the lowest score of `start_at` over `coarse`, then over
 /// `refine(best)` when a refinement scores lower. Ties keep the earlier value (scan order);
 /// values `start_at` rejects are skipped, and the profile fails only when it rejects them all.
@@ -1162,43 +1166,18 @@ fn best_of_profile(
     refine: &dyn Fn(&[f64]) -> Vec<Vec<f64>>,
     start_at: &(dyn Fn(&Effect) -> Result<ScoredStart> + Sync),
 ) -> Result<(Vec<f64>, Vec<f64>)> {
-    // The best (delta, start, rss) of `deltas`.
-    type Scored = (Vec<f64>, Vec<f64>, f64);
     let best_of = |deltas: Vec<Vec<f64>>| -> Result<Scored> {
-        let scored: Vec<(Vec<f64>, Result<ScoredStart>)> = deltas
-            .into_par_iter()
-            .map(|d| {
-                let r = start_at(&Effect::of(cand, d.clone()));
-                (d, r)
-            })
-            .collect();
-        let mut best: Option<Scored> = None;
-        let mut first_error = None;
-        for (d, r) in scored {
-            match r {
-                Ok((start, rss)) if rss.is_finite() => {
-                    if best.as_ref().is_none_or(|b| rss < b.2) {
-                        best = Some((d, start, rss));
-                    }
-                }
-                Ok(_) => {}
-                Err(e) => {
-                    first_error.get_or_insert(e);
-                }
-            }
-        }
-        best.ok_or_else(|| {
-            first_error.unwrap_or_else(|| {
-                GearError::Numerical("no probe value gives a finite residual".into())
-            })
-        })
+        let scored = scored_deltas(cand, deltas, start_at)?;
+        Ok(lowest(scored.iter())
+            .cloned()
+            .expect("scored_deltas is not empty"))
     };
     let coarse = best_of(coarse)?;
-    let best = match best_of(refine(&coarse.0)) {
-        Ok(fine) if fine.2 < coarse.2 => fine,
+    let best = match best_of(refine(&coarse.delta)) {
+        Ok(fine) if fine.rss < coarse.rss => fine,
         _ => coarse,
     };
-    Ok((best.0, best.1))
+    Ok((best.delta, best.start))
 }
 
 /// The decision from the refits so far, and what the report shows of it.
@@ -2179,7 +2158,7 @@ mod tests {
         let starts: Vec<Vec<f64>> = polar_profile(Candidate::SteHarmonics, &d1, &score)
             .unwrap()
             .into_iter()
-            .map(|s| s.0)
+            .map(|s| s.delta)
             .collect();
         let best = &starts[0];
         let deg = |x: f64, y: f64| y.atan2(x).to_degrees();
@@ -2219,7 +2198,7 @@ mod tests {
         let starts = polar_profile(Candidate::MeshStiffnessVariation, &d1, &score).unwrap();
         let deg: Vec<f64> = starts
             .iter()
-            .map(|(d, _)| d[1].atan2(d[0]).to_degrees())
+            .map(|s| s.delta[1].atan2(s.delta[0]).to_degrees())
             .collect();
         assert_eq!(deg.len(), 3, "{deg:?}");
         for (got, want) in deg.iter().zip([100.0, -110.0, 10.0]) {
