@@ -494,6 +494,22 @@ fn table() -> Vec<Case> {
             "mesh --rig rig.toml --load-n 945 --tip-relief-um 10 --samples 1000000000 --out out",
             "--samples",
         ),
+        cli(
+            "sweep --excitation geometry without a rig",
+            &format!("sweep {M} --omega 0.5 --excitation geometry --out out"),
+            "--excitation geometry needs --rig",
+        ),
+        cli(
+            "sweep --tip-relief-um without --excitation geometry",
+            &format!("sweep {M} --omega 0.5 --tip-relief-um 10 --out out"),
+            "--tip-relief-um applies to --excitation geometry only",
+        ),
+        case(
+            "sweep --excitation geometry with --ste-um",
+            "sweep --rig data/rig.toml --zeta 0.02 --omega-n-hz 1600 --ste-um 2 --excitation geometry --speed-rpm 1000 --out out",
+            "--ste-um and --excitation geometry both give the STE",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
+        ),
         // Output paths of the wrong kind: named, with what was expected, before any work.
         case(
             "simulate --out FILE",

@@ -4,6 +4,7 @@ use super::attractor_report;
 use super::common::{
     print_json, print_text, unsettled_warning, with_omega, EscapeArgs, SolverArgs,
 };
+use super::geometry_excitation::ExcitationArgs;
 use super::model_args::{Frequency, ModelArgs};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
@@ -14,6 +15,8 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
+    #[command(flatten)]
+    excitation: ExcitationArgs,
     #[command(flatten)]
     frequency: Frequency,
     /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
@@ -31,7 +34,7 @@ pub struct Args {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
+    let (m, omega, model) = a.model.at_frequency_with(&a.frequency, &a.excitation)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);

@@ -5,6 +5,7 @@ use super::common::{
     check_out_dir, commit, print_text, stage, unsettled_warning, with_omega, write_text,
     EscapeArgs, SolverArgs,
 };
+use super::geometry_excitation::ExcitationArgs;
 use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
@@ -18,6 +19,8 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
+    #[command(flatten)]
+    excitation: ExcitationArgs,
     #[command(flatten)]
     frequency: Frequency,
     /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
@@ -36,7 +39,7 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
-    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
+    let (m, omega, model) = a.model.at_frequency_with(&a.frequency, &a.excitation)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);

@@ -136,7 +136,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "{caption}, {}x{} ICs, {}",
             grid.n,
             grid.n,
-            a.solver.integrator_name()
+            a.solver.integrator_name(&opts.model(opts.values[0])?)
         ),
     );
     let (points, marks) = bifurcation_csv(&b);

@@ -21,9 +21,10 @@ pub struct SolverArgs {
           value_parser = whole(1..=geardyn::sim::MAX_KEEP))]
     pub keep: usize,
     /// Integrator: the exact piecewise solution (k = 1) or the adaptive DOP853 with event location
-    /// (any model; the independent cross-check).
-    #[arg(long, value_enum, default_value_t = Integrator::Exact)]
-    pub integrator: Integrator,
+    /// (any model; the independent cross-check). Default: exact, or DOP853 where the mesh
+    /// stiffness varies (--excitation geometry).
+    #[arg(long, value_enum)]
+    pub integrator: Option<Integrator>,
     /// Relative tolerance of DOP853 (dimensionless), in [1e-14, 0.01] (1e-10 gives Poincaré
     /// points to ~1e-9).
     #[arg(long, default_value_t = 1e-10, allow_hyphen_values = true,
@@ -97,15 +98,26 @@ impl SolverArgs {
     pub fn factory(&self) -> impl Fn(&GearPair) -> geardyn::Result<Box<dyn PeriodFlow>> + Sync {
         let (integrator, rtol) = (self.integrator, self.rtol);
         move |m: &GearPair| -> geardyn::Result<Box<dyn PeriodFlow>> {
-            match integrator {
+            match Self::chosen(integrator, m) {
                 Integrator::Exact => Ok(Box::new(ExactFlow::new(m)?)),
                 Integrator::Dop853 => Ok(Box::new(RkFlow::new(m, rtol)?)),
             }
         }
     }
 
-    pub fn integrator_name(&self) -> &'static str {
-        match self.integrator {
+    /// The integrator given, else the exact solver unless `m`'s stiffness varies (which only
+    /// DOP853 integrates).
+    fn chosen(given: Option<Integrator>, m: &GearPair) -> Integrator {
+        given.unwrap_or(if m.stiffness.is_empty() {
+            Integrator::Exact
+        } else {
+            Integrator::Dop853
+        })
+    }
+
+    /// The integrator used for `m`, for captions.
+    pub fn integrator_name(&self, m: &GearPair) -> &'static str {
+        match Self::chosen(self.integrator, m) {
             Integrator::Exact => "exact",
             Integrator::Dop853 => "dop853",
         }

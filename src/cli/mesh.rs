@@ -2,17 +2,18 @@
 //! harmonics and the Harris map as CSV, PNG and SVG, and a JSON summary.
 
 use super::common::{check_out_dir, print_text};
-use super::limits::{real, whole};
+use super::geometry_excitation::ReliefArgs;
+use super::limits::whole;
 use anyhow::Context;
-use clap::{Args as ClapArgs, ValueEnum};
+use clap::Args as ClapArgs;
 use geardyn::data::load_rig_with_geometry;
-use geardyn::mesh::{analyse, MeshAnalysis, MeshOptions, ReliefChoice, ReliefShape};
+use geardyn::mesh::{analyse, MeshAnalysis, MeshOptions, ReliefChoice};
 use geardyn::plot::{write_panels, write_xy, Marker, Series, XyPlot};
 use geardyn::report::Staged;
 use std::path::{Path, PathBuf};
 
 #[derive(ClapArgs, Debug)]
-#[command(group(clap::ArgGroup::new("relief").required(true)
+#[command(group(clap::ArgGroup::new("relief_depth").required(true)
     .args(["tip_relief_um", "tip_relief_design_load_n"])))]
 pub struct Args {
     /// The rig file (rig.toml): [rig] and the optional [geometry] table.
@@ -21,20 +22,8 @@ pub struct Args {
     /// Loads in newtons: START:STOP:STEP, or one value.
     #[arg(long = "load-n", allow_hyphen_values = true)]
     load_n: String,
-    /// Tip relief depth in µm on both gears (0: none), in [0, 1000].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, false))]
-    tip_relief_um: Option<f64>,
-    /// Size the tip relief depth for minimum STE peak-to-peak at this load (Harris's rule), N,
-    /// in (0, 1e8].
-    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1e8, true))]
-    tip_relief_design_load_n: Option<f64>,
-    /// Relief length along the line of action, mm, in (0, 1000] (default: Harris's long
-    /// relief, the double-contact stretch (eps_alpha - 1) p_b).
-    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
-    relief_length_mm: Option<f64>,
-    /// Relief shape.
-    #[arg(long, value_enum, default_value_t = Shape::Linear)]
-    relief_shape: Shape,
+    #[command(flatten)]
+    relief: ReliefArgs,
     /// Mesh positions per mesh period, 16 to 16384.
     #[arg(long, default_value_t = 256, allow_hyphen_values = true, value_parser = whole(16..=16_384))]
     samples: usize,
@@ -47,12 +36,6 @@ pub struct Args {
     /// Folder for mesh.json, the CSV files and the figures (replaced as a whole).
     #[arg(long, default_value = "reports/mesh")]
     out: PathBuf,
-}
-
-#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
-enum Shape {
-    Linear,
-    Parabolic,
 }
 
 /// START:STOP:STEP or one value, as a list of loads (validated by the library).
@@ -91,19 +74,16 @@ fn parse_loads(text: &str) -> anyhow::Result<Vec<f64>> {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let loads = parse_loads(&a.load_n)?;
-    let shape = match a.relief_shape {
-        Shape::Linear => ReliefShape::Linear,
-        Shape::Parabolic => ReliefShape::Parabolic,
-    };
-    let relief = match (a.tip_relief_um, a.tip_relief_design_load_n) {
+    let shape = a.relief.shape();
+    let relief = match (a.relief.tip_relief_um, a.relief.tip_relief_design_load_n) {
         (Some(amount_um), None) => ReliefChoice::Given {
             amount_um,
-            length_mm: a.relief_length_mm,
+            length_mm: a.relief.relief_length_mm,
             shape,
         },
         (None, Some(load_n)) => ReliefChoice::DesignLoad {
             load_n,
-            length_mm: a.relief_length_mm,
+            length_mm: a.relief.relief_length_mm,
             shape,
         },
         _ => anyhow::bail!("give one of --tip-relief-um or --tip-relief-design-load-n"),
@@ -115,7 +95,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         * loads
             .iter()
             .copied()
-            .chain(a.tip_relief_design_load_n)
+            .chain(a.relief.tip_relief_design_load_n)
             .chain([rig.design_load_n])
             .fold(0.0, f64::max);
     let harris_loads: Vec<f64> = (1..=60).map(|i| top * i as f64 / 60.0).collect();

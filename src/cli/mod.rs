@@ -13,6 +13,7 @@ mod discover;
 mod discover_study;
 mod escape;
 mod examples;
+mod geometry_excitation;
 mod hbm;
 mod init_data;
 mod limits;

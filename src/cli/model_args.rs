@@ -2,12 +2,14 @@
 //! --omega`, the paper's eq. 5), or in the rig's units (`--rig rig.toml --load-n --ste-um --zeta
 //! --omega-n-hz --speed-rpm`), converted by the library's `OperatingPoint` (paper Sec. 2.1).
 
+use super::geometry_excitation::ExcitationArgs;
 use super::limits::{check_range, real, FAH, FM, OMEGA, ZETA};
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::data::{load_gear_pair, MAX_DTE_UM, MAX_LOAD_N};
-use geardyn::model::{Dimensional, GearPair, OperatingPoint};
+use geardyn::data::{load_gear_pair, load_rig_with_geometry, MAX_DTE_UM, MAX_LOAD_N};
+use geardyn::model::{Dimensional, GearPair, OperatingPoint, Term};
 use geardyn::sim::to_significant;
+use geardyn::validate::{GearMesh, GeometryOperatingPoint, GeometryOptions, StiffnessChoice};
 use std::path::PathBuf;
 
 /// Parameters of eq. 5, dimensionless or in the rig's units.
@@ -72,6 +74,19 @@ pub struct Model {
     pub rig: Option<OperatingPoint>,
     /// Where zeta and f_n came from (an option or rig.toml), for the printed conversion.
     origins: Vec<String>,
+    /// With `--excitation geometry`: the model at Omega = 1 with the geometry's STE and
+    /// stiffness harmonics, and how they were made.
+    geometry: Option<GeometryExcitation>,
+}
+
+/// The excitation of `--excitation geometry`, made by the library's tooth-contact model.
+#[derive(Clone, Debug)]
+struct GeometryExcitation {
+    pair: GearPair,
+    point: GeometryOperatingPoint,
+    stiffness: StiffnessChoice,
+    relief_rule: String,
+    harmonics: usize,
 }
 
 /// A value from its option, else from rig.toml's `[rig] rig_key`, else an error naming both;
@@ -120,6 +135,7 @@ impl ModelArgs {
                 zeta: self.zeta.context("--zeta is required")?,
                 rig: None,
                 origins: Vec::new(),
+                geometry: None,
             });
         };
         let (rig_table, ste_table) = load_gear_pair(path)?;
@@ -166,6 +182,93 @@ impl ModelArgs {
             zeta,
             rig: Some(op),
             origins,
+            geometry: None,
+        })
+    }
+
+    /// As [`ModelArgs::resolve`], with the excitation of `excitation`: with `--excitation
+    /// geometry` the STE harmonics and the mesh stiffness come from rig.toml's gears.
+    pub fn resolve_with(&self, excitation: &ExcitationArgs) -> anyhow::Result<Model> {
+        if !excitation.uses_geometry()? {
+            return self.resolve();
+        }
+        let Some(path) = &self.rig else {
+            anyhow::bail!("--excitation geometry needs --rig rig.toml (the gears are in it)");
+        };
+        if self.ste_um.is_some() {
+            anyhow::bail!(
+                "--ste-um and --excitation geometry both give the STE: leave out --ste-um (the \
+                 tooth-contact model gives it) or use --excitation rig"
+            );
+        }
+        let (rig_file, geometry) = load_rig_with_geometry(path)?;
+        let rig = &rig_file.rig;
+        let mut origins = Vec::new();
+        let zeta = option_or_rig(
+            (self.zeta, "--zeta"),
+            (rig.zeta, "zeta"),
+            ZETA,
+            &mut origins,
+        )?;
+        let f_n = option_or_rig(
+            (self.omega_n_hz, "--omega-n-hz"),
+            (rig.omega_n_hz, "omega_n_hz"),
+            OMEGA_N_HZ,
+            &mut origins,
+        )?;
+        let load = self.load_n.unwrap_or(rig.design_load_n);
+        let r = &excitation.relief;
+        let options = GeometryOptions {
+            relief_length_mm: r.relief_length_mm,
+            relief_shape: r.shape(),
+            ..GeometryOptions::design_rule(geometry)
+        };
+        let mesh = GearMesh::new(rig, &options)
+            .with_context(|| format!("the gear geometry of {}", path.display()))?;
+        let (relief_um, relief_rule) = match (r.tip_relief_um, r.tip_relief_design_load_n) {
+            (Some(a), _) => (a, "given".to_string()),
+            (None, design) => {
+                let at = design.unwrap_or(rig.design_load_n);
+                (
+                    mesh.design_rule_um(at)?,
+                    format!("sized for minimum STE pp at {at} N"),
+                )
+            }
+        };
+        let stiffness = excitation.stiffness();
+        let point = mesh.operating_point(
+            rig,
+            load,
+            relief_um,
+            excitation.ste_harmonics as u32,
+            stiffness,
+            zeta,
+            f_n,
+        )?;
+        let op = point.op.clone();
+        let (fm, fah) = (op.mean_force(), op.ste_amplitude());
+        check_range("--load-n", "gives F_m", fm, FM)?;
+        check_range("--excitation geometry", "gives F_ah", fah, FAH)?;
+        let fat = op.dim.mean_force(self.torque_n.unwrap_or(0.0));
+        check_range("--torque-n", "gives F_aT", fat, FAH)?;
+        let mut pair = point.model.clone();
+        if fat > 0.0 {
+            pair.torque = vec![Term::new(1, fat)];
+        }
+        Ok(Model {
+            fm,
+            fah,
+            fat,
+            zeta,
+            rig: Some(op),
+            origins,
+            geometry: Some(GeometryExcitation {
+                pair,
+                point,
+                stiffness,
+                relief_rule,
+                harmonics: excitation.ste_harmonics,
+            }),
         })
     }
 }
@@ -174,7 +277,23 @@ impl ModelArgs {
     /// The model at the one frequency of `f`: resolved, its conversion printed (rig units) and
     /// checked, before any work.
     pub fn at_frequency(&self, f: &Frequency) -> anyhow::Result<(Model, f64, GearPair)> {
-        let m = self.resolve()?;
+        self.model_at_frequency(self.resolve()?, f)
+    }
+
+    /// As [`ModelArgs::at_frequency`], with the excitation of `excitation`.
+    pub fn at_frequency_with(
+        &self,
+        f: &Frequency,
+        excitation: &ExcitationArgs,
+    ) -> anyhow::Result<(Model, f64, GearPair)> {
+        self.model_at_frequency(self.resolve_with(excitation)?, f)
+    }
+
+    fn model_at_frequency(
+        &self,
+        m: Model,
+        f: &Frequency,
+    ) -> anyhow::Result<(Model, f64, GearPair)> {
         let omega = f.omega(&m)?;
         m.print_conversion(omega);
         let model = m.at(omega)?;
@@ -185,6 +304,9 @@ impl ModelArgs {
 impl Model {
     /// The paper's model (eq. 5, with eq. 4's torque when F_aT > 0) at frequency `omega`.
     pub fn at(&self, omega: f64) -> anyhow::Result<GearPair> {
+        if let Some(g) = &self.geometry {
+            return Ok(g.pair.at_omega(omega)?);
+        }
         Ok(GearPair::excited(
             self.fm, self.fah, self.fat, self.zeta, omega,
         )?)
@@ -211,6 +333,11 @@ impl Model {
                     self.fat
                 );
             }
+            if let Some(g) = &self.geometry {
+                for line in g.lines() {
+                    eprintln!("{line}");
+                }
+            }
             if !self.origins.is_empty() {
                 eprintln!("  ({})", self.origins.join("; "));
             }
@@ -229,16 +356,19 @@ impl Model {
     pub fn caption(&self) -> String {
         match &self.rig {
             Some(op) => format!(
-                "load {} N, ē {} µm{}, ζ {}, f_n {} Hz",
+                "load {} N, {}{}, ζ {}, f_n {} Hz",
                 op.load_n,
-                op.ste_um,
+                match &self.geometry {
+                    Some(g) => g.caption(),
+                    None => format!("ē {} µm", op.ste_um),
+                },
                 if self.fat > 0.0 {
                     format!(", torque {} N", num(self.torque_n()))
                 } else {
                     String::new()
                 },
                 op.zeta,
-                op.omega_n_hz
+                num(op.omega_n_hz)
             ),
             None => format!(
                 "F_m {}, F_ah {}{}, ζ {}",
@@ -268,7 +398,92 @@ impl Model {
             v["mesh_stiffness_source"] = op.dim.stiffness_source.tag().into();
             v["pinion_teeth"] = op.dim.pinion_teeth.into();
         }
+        if let Some(g) = &self.geometry {
+            v["excitation"] = g.json();
+        }
         v
+    }
+}
+
+impl GeometryExcitation {
+    /// The excitation in words, after the conversion: the relief and every harmonic.
+    fn lines(&self) -> Vec<String> {
+        let p = &self.point;
+        let mut out = vec![format!(
+            "  excitation from the gear geometry (geardyn mesh) at {} N: tip relief {:.3} µm ({}), \
+             STE pp {:.3} µm, k_h(F) {:.1} N/µm, contact loss {:.1}% of the mesh period",
+            p.op.load_n,
+            p.relief_um,
+            self.relief_rule,
+            p.excitation.ste_pp_um,
+            p.excitation.mesh_stiffness_mean_n_per_um,
+            100.0 * p.excitation.contact_loss_fraction
+        )];
+        for s in self.pair.ste.iter().take(self.harmonics) {
+            let k = self
+                .pair
+                .stiffness
+                .iter()
+                .find(|k| k.order == s.order)
+                .map_or(String::new(), |k| {
+                    format!(
+                        ", ε_{} = {:.5}, ψ_{} = {:.4} rad",
+                        k.order, k.amplitude, k.order, k.phase
+                    )
+                });
+            out.push(format!(
+                "    F_ah{} = {:.6} (ē_{} = {:.4} µm), φ_{} = {:.4} rad{k}",
+                s.order,
+                s.amplitude,
+                s.order,
+                p.op.micrometres(s.amplitude),
+                s.order,
+                s.phase
+            ));
+        }
+        let rest = &self.pair.ste[self.harmonics.min(self.pair.ste.len())..];
+        if let Some(largest) = rest.iter().map(|s| s.amplitude).reduce(f64::max) {
+            out.push(format!(
+                "    and orders {} to {} (the static deflection's harmonics above the stiffness's, \
+                 each at most {:.4} µm): the excitation of a time-varying k(t) is the STE less \
+                 the deflection F̄_m / k(t) the model makes itself",
+                rest[0].order,
+                rest[rest.len() - 1].order,
+                p.op.micrometres(largest)
+            ));
+        }
+        out
+    }
+
+    /// For plot captions.
+    fn caption(&self) -> String {
+        format!(
+            "excitation from geometry (relief {:.1} µm, {} harmonics{})",
+            self.point.relief_um,
+            self.harmonics,
+            match self.stiffness {
+                StiffnessChoice::Geometry => ", k(t)",
+                StiffnessChoice::Constant => "",
+            }
+        )
+    }
+
+    fn json(&self) -> serde_json::Value {
+        let p = &self.point;
+        serde_json::json!({
+            "source": "geometry",
+            "relief_um": p.relief_um,
+            "relief_rule": self.relief_rule,
+            "mesh_stiffness": match self.stiffness {
+                StiffnessChoice::Geometry => "geometry",
+                StiffnessChoice::Constant => "constant",
+            },
+            "ste_pp_um": p.excitation.ste_pp_um,
+            "loaded_mesh_stiffness_n_per_um": p.excitation.mesh_stiffness_mean_n_per_um,
+            "contact_loss_fraction": p.excitation.contact_loss_fraction,
+            "ste_terms": self.pair.ste,
+            "stiffness_terms": self.pair.stiffness,
+        })
     }
 }
 

@@ -1,6 +1,7 @@
 //! `geardyn simulate`: the steady state from one initial condition.
 
 use super::common::{check_out_dir, print_json, print_text, with_omega, SolverArgs};
+use super::geometry_excitation::ExcitationArgs;
 use super::limits::{real, STATE};
 use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
 use clap::Args as ClapArgs;
@@ -11,6 +12,8 @@ use serde_json::json;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
+    #[command(flatten)]
+    excitation: ExcitationArgs,
     #[command(flatten)]
     frequency: Frequency,
     /// Initial displacement q(0) = q̄(0) / b, dimensionless (half backlashes), in [-1e6, 1e6].
@@ -38,7 +41,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     if let Some(dir) = &a.out {
         check_out_dir("--out", dir)?;
     }
-    let (m, omega, model) = a.model.at_frequency(&a.frequency)?;
+    let (m, omega, model) = a.model.at_frequency_with(&a.frequency, &a.excitation)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
     opts.lyapunov = a.lyapunov;

@@ -1,6 +1,7 @@
 //! `geardyn sweep`: steady states over a frequency range (carried up/down, or all attractors).
 
 use super::common::{check_out_dir, commit, print_text, stage, EscapeArgs, SolverArgs};
+use super::geometry_excitation::ExcitationArgs;
 use super::limits::{real, STATE};
 use super::model_args::{FrequencyRange, ModelArgs};
 use super::progress_bar::Bar;
@@ -13,6 +14,8 @@ use std::path::PathBuf;
 pub struct Args {
     #[command(flatten)]
     model: ModelArgs,
+    #[command(flatten)]
+    excitation: ExcitationArgs,
     #[command(flatten)]
     frequencies: FrequencyRange,
     /// up / down carry the last steady state (Fig. 13); all searches the IC grid at each
@@ -74,7 +77,7 @@ enum Format {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
-    let m = a.model.resolve()?;
+    let m = a.model.resolve_with(&a.excitation)?;
     let omegas = a.frequencies.omegas(&m)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
     if a.direction == Direction::All && omegas.len() * grid.n * grid.n > MAX_ALL_ICS {
@@ -116,7 +119,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         "{}, sweep {}, integrator {}",
         m.caption(),
         a.direction.name(),
-        a.solver.integrator_name()
+        a.solver.integrator_name(&model)
     );
     let rows: Vec<ResponseRow> = points.iter().map(ResponseRow::from).collect();
     let stage = stage("--out", &a.out)?;

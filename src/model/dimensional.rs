@@ -39,6 +39,12 @@ pub enum StiffnessSource {
         /// Transverse contact ratio eps_alpha used.
         contact_ratio: f64,
     },
+    /// The mean loaded mesh stiffness k_h(F) of the tooth-contact model (`crate::mesh`) at a
+    /// load.
+    Geometry {
+        /// The load, N.
+        load_n: f64,
+    },
 }
 
 impl StiffnessSource {
@@ -47,6 +53,7 @@ impl StiffnessSource {
         match self {
             StiffnessSource::Given => "rig_toml",
             StiffnessSource::Iso6336Estimate { .. } => "iso6336_estimate",
+            StiffnessSource::Geometry { .. } => "geometry",
         }
     }
 
@@ -60,6 +67,9 @@ impl StiffnessSource {
                 contact_ratio,
             } => format!(
                 "ISO 6336-1 estimate: c' = {c_prime_n_per_mm_um:.1} N/(mm um), c_gamma = c' (0.75 eps_alpha + 0.25) = {c_gamma_n_per_mm_um:.2} N/(mm um) at eps_alpha = {contact_ratio:.3}, times the face width"
+            ),
+            StiffnessSource::Geometry { load_n } => format!(
+                "mean loaded stiffness of the tooth-contact model at {load_n} N (geardyn mesh)"
             ),
         }
     }

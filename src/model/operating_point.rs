@@ -17,7 +17,7 @@ pub struct OperatingPoint {
     pub dim: Dimensional,
     /// Mean load F_bar_m transmitted by the mesh, N, in (0, 1e8].
     pub load_n: f64,
-    /// STE amplitude e_bar (half the peak-to-peak static transmission error), um, in (0, 1000].
+    /// STE amplitude e_bar (half the peak-to-peak static transmission error), um, in [0, 1000].
     pub ste_um: f64,
     /// Damping ratio zeta = c_h / (2 m_c omega_n), in (0, 1).
     pub zeta: f64,
@@ -45,8 +45,8 @@ impl OperatingPoint {
             (
                 "ste_um",
                 ste_um,
-                ste_um > 0.0 && ste_um <= MAX_DTE_UM,
-                "STE amplitude must be in (0, 1000] um",
+                (0.0..=MAX_DTE_UM).contains(&ste_um),
+                "STE amplitude must be in [0, 1000] um",
             ),
             (
                 "zeta",
@@ -120,6 +120,8 @@ impl OperatingPoint {
         let b_um = crate::sim::to_significant(self.dim.half_backlash_m * 1e6, 6);
         let k = crate::sim::to_significant(self.dim.mesh_stiffness_n_per_m * 1e-6, 6);
         let z = self.dim.pinion_teeth;
+        let ste_um = crate::sim::to_significant(self.ste_um, 6);
+        let f_n = crate::sim::to_significant(self.omega_n_hz, 8);
         vec![
             "Rig units to the dimensionless model (Kahraman & Singh 1990, Sec. 2.1):".to_string(),
             format!("  b    = backlash / 2 = {b_um} µm (half backlash)"),
@@ -133,15 +135,17 @@ impl OperatingPoint {
                 self.mean_force()
             ),
             format!(
-                "  F_ah = ē / b = {} µm / {b_um} µm = {:.6};  F̂ = F_m / F_ah = {:.4}",
-                self.ste_um,
+                "  F_ah = ē / b = {ste_um} µm / {b_um} µm = {:.6};  F̂ = F_m / F_ah = {}",
                 self.ste_amplitude(),
-                self.mean_force() / self.ste_amplitude()
+                if self.ste_um > 0.0 {
+                    format!("{:.4}", self.mean_force() / self.ste_amplitude())
+                } else {
+                    "∞ (no STE)".to_string()
+                }
             ),
             format!("  ζ    = c_h / (2 m_c ω_n) = {} (dimensionless)", self.zeta),
             format!(
-                "  Ω_h  = f_mesh / f_n, f_mesh = z₁ n / 60 = {z} n / 60, f_n = {} Hz: n = {} rpm gives f_mesh = {:.6} Hz, Ω_h = {:.6}",
-                self.omega_n_hz,
+                "  Ω_h  = f_mesh / f_n, f_mesh = z₁ n / 60 = {z} n / 60, f_n = {f_n} Hz: n = {} rpm gives f_mesh = {:.6} Hz, Ω_h = {:.6}",
                 example_rpm,
                 self.dim.mesh_frequency_hz(example_rpm),
                 self.omega(example_rpm)

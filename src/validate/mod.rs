@@ -16,7 +16,8 @@ pub use curve_metrics::{jump_location, min_max, rms, transition_location};
 pub use design_fit::{fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA};
 pub use fit_check::{fit_failure, FITTED_ZETA};
 pub use geometry_ste::{
-    GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
+    geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryModel,
+    GeometryOperatingPoint, GeometryOptions, ReliefRule, StiffnessChoice,
 };
 pub use kubo::{validate_kubo, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT};
 pub use linear::{

@@ -15,14 +15,14 @@ use super::design_fit::{
 };
 use super::fit_check::{fit_failed, fit_failure};
 use super::geometry_ste::{
-    GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule, StiffnessChoice,
+    geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule,
 };
 use super::linear::{stays_in_contact, stays_in_contact_harmonics};
 use super::synth::flow_with_rtol;
 use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel, Robust};
-use crate::model::{Dimensional, GearPair, Term};
+use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{find_attractors, sweep, Branch, IcGrid, SteadyOptions, SweepPlan};
 use rayon::prelude::*;
@@ -487,9 +487,8 @@ fn check_predictions(data: &MunroData, loads: Vec<LoadResult>) -> Result<Vec<Loa
     Ok(loads)
 }
 
-/// The model at one load from the geometry: F_ahj = e_j / b with phases phi_j; with the
-/// geometry's stiffness, F_m = F / (b k_h(F)), k(t) = 1 + sum eps_j cos(j W t + psi_j) and
-/// omega_n(F) = omega_n sqrt(k_h(F) / k_h(F_design)); else F_m = F / (b k_h) of the rig, k = 1.
+/// The model of one predicted load from the geometry ([`geometry_model`]), with its STE
+/// reported as the first harmonic e_1.
 fn geometry_excitation(
     dim: &Dimensional,
     exc: &GeometryExcitation,
@@ -498,48 +497,18 @@ fn geometry_excitation(
     wn: f64,
     k_design_n_per_um: f64,
 ) -> Result<LoadExcitation> {
-    let n = g.ste_harmonics as usize;
-    let ste: Vec<Term> = exc
-        .harmonics
-        .iter()
-        .take(n)
-        .map(|h| Term {
-            order: h.order,
-            amplitude: dim.ste_amplitude(h.ste_amplitude_um),
-            phase: h.ste_phase_rad,
-        })
-        .collect();
-    let (mean_force, stiffness, omega_n_hz) = match g.stiffness {
-        StiffnessChoice::Constant => (dim.mean_force(exc.load_n), Vec::new(), wn),
-        StiffnessChoice::Geometry => {
-            let k = exc.mesh_stiffness_mean_n_per_um;
-            (
-                exc.load_n / (dim.half_backlash_m * k * 1e6),
-                exc.harmonics
-                    .iter()
-                    .take(n)
-                    .map(|h| Term {
-                        order: h.order,
-                        amplitude: h.stiffness_eps,
-                        phase: h.stiffness_phase_rad,
-                    })
-                    .collect(),
-                wn * (k / k_design_n_per_um).sqrt(),
-            )
-        }
-    };
-    let model = GearPair {
+    let m = geometry_model(
+        dim,
+        exc,
+        g.ste_harmonics,
+        g.stiffness,
         zeta,
-        mean_force,
-        omega: 1.0,
-        ste,
-        torque: Vec::new(),
-        stiffness,
-    }
-    .validated()?;
+        wn,
+        k_design_n_per_um,
+    )?;
     Ok(LoadExcitation {
-        model,
-        omega_n_hz,
+        model: m.model,
+        omega_n_hz: m.omega_n_hz,
         ste_um: exc.ste_first_harmonic_um,
         ste_ci95_um: None,
         ste_source: SteSource::Geometry,
