@@ -52,6 +52,8 @@ struct Case {
 }
 
 const M: &str = "--fm 0.1 --fah 0.2 --zeta 0.02";
+const PROFILE_CMD: &str =
+    "mesh --rig data/rig.toml --load-n 945 --tip-relief-um 0 --profile-table data/c.csv --out out";
 const VALIDATE: &str = "validate munro --data data --fits fits --reports reports";
 
 fn case(name: &'static str, args: &str, needle: &str, setup: Setup) -> Case {
@@ -509,6 +511,39 @@ fn table() -> Vec<Case> {
             "sweep --rig data/rig.toml --zeta 0.02 --omega-n-hz 1600 --ste-um 2 --excitation geometry --speed-rpm 1000 --out out",
             "--ste-um and --excitation geometry both give the STE",
             Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
+        ),
+        case(
+            "profile table: unknown gear",
+            PROFILE_CMD,
+            "data/c.csv:2: field 'gear': 'wheel': expected pinion or gear",
+            Setup::Data("gear,diameter_mm,relief_um\nwheel,200,1\n".into(), RIG.to_string()),
+        ),
+        case(
+            "profile table: diameters not increasing",
+            PROFILE_CMD,
+            "data/c.csv:3: field 'diameter_mm'",
+            Setup::Data(
+                "gear,diameter_mm,relief_um\npinion,210,1\npinion,200,0\n".into(),
+                RIG.to_string(),
+            ),
+        ),
+        case(
+            "profile table: relief of 5 mm",
+            PROFILE_CMD,
+            "data/c.csv:2: field 'relief_um'",
+            Setup::Data(
+                "gear,diameter_mm,relief_um\npinion,190,5000\npinion,216,0\n".into(),
+                RIG.to_string(),
+            ),
+        ),
+        case(
+            "profile table short of the flank in contact",
+            PROFILE_CMD,
+            "extend the table",
+            Setup::Data(
+                "gear,diameter_mm,relief_um\npinion,200,0\npinion,210,3\n".into(),
+                RIG.to_string(),
+            ),
         ),
         // Output paths of the wrong kind: named, with what was expected, before any work.
         case(

@@ -5,7 +5,9 @@
 
 use super::limits::{real, whole};
 use clap::{Args as ClapArgs, ValueEnum};
+use geardyn::data::{load_profile_table, ProfilePoints};
 use geardyn::mesh::ReliefShape;
+use std::path::PathBuf;
 
 /// A tip relief: its depth (given, or sized by Harris's rule for a load), length and shape.
 #[derive(ClapArgs, Debug, Clone)]
@@ -25,6 +27,11 @@ pub struct ReliefArgs {
     /// Relief shape.
     #[arg(long, value_enum)]
     pub relief_shape: Option<Shape>,
+    /// Profile modification of each flank point by point, a CSV table `gear,diameter_mm,
+    /// relief_um` (a measured deviation or a drawn modification; docs/data-format.md), added to
+    /// the tip relief (--tip-relief-um 0 for the table alone).
+    #[arg(long, value_name = "FILE")]
+    pub profile_table: Option<PathBuf>,
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -42,6 +49,14 @@ impl ReliefArgs {
         }
     }
 
+    /// The points of --profile-table (none without it).
+    pub fn profile(&self) -> anyhow::Result<ProfilePoints> {
+        Ok(match &self.profile_table {
+            Some(path) => load_profile_table(path)?,
+            None => ProfilePoints::default(),
+        })
+    }
+
     /// The relief options given, for the message that refuses them without a geometry.
     fn given(&self) -> Option<&'static str> {
         [
@@ -52,6 +67,7 @@ impl ReliefArgs {
             ),
             (self.relief_length_mm.is_some(), "--relief-length-mm"),
             (self.relief_shape.is_some(), "--relief-shape"),
+            (self.profile_table.is_some(), "--profile-table"),
         ]
         .into_iter()
         .find_map(|(on, flag)| on.then_some(flag))

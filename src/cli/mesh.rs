@@ -105,6 +105,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         samples: a.samples,
         harmonics: a.harmonics as u32,
         harris_loads_n: harris_loads,
+        profile: a.relief.profile()?,
     };
     let r = analyse(rig, &geometry, &opts)
         .with_context(|| format!("mesh analysis of {}", a.rig.display()))?;
@@ -135,11 +136,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
 
 fn summary(r: &MeshAnalysis) -> String {
     let mut s = format!(
-        "contact ratio {:.4}, mean mesh stiffness {:.1} N/um (ISO 6336-1 c_gamma b: {:.1} N/um)\n\
+        "contact ratio {:.4}, mean mesh stiffness {:.1} N/um (ISO 6336-1 method B c_gamma_alpha b: {:.1} N/um; with the typical c' = 14: {:.1} N/um)\n\
          tip relief {:.2} um over {:.2} mm ({}){}\n",
         r.contact_ratio,
         r.mesh_stiffness_mean_n_per_um,
         r.iso6336_mesh_stiffness_n_per_um,
+        r.iso6336_typical_mesh_stiffness_n_per_um,
         r.relief.amount_um,
         r.relief.length_mm,
         r.relief.shape.name(),

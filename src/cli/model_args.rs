@@ -221,6 +221,7 @@ impl ModelArgs {
         let options = GeometryOptions {
             relief_length_mm: r.relief_length_mm,
             relief_shape: r.shape(),
+            profile: r.profile()?,
             ..GeometryOptions::design_rule(geometry)
         };
         let mesh = GearMesh::new(rig, &options)

@@ -322,6 +322,11 @@ impl Row<'_> {
         data_error(self.file, self.line, name, message)
     }
 
+    /// The trimmed text in column `col` (empty when missing).
+    pub(crate) fn text(&self, col: usize) -> String {
+        self.record.get(col).unwrap_or("").trim().to_string()
+    }
+
     /// The finite number in column `col` (named `name`).
     pub(crate) fn number(&self, col: usize, name: &str) -> Result<f64> {
         let raw = self.record.get(col).unwrap_or("").trim();

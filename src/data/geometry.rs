@@ -22,6 +22,11 @@ pub struct GearGeometry {
     /// Dedendum coefficient h_f* of the basic rack (default 1.25), in [0.8, 2], above h_a*.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dedendum_coefficient: Option<f64>,
+    /// Root fillet radius coefficient rho_fP* of the basic rack (tip radius of the cutting rack
+    /// over the module; default 0.38, ISO 53 profile A), in [0, 0.6] and small enough to fit
+    /// the rack's tooth tip.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub root_fillet_coefficient: Option<f64>,
     /// Tip diameter of the pinion in mm (default m (z1 + 2 h_a* + 2 x1)), > 0.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub pinion_tip_diameter_mm: Option<f64>,
@@ -81,6 +86,16 @@ impl GearGeometry {
                     v,
                     v.is_finite() && (0.8..=2.0).contains(&v) && v > ha.unwrap_or(1.0),
                     "dedendum coefficient must be in [0.8, 2] and above the addendum coefficient",
+                )
+            })
+        })
+        .or_else(|| {
+            optional(self.root_fillet_coefficient, |v| {
+                require(
+                    "root_fillet_coefficient",
+                    v,
+                    v.is_finite() && (0.0..=0.6).contains(&v),
+                    "root fillet radius coefficient must be in [0, 0.6]",
                 )
             })
         })

@@ -21,6 +21,7 @@ mod errors;
 mod geometry;
 mod kubo;
 mod munro;
+mod profile_table;
 mod rig;
 mod source;
 mod template;
@@ -30,6 +31,7 @@ pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
 pub use munro::{load_munro, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
+pub use profile_table::{load_profile_table, ProfilePoints, PROFILE_HEADER};
 pub use rig::{
     load_gear_pair, load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile,
     StatedNoise, SteTable,

@@ -73,6 +73,7 @@ const RIG_HEAD: &str = r##"# rig.toml of a geardyn data set: the test gear pair 
 # gear_profile_shift = 0.0       # dimensionless in [-1, 1.5]: profile shift coefficient x2 (default 0)
 # addendum_coefficient = 1.0     # dimensionless in [0.5, 1.5]: addendum of the basic rack over the module h_a* (default 1.0)
 # dedendum_coefficient = 1.25    # dimensionless in [0.8, 2], above h_a*: dedendum of the basic rack over the module h_f* (default 1.25)
+# root_fillet_coefficient = 0.38 # dimensionless in [0, 0.6]: root fillet radius of the basic rack over the module rho_fP* (default 0.38, ISO 53 profile A)
 # pinion_tip_diameter_mm = 215.9 # mm, above the base diameter: tip diameter of the pinion (default m (z1 + 2 h_a* + 2 x1))
 # gear_tip_diameter_mm = 215.9   # mm, above the base diameter: tip diameter of the gear (default m (z2 + 2 h_a* + 2 x2))
 # centre_distance_mm = 203.2     # mm, above the sum of the base radii: operating centre distance (default m (z1 + z2) / 2 without shift)

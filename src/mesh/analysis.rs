@@ -6,8 +6,10 @@
 use super::geometry::GearPairGeometry;
 use super::harmonics::{mesh_harmonics, MeshHarmonic};
 use super::harris::{design_relief, harris_map, HarrisPoint};
+use super::iso6336::IsoStiffness;
+use super::profile_deviation::ProfileDeviation;
 use super::ste::{MeshModel, ReliefShape, SteWaveform, TipRelief};
-use crate::data::{GearGeometry, Rig};
+use crate::data::{GearGeometry, ProfilePoints, Rig};
 use crate::error::{GearError, Result};
 use crate::model::Dimensional;
 use serde::Serialize;
@@ -49,6 +51,9 @@ pub struct MeshOptions {
     pub harmonics: u32,
     /// Loads of the Harris map (N, increasing).
     pub harris_loads_n: Vec<f64>,
+    /// Profile modification of the flanks given point by point (empty: none), added to the
+    /// relief.
+    pub profile: ProfilePoints,
 }
 
 /// Geometry summary (lengths in mm along the line of action, from T1).
@@ -103,6 +108,8 @@ pub struct ReliefSummary {
     pub shape: ReliefShape,
     /// The load it was sized for (Harris's rule), if it was sized.
     pub designed_for_load_n: Option<f64>,
+    /// Points of the profile-modification table added to it, pinion and gear (0: no table).
+    pub table_points: (usize, usize),
 }
 
 /// Results at one load.
@@ -138,9 +145,13 @@ pub struct MeshAnalysis {
     pub contact_ratio: f64,
     /// Mean mesh stiffness with every pair in contact (no relief), N/um.
     pub mesh_stiffness_mean_n_per_um: f64,
-    /// ISO 6336-1 c_gamma x face width (c' = 14 N/(mm um), this pair's contact ratio), N/um,
-    /// the estimate the model uses when the rig gives no stiffness (for comparison).
+    /// ISO 6336-1 method B c_gamma_alpha x face width for this pair ([`IsoStiffness`]), N/um.
     pub iso6336_mesh_stiffness_n_per_um: f64,
+    /// The steps of that estimate (q', c'_th, C_B, c', c_gamma_alpha in N/(mm um)).
+    pub iso6336: IsoStiffness,
+    /// ISO 6336-1 c_gamma x face width with the typical c' = 14 N/(mm um) and this pair's
+    /// contact ratio, N/um: the estimate the model uses when the rig gives no stiffness.
+    pub iso6336_typical_mesh_stiffness_n_per_um: f64,
     /// Geometry of the pair.
     pub geometry: GeometrySummary,
     /// The relief used.
@@ -169,7 +180,9 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
     if opts.loads_n.is_empty() {
         return Err(GearError::param("load_n", 0.0, "no load given"));
     }
-    let model = MeshModel::new(geo.clone());
+    let deviation =
+        ProfileDeviation::from_diameters(&geo, &opts.profile.pinion, &opts.profile.gear)?;
+    let model = MeshModel::new(geo.clone()).with_deviation(deviation);
     let length = |l: Option<f64>| l.map_or(TipRelief::long_length(&geo), |mm| mm * 1e-3);
     let (relief, designed) = match opts.relief {
         ReliefChoice::Given {
@@ -242,11 +255,14 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
         ..rig.clone()
     })?;
     let mm = 1e3;
+    let iso_b = geo.iso6336();
     let (sc_lo, sc_hi) = geo.single_contact_zone();
     Ok(MeshAnalysis {
         contact_ratio: geo.contact_ratio(),
         mesh_stiffness_mean_n_per_um: model.mean_mesh_stiffness_n_per_um(opts.samples),
-        iso6336_mesh_stiffness_n_per_um: iso.mesh_stiffness_n_per_m * 1e-6,
+        iso6336_mesh_stiffness_n_per_um: iso_b.c_gamma_alpha * geo.face_width_m * mm,
+        iso6336: iso_b,
+        iso6336_typical_mesh_stiffness_n_per_um: iso.mesh_stiffness_n_per_m * 1e-6,
         geometry: GeometrySummary {
             contact_ratio: geo.contact_ratio(),
             base_pitch_mm: geo.base_pitch() * mm,
@@ -272,6 +288,7 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
             length_mm: relief.length_m * mm,
             shape: relief.shape,
             designed_for_load_n: designed,
+            table_points: (opts.profile.pinion.len(), opts.profile.gear.len()),
         },
         loads,
         harris,

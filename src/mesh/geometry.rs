@@ -12,6 +12,7 @@
 //! - path of contact g_alpha = s_E - s_A, base pitch p_b = pi m cos(alpha),
 //!   transverse contact ratio eps_alpha = g_alpha / p_b.
 
+use super::iso6336::{IsoPair, IsoStiffness};
 use crate::data::{GearGeometry, Rig};
 use crate::error::{GearError, Result};
 use serde::Serialize;
@@ -42,6 +43,14 @@ pub struct GearBody {
     /// Half tooth angle at the base circle, alpha_2 = (pi/2 + 2 x tan(alpha)) / z + inv(alpha)
     /// (tooth thickness of a gear cut with zero backlash by the standard rack).
     pub half_base_angle: f64,
+    /// Half angle theta_f of the tooth's root between the ends of its two fillets, as the basic
+    /// rack (dedendum h_f*, tip radius rho*) cuts it: the rack's flat tip, pi m / 2 - 2 h_f* m
+    /// tan(alpha) - 2 rho* m (1 - sin(alpha)) / cos(alpha) wide (less 2 x m tan(alpha) when
+    /// shifted), is the space between two teeth on the root circle, so the tooth spans
+    /// theta_f = (pi/2 + 2 x tan(alpha) + 2 tan(alpha) (h_f* - rho*) + 2 rho* / cos(alpha)) / z
+    /// (rack lengths over the pitch radius; e.g. Ma et al., Mech. Syst. Signal Process. 70-71,
+    /// 2016). The fillet-foundation term of Sainsot et al. (2004) takes S_f = 2 r_f theta_f.
+    pub root_half_angle: f64,
 }
 
 /// A spur gear pair in mesh, with the material of both gears.
@@ -59,6 +68,8 @@ pub struct GearPairGeometry {
     pub working_pressure_angle: f64,
     /// Operating centre distance a, metres.
     pub centre_distance_m: f64,
+    /// Dedendum of the basic rack over the module, h_f* (= h_fP / m).
+    pub rack_dedendum: f64,
     /// Face width L, metres.
     pub face_width_m: f64,
     /// Young's modulus E, Pa.
@@ -114,6 +125,15 @@ impl GearPairGeometry {
         );
         let ha = g.addendum_coefficient.unwrap_or(1.0);
         let hf = g.dedendum_coefficient.unwrap_or(1.25);
+        let rho = g.root_fillet_coefficient.unwrap_or(0.38);
+        // The rack's tip, pi/4 - h_f* tan(alpha) half wide, must hold the two tip radii.
+        let rho_max = (PI / 4.0 - hf * alpha.tan()) * alpha.cos() / (1.0 - alpha.sin());
+        check(
+            rho <= rho_max,
+            "geometry.root_fillet_coefficient",
+            rho,
+            "is too large for the rack's tooth tip at this dedendum and pressure angle",
+        )?;
         check(
             hf > ha,
             "geometry.dedendum_coefficient",
@@ -150,6 +170,11 @@ impl GearPairGeometry {
                 root_radius_m: rf,
                 bore_radius_m: bore_d_mm.map_or(rf / 3.0, |d| d * 1e-3 / 2.0),
                 half_base_angle: (PI / 2.0 + 2.0 * x * alpha.tan()) / z + involute(alpha),
+                root_half_angle: (PI / 2.0
+                    + 2.0 * x * alpha.tan()
+                    + 2.0 * alpha.tan() * (hf - rho)
+                    + 2.0 * rho / alpha.cos())
+                    / z,
             }
         };
         let pinion = body(z1, x1, g.pinion_tip_diameter_mm, g.pinion_bore_diameter_mm);
@@ -202,6 +227,7 @@ impl GearPairGeometry {
             pressure_angle: alpha,
             working_pressure_angle: alpha_w,
             centre_distance_m: a,
+            rack_dedendum: hf,
             face_width_m: rig.face_width_mm * 1e-3,
             youngs_modulus_pa: g.youngs_modulus_gpa.unwrap_or(206.0) * 1e9,
             poisson_ratio: g.poisson_ratio.unwrap_or(0.3),
@@ -271,6 +297,19 @@ impl GearPairGeometry {
     /// Transverse contact ratio eps_alpha = g_alpha / p_b.
     pub fn contact_ratio(&self) -> f64 {
         self.path_of_contact() / self.base_pitch()
+    }
+
+    /// ISO 6336-1 method B stiffness of this (spur, solid) pair.
+    pub fn iso6336(&self) -> IsoStiffness {
+        IsoStiffness::new(&IsoPair {
+            teeth: (self.pinion.teeth, self.gear.teeth),
+            profile_shift: (self.pinion.profile_shift, self.gear.profile_shift),
+            pressure_angle: self.pressure_angle,
+            helix_angle: 0.0,
+            rack_dedendum: self.rack_dedendum,
+            contact_ratio: self.contact_ratio(),
+            rim_factor: 1.0,
+        })
     }
 
     /// The single-tooth-contact zone [s_E - p_b, s_A + p_b], metres, of length (2 - eps_alpha)

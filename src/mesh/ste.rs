@@ -19,6 +19,7 @@
 //! The loaded mesh stiffness is the tangent dF/d(delta) = sum of k_j over loaded pairs.
 
 use super::geometry::GearPairGeometry;
+use super::profile_deviation::ProfileDeviation;
 use super::tooth_stiffness::StiffnessTable;
 use crate::error::{GearError, Result};
 use serde::Serialize;
@@ -221,13 +222,17 @@ pub(crate) fn mean(v: &[f64]) -> f64 {
     }
 }
 
-/// A gear pair ready for loaded contact analysis: its geometry and tabulated pair stiffness.
+/// A gear pair ready for loaded contact analysis: its geometry, tabulated pair stiffness and
+/// any profile modification given point by point (the tip relief is given per call).
 #[derive(Clone, Debug)]
 pub struct MeshModel {
     /// The geometry.
     pub geometry: GearPairGeometry,
     /// Pair stiffness along the path of contact.
     pub stiffness: StiffnessTable,
+    /// Profile modification of the flanks from a table (empty: none), added to the relief's
+    /// separation.
+    pub deviation: ProfileDeviation,
 }
 
 /// Points of the pair-stiffness table along the path of contact.
@@ -240,7 +245,19 @@ impl MeshModel {
         MeshModel {
             geometry,
             stiffness,
+            deviation: ProfileDeviation::default(),
         }
+    }
+
+    /// The same pair with the flanks' tabulated profile modification `deviation`.
+    pub fn with_deviation(self, deviation: ProfileDeviation) -> Self {
+        MeshModel { deviation, ..self }
+    }
+
+    /// Unloaded separation (m) of the pair at roll distance `s` with `relief`: the relief's
+    /// and the table's.
+    fn separation(&self, relief: &TipRelief, s: f64) -> f64 {
+        relief.separation(&self.geometry, s) + self.deviation.separation(&self.geometry, s)
     }
 
     /// Roll distances of the pairs in contact at mesh position `frac` = tau / p_b in [0, 1).
@@ -290,7 +307,7 @@ impl MeshModel {
             let rolls = self.pairs_at(frac);
             let kes: Vec<(f64, f64)> = rolls
                 .iter()
-                .map(|&s| (self.stiffness.at(s), relief.separation(&self.geometry, s)))
+                .map(|&s| (self.stiffness.at(s), self.separation(relief, s)))
                 .collect();
             let (delta, loads) = solve_compatibility(&kes, load_n)?;
             let states: Vec<PairState> = rolls
@@ -328,7 +345,7 @@ impl MeshModel {
             .map(|frac| {
                 self.pairs_at(frac)
                     .iter()
-                    .map(|&s| relief.separation(&self.geometry, s))
+                    .map(|&s| self.separation(relief, s))
                     .fold(f64::INFINITY, f64::min)
                     * 1e6
             })

@@ -115,32 +115,36 @@ fn hertz_term_is_yang_and_lins_line_contact() {
     assert!((k - 2.2579e9).abs() / 2.2579e9 < 1e-4, "{k}");
 }
 
-/// ISO 6336-1 (method B, solid steel spur gears): single-pair stiffness c' = 14 N/(mm um) and
-/// mesh stiffness c_gamma = c' (0.75 eps_alpha + 0.25), the estimate the model already uses
-/// ([`Dimensional::from_rig`]): 21.010 N/(mm um) x 12.7 mm = 266.8 N/um for Munro's gears.
-///
-/// Result: the potential-energy mean is 204.3 N/um, 0.766 of ISO (-23%), so the 10% target of
-/// issue 24 is NOT met with the default assumptions (bore a third of the root diameter, so
-/// h_f = 3 in Sainsot's formula; plane stress). The fillet-foundation term is about two thirds
-/// of the pair compliance (see `foundation_dominates_the_pair_compliance`). The test holds the
-/// agreement that is reached (25%) and the shape ISO assumes: mean / max single-pair stiffness
-/// near 0.75 eps_alpha + 0.25.
+/// ISO 6336-1 method B for Munro's gears ([`crate::mesh::IsoStiffness`]): c' = 12.968 N/(mm
+/// um), c_gamma_alpha = c' (0.75 eps_alpha + 0.25) = 19.461 N/(mm um), times 12.7 mm = 247.2
+/// N/um. The potential-energy mean (every pair in contact, no relief) is 240.1 N/um, 2.8%
+/// below: within the 10% issue 24 asks. It was 23% below while the fillet-foundation term took
+/// the tooth's root as the base-circle thickness, without the fillets the rack cuts
+/// ([`crate::mesh::GearBody::root_half_angle`]). ISO's typical c' = 14 (the model's default k_h
+/// when the rig gives none, [`Dimensional::from_rig`]) gives 266.8 N/um, 10.0% above. Also the
+/// shape ISO assumes: mean over the largest pair stiffness near 0.75 eps_alpha + 0.25.
 #[test]
 fn mean_mesh_stiffness_against_iso_6336_c_gamma() {
     let geo = munro();
     let model = MeshModel::new(geo.clone());
     let mean = model.mean_mesh_stiffness_n_per_um(1024);
+    let iso = geo.iso6336();
+    let iso_b = iso.c_gamma_alpha * 12.7;
+    assert!(
+        (iso_b - 247.16).abs() < 0.05,
+        "ISO c_gamma_alpha b = {iso_b}"
+    );
+    let ratio = mean / iso_b;
+    assert!(
+        (ratio - 1.0).abs() < 0.10,
+        "PE mean {mean} N/um vs ISO method B {iso_b}: {ratio}"
+    );
     let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
     let StiffnessSource::Iso6336Estimate { contact_ratio, .. } = dim.stiffness_source else {
         panic!("Munro's rig gives no stiffness: ISO estimate expected");
     };
-    let iso = dim.mesh_stiffness_n_per_m * 1e-6;
-    assert!((iso - 266.83).abs() < 0.05, "ISO c_gamma b = {iso}");
-    let ratio = mean / iso;
-    assert!(
-        (ratio - 1.0).abs() < 0.25,
-        "PE mean {mean} N/um vs ISO {iso}: {ratio}"
-    );
+    let typical = dim.mesh_stiffness_n_per_m * 1e-6;
+    assert!((typical - 266.83).abs() < 0.05, "ISO c' = 14: {typical}");
     let kmax = model
         .stiffness
         .points
@@ -155,20 +159,14 @@ fn mean_mesh_stiffness_against_iso_6336_c_gamma() {
     );
 }
 
-/// ISO 6336-1:2006 eq. (64): theoretical single-pair stiffness c'_th = 1 / q' with
-/// q' = 0.04723 + 0.15551/z_n1 + 0.25791/z_n2 - 0.00635 x1 - 0.11654 x1/z_n1 - 0.00193 x2
-///      - 0.24188 x2/z_n2 + 0.00529 x1^2 + 0.00182 x2^2   (mm um / N),
-/// and c' = c'_th C_M C_R C_B with C_M = 0.8, C_R = 1 (solid), C_B = (1 + 0.5 (1.2 - h_fP/m))
-/// (1 - 0.02 (20 - alpha)) = 0.975 for h_fP = 1.25 m. Munro: q' = 0.0601494, c'_th = 16.625,
-/// c' = 12.968 N/(mm um). The largest pair stiffness along the path (at the pitch point) per
-/// face width is 10.83 N/(mm um): 0.835 of c', 0.652 of c'_th.
+/// The largest pair stiffness along the path (at the pitch point) per face width against
+/// ISO 6336-1's single-pair stiffness c' = c'_th C_M C_R C_B = 12.968 N/(mm um) (method B,
+/// [`crate::mesh::IsoStiffness`]): within 10%.
 #[test]
 fn peak_pair_stiffness_against_iso_6336_single_stiffness() {
-    let q = 0.04723 + 0.15551 / 32.0 + 0.25791 / 32.0;
-    let c_th: f64 = 1.0 / q;
-    assert!((c_th - 16.625).abs() < 1e-3);
-    let c_prime = c_th * 0.8 * 1.0 * (1.0 + 0.5 * (1.2 - 1.25));
     let geo = munro();
+    let c_prime = geo.iso6336().c_prime;
+    assert!((c_prime - 12.968).abs() < 1e-3);
     let model = MeshModel::new(geo.clone());
     let peak = model
         .stiffness
@@ -178,11 +176,41 @@ fn peak_pair_stiffness_against_iso_6336_single_stiffness() {
         .unwrap();
     let per_mm = peak.stiffness_n_per_m * 1e-6 / 12.7;
     assert!(
-        (per_mm / c_prime - 1.0).abs() < 0.2,
+        (per_mm / c_prime - 1.0).abs() < 0.1,
         "{per_mm} vs c' {c_prime}"
     );
     // Identical gears: the stiffest point is the pitch point (symmetric path).
     assert!((peak.roll_m - geo.pitch_point()).abs() < 0.01 * geo.path_of_contact());
+}
+
+/// The tooth's root between its fillets (ISO 53 profile A rack: h_f* 1.25, rho* 0.38): theta_f
+/// = (pi/2 + 2 tan 20 deg (1.25 - 0.38) + 2 x 0.38 / cos 20 deg) / 32 = 0.094152 rad by hand,
+/// wider than the straight flank at the base-circle thickness (half angle 0.0652 on the root
+/// circle) that the foundation term used before.
+#[test]
+fn root_half_angle_includes_the_fillets() {
+    let geo = munro();
+    let t = 20f64.to_radians();
+    let by_hand = (std::f64::consts::PI / 2.0 + 2.0 * t.tan() * 0.87 + 0.76 / t.cos()) / 32.0;
+    assert!((by_hand - 0.094152).abs() < 1e-6, "{by_hand}");
+    assert!((geo.pinion.root_half_angle - by_hand).abs() < 1e-12);
+    let straight = (geo.pinion.base_radius_m * geo.pinion.half_base_angle.sin()
+        / geo.pinion.root_radius_m)
+        .asin();
+    assert!((straight - 0.0652).abs() < 5e-4, "{straight}");
+    // The rack's tip (pi/4 - 1.25 tan 20 deg = 0.3304 m half wide) holds tip radii up to
+    // 0.3304 cos 20 deg / (1 - sin 20 deg) = 0.472 m; 0.5 m is refused, naming the key.
+    let too_round = GearGeometry {
+        root_fillet_coefficient: Some(0.5),
+        ..GearGeometry::default()
+    };
+    let e = GearPairGeometry::from_rig(&crate::validate::munro_rig(), &too_round).unwrap_err();
+    assert!(e.to_string().contains("root_fillet_coefficient"), "{e}");
+    let fits = GearGeometry {
+        root_fillet_coefficient: Some(0.47),
+        ..GearGeometry::default()
+    };
+    assert!(GearPairGeometry::from_rig(&crate::validate::munro_rig(), &fits).is_ok());
 }
 
 #[test]
@@ -233,7 +261,7 @@ fn relief_designed_for_a_load_is_best_there_and_worse_at_light_load() {
     let model = MeshModel::new(geo.clone());
     let (relief, pp_design) = design_relief(&model, &long_relief(&geo, 0.0), 3780.0, 256).unwrap();
     // Harris's rule of thumb: the optimum long relief is near the single-pair deflection at the
-    // design load (3780 N over the pitch-point pair stiffness, 27.5 um here).
+    // design load (3780 N over the pitch-point pair stiffness, 23.6 um here).
     let single = 3780.0 / pair_stiffness(&geo, geo.pitch_point()).stiffness_n_per_m;
     assert!(
         (relief.amount_m / single - 1.0).abs() < 0.25,
@@ -367,4 +395,62 @@ fn profile_shift_moves_the_centre_distance_and_path() {
     assert!((geo.working_pressure_angle.to_degrees() - 21.7872).abs() < 1e-3);
     assert!((geo.centre_distance_m * 1e3 - 205.6).abs() < 0.1);
     assert!(geo.contact_ratio() > 1.0 && geo.contact_ratio() < munro().contact_ratio());
+}
+
+/// A profile table sampled from the long linear relief of both gears (three points a flank:
+/// below the start of active profile, the start of relief and the tip, as diameters) gives the
+/// STE of the analytic relief: the diameter-to-roll conversion, the gear's roll measured from
+/// T2 and the interpolation checked against the closed form, at 945 and 3780 N.
+#[test]
+fn profile_table_of_a_tip_relief_reproduces_it() {
+    let geo = munro();
+    let relief = long_relief(&geo, 20.0);
+    let (sa, se, t) = (
+        geo.start_of_contact(),
+        geo.end_of_contact(),
+        geo.line_of_action_length(),
+    );
+    let l = relief.length_m;
+    let diameter = |rb: f64, rho: f64| 2e3 * (rho * rho + rb * rb).sqrt();
+    let flank = |rb: f64, tip_roll: f64, sap_roll: f64| {
+        vec![
+            (diameter(rb, sap_roll - 5e-4), 0.0),
+            (diameter(rb, tip_roll - l), 0.0),
+            (diameter(rb, tip_roll), 20.0),
+        ]
+    };
+    let pinion = flank(geo.pinion.base_radius_m, se, sa);
+    let gear = flank(geo.gear.base_radius_m, t - sa, t - se);
+    let dev = ProfileDeviation::from_diameters(&geo, &pinion, &gear).unwrap();
+    let tabled = MeshModel::new(geo.clone()).with_deviation(dev);
+    let analytic = MeshModel::new(geo.clone());
+    for load in [945.0, 3780.0] {
+        let a = analytic.waveform(load, &relief, 128).unwrap();
+        let b = tabled.waveform(load, &TipRelief::none(), 128).unwrap();
+        let worst = a
+            .ste_um
+            .iter()
+            .zip(&b.ste_um)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+        assert!(worst < 1e-6, "{load} N: STE differs by {worst} um");
+    }
+}
+
+/// A table that stops short of the flank in contact, or starts inside the base circle, is
+/// refused with the diameters it needs.
+#[test]
+fn profile_table_must_cover_the_flank_in_contact() {
+    let geo = munro();
+    let rb = geo.pinion.base_radius_m;
+    let d_sap = 2e3 * (geo.start_of_contact().powi(2) + rb * rb).sqrt();
+    let short = [(d_sap, 0.0), (200.0, 1.0)];
+    let e = ProfileDeviation::from_diameters(&geo, &short, &[]).unwrap_err();
+    assert!(e.to_string().contains("extend the table"), "{e}");
+    let inside = [(2e3 * rb - 0.1, 0.0), (216.0, 1.0)];
+    let e = ProfileDeviation::from_diameters(&geo, &inside, &[]).unwrap_err();
+    assert!(e.to_string().contains("inside its base circle"), "{e}");
+    assert!(ProfileDeviation::from_diameters(&geo, &[], &[])
+        .unwrap()
+        .is_empty());
 }

@@ -17,7 +17,8 @@
 //!
 //! The last line is the fillet-foundation flexibility of Sainsot, Velex & Duverger (ASME J.
 //! Mech. Des. 126, 2004): u_f is the distance along the centre line from the root circle to
-//! where the line of action crosses it, S_f = 2 r_f theta_f the root arc of the tooth, and each
+//! where the line of action crosses it, S_f = 2 r_f theta_f the root arc of the tooth between
+//! its fillets ([`GearBody::root_half_angle`]), and each
 //! of L*, M*, P*, Q* is A/theta_f^2 + B h_f^2 + C h_f/theta_f + D/theta_f + E h_f + F with
 //! h_f = r_f / r_bore and the coefficients of their Table 1 ([`SAINSOT`]).
 //!
@@ -163,23 +164,22 @@ pub fn tooth_compliance(geo: &GearPairGeometry, body: &GearBody, roll: f64) -> T
     cs += over_phi(&|x, _| shear(x));
     cax += over_phi(&|x, _| axial(x));
     // Straight part between the root circle and the base circle (r_f < r_b only).
-    let (x_f, y_f) = if rf < rb {
+    if rf < rb {
         let xb = rb * a2.sin();
         let yb = rb * a2.cos();
         let yf = (rf * rf - xb * xb).max(0.0).sqrt();
         cb += simpson(yf, yb, n, |y| bend(xb, y));
         cs += (yb - yf) * shear(xb);
         cax += (yb - yf) * axial(xb);
-        (xb, yf)
-    } else {
-        flank_point(body, phi_low)
-    };
-    // Fillet foundation (Sainsot et al. 2004).
-    let theta_f = (x_f / y_f).atan();
+    }
+    // Fillet foundation (Sainsot et al. 2004): the tooth's root spans 2 theta_f on the root
+    // circle, fillets included; u_f runs along the centre line from the root circle to where
+    // the line of action crosses it.
+    let theta_f = body.root_half_angle;
     let s_f = 2.0 * rf * theta_f;
     let h_f = rf / body.bore_radius_m;
     let [lc, mc, pc, qc] = SAINSOT.map(|c| sainsot(&c, theta_f, h_f));
-    let u = (yc - xc * alpha1.tan() - y_f) / s_f;
+    let u = (yc - xc * alpha1.tan() - rf) / s_f;
     let foundation =
         ca * ca / (e * l) * (lc * u * u + mc * u + pc * (1.0 + qc * alpha1.tan().powi(2)));
     ToothCompliance {
