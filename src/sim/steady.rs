@@ -289,6 +289,7 @@ pub(crate) fn run_transient<F: PeriodFlow + ?Sized, T>(
     let mut x = x0;
     let mut used = 0;
     let mut limit = nominal;
+    let (mut shoot_every, mut next_shot) = (SHOOT_EVERY, SHOOT_EVERY);
     while used < limit {
         x = flow.step(x, None)?;
         used += 1;
@@ -316,7 +317,8 @@ pub(crate) fn run_transient<F: PeriodFlow + ?Sized, T>(
                     }));
                 }
             }
-        } else if used % SHOOT_EVERY == 0 {
+        } else if used >= next_shot {
+            next_shot = used + shoot_every;
             // A slowly contracting orbit (a multiplier near +-1) is found by shooting from a near
             // return instead of waiting for the transient to die out.
             if let Some(o) = shoot(flow, &history)? {
@@ -327,6 +329,13 @@ pub(crate) fn run_transient<F: PeriodFlow + ?Sized, T>(
                         orbit: Some(o),
                     }));
                 }
+                // The shot orbit did not capture the trajectory. With a multiplier near 1 a
+                // follow may run up to MAX_TRANSIENT periods before it gives up, so shots are
+                // spaced ever wider after each miss: at most ~log2(nominal / 8) misses per
+                // transient, not nominal / 8 (which took a discover fit 40 minutes on one
+                // steady state).
+                shoot_every *= 2;
+                next_shot = used + shoot_every;
             }
         }
         // A motion that is periodic to 1e-4 but not yet to 1e-9 and that Newton could not
