@@ -695,7 +695,8 @@ fn error_on_the_last_of_200k_rows_is_located() {
 }
 
 /// The ```toml and ```csv examples of docs/data-format.md load: each rig.toml alone, each CSV
-/// (Munro if its header has `load_n`, else Kubo) with the first example rig.
+/// (Munro if its header has `load_n`, the profile table if `gear`, else Kubo) with the first
+/// example rig.
 #[test]
 fn documented_examples_load() {
     let doc = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/data-format.md"))
@@ -709,7 +710,7 @@ fn documented_examples_load() {
     };
     let rigs = blocks("toml");
     let csvs = blocks("csv");
-    assert_eq!((rigs.len(), csvs.len()), (2, 2), "examples in the doc");
+    assert_eq!((rigs.len(), csvs.len()), (2, 3), "examples in the doc");
     for rig in &rigs {
         let d = dataset(Some(rig), &[]);
         geardyn::data::load_rig(&d.path().join("rig.toml")).expect("documented rig.toml");
@@ -736,6 +737,10 @@ fn documented_examples_load() {
         if csv.starts_with("load_n") {
             let m = load_munro(d.path()).expect("documented Munro CSV");
             assert!(m.points.iter().all(|p| p.sd_um.is_some()));
+        } else if csv.starts_with("gear,") {
+            let t = geardyn::data::load_profile_table(&d.path().join("c.csv"))
+                .expect("documented profile table");
+            assert_eq!((t.pinion.len(), t.gear.len()), (3, 3));
         } else {
             load_kubo(d.path()).expect("documented Kubo CSV");
         }

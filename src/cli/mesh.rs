@@ -134,10 +134,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     print_text(&text)
 }
 
+/// ", plus a profile table (P + G points)" when one was given.
+fn table_text(r: &MeshAnalysis) -> String {
+    match r.relief.table_points {
+        (0, 0) => String::new(),
+        (p, g) => format!(", plus a profile table ({p} pinion + {g} gear points)"),
+    }
+}
+
 fn summary(r: &MeshAnalysis) -> String {
     let mut s = format!(
         "contact ratio {:.4}, mean mesh stiffness {:.1} N/um (ISO 6336-1 method B c_gamma_alpha b: {:.1} N/um; with the typical c' = 14: {:.1} N/um)\n\
-         tip relief {:.2} um over {:.2} mm ({}){}\n",
+         tip relief {:.2} um over {:.2} mm ({}){}{}\n",
         r.contact_ratio,
         r.mesh_stiffness_mean_n_per_um,
         r.iso6336_mesh_stiffness_n_per_um,
@@ -149,7 +157,8 @@ fn summary(r: &MeshAnalysis) -> String {
             .designed_for_load_n
             .map_or(String::new(), |l| format!(
                 ", sized for minimum STE pp at {l} N"
-            ))
+            )),
+        table_text(r)
     );
     s.push_str("  load_n  ste_pp_um  k_mean_n_per_um  f_ah1   contact_loss\n");
     for l in &r.loads {
@@ -266,13 +275,14 @@ fn pair_csv(r: &MeshAnalysis) -> anyhow::Result<String> {
 fn write_figures(r: &MeshAnalysis, rig_name: &str, stem: &Path) -> anyhow::Result<()> {
     let dir = stem.parent().unwrap_or(Path::new("."));
     let relief = format!(
-        "tip relief {:.1} µm over {:.2} mm ({}){}",
+        "tip relief {:.1} µm over {:.2} mm ({}){}{}",
         r.relief.amount_um,
         r.relief.length_mm,
         r.relief.shape.name(),
         r.relief
             .designed_for_load_n
-            .map_or(String::new(), |l| format!(", sized for {l:.0} N"))
+            .map_or(String::new(), |l| format!(", sized for {l:.0} N")),
+        table_text(r)
     );
     let x_label = "mesh position τ (fraction of the base pitch)";
     let mut ste = XyPlot::new("Loaded static transmission error", x_label, "STE δ (µm)")
