@@ -157,32 +157,52 @@ impl ModelArgs {
                 path.display()
             ),
         };
-        let zeta = option_or_rig(
-            (self.zeta, "--zeta"),
-            (rig.zeta, "zeta"),
-            ZETA,
-            &mut origins,
-        )?;
+        let (zeta, f_n) = self.damping_and_frequency(rig, &mut origins)?;
+        let op = OperatingPoint::new(dim, load, ste, zeta, f_n)?;
+        self.checked_model(op, "--ste-um", origins, None)
+    }
+
+    /// zeta and f_n from their options, else from rig.toml's [rig] (each noted in `origins`).
+    fn damping_and_frequency(
+        &self,
+        rig: &geardyn::data::Rig,
+        origins: &mut Vec<String>,
+    ) -> anyhow::Result<(f64, f64)> {
+        let zeta = option_or_rig((self.zeta, "--zeta"), (rig.zeta, "zeta"), ZETA, origins)?;
         let f_n = option_or_rig(
             (self.omega_n_hz, "--omega-n-hz"),
             (rig.omega_n_hz, "omega_n_hz"),
             OMEGA_N_HZ,
-            &mut origins,
+            origins,
         )?;
-        let op = OperatingPoint::new(dim, load, ste, zeta, f_n)?;
+        Ok((zeta, f_n))
+    }
+
+    /// The model of `op` (and the geometry's excitation, if any), its F_m, F_ah (given by
+    /// `ste_flag`) and F_aT checked against their ranges.
+    fn checked_model(
+        &self,
+        op: OperatingPoint,
+        ste_flag: &str,
+        origins: Vec<String>,
+        mut geometry: Option<GeometryExcitation>,
+    ) -> anyhow::Result<Model> {
         let (fm, fah) = (op.mean_force(), op.ste_amplitude());
         check_range("--load-n", "gives F_m", fm, FM)?;
-        check_range("--ste-um", "gives F_ah", fah, FAH)?;
+        check_range(ste_flag, "gives F_ah", fah, FAH)?;
         let fat = op.dim.mean_force(self.torque_n.unwrap_or(0.0));
         check_range("--torque-n", "gives F_aT", fat, FAH)?;
+        if let Some(g) = geometry.as_mut().filter(|_| fat > 0.0) {
+            g.pair.torque = vec![Term::new(1, fat)];
+        }
         Ok(Model {
             fm,
             fah,
             fat,
-            zeta,
+            zeta: op.zeta,
             rig: Some(op),
             origins,
-            geometry: None,
+            geometry,
         })
     }
 
@@ -204,18 +224,7 @@ impl ModelArgs {
         let (rig_file, geometry) = load_rig_with_geometry(path)?;
         let rig = &rig_file.rig;
         let mut origins = Vec::new();
-        let zeta = option_or_rig(
-            (self.zeta, "--zeta"),
-            (rig.zeta, "zeta"),
-            ZETA,
-            &mut origins,
-        )?;
-        let f_n = option_or_rig(
-            (self.omega_n_hz, "--omega-n-hz"),
-            (rig.omega_n_hz, "omega_n_hz"),
-            OMEGA_N_HZ,
-            &mut origins,
-        )?;
+        let (zeta, f_n) = self.damping_and_frequency(rig, &mut origins)?;
         let load = self.load_n.unwrap_or(rig.design_load_n);
         let r = &excitation.relief;
         let options = GeometryOptions {
@@ -247,30 +256,15 @@ impl ModelArgs {
             f_n,
         )?;
         let op = point.op.clone();
-        let (fm, fah) = (op.mean_force(), op.ste_amplitude());
-        check_range("--load-n", "gives F_m", fm, FM)?;
-        check_range("--excitation geometry", "gives F_ah", fah, FAH)?;
-        let fat = op.dim.mean_force(self.torque_n.unwrap_or(0.0));
-        check_range("--torque-n", "gives F_aT", fat, FAH)?;
-        let mut pair = point.model.clone();
-        if fat > 0.0 {
-            pair.torque = vec![Term::new(1, fat)];
-        }
-        Ok(Model {
-            fm,
-            fah,
-            fat,
-            zeta,
-            rig: Some(op),
-            origins,
-            geometry: Some(GeometryExcitation {
-                pair,
-                point,
-                stiffness,
-                relief_rule,
-                harmonics: excitation.ste_harmonics,
-            }),
-        })
+        let pair = point.model.clone();
+        let geometry = GeometryExcitation {
+            pair,
+            point,
+            stiffness,
+            relief_rule,
+            harmonics: excitation.ste_harmonics,
+        };
+        self.checked_model(op, "--excitation geometry", origins, Some(geometry))
     }
 }
 
