@@ -532,3 +532,29 @@ fn stated_noise_is_used_as_stated() {
     assert_eq!(d.noise.origin, NoiseOrigin::StatedOption);
     assert_eq!(d.noise_range_um, (0.3, 0.3));
 }
+
+/// The Student-t null set of the discover study's seed 1076 (DOP853, 50 rpm grid, floor 0.15
+/// um + 3%, 3 dof): the design-load linear start (eq. 13, which depends on Omega^2 only) ended
+/// at omega_n = -1599.7 Hz and every prediction after it was refused, so `discover` failed on a
+/// valid set and stopped the study. Now it answers "none" with omega_n near 1600 Hz.
+#[test]
+fn linear_start_does_not_end_at_a_negative_natural_frequency() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut t = MunroTruth::default_munro();
+    t.seed = 1076;
+    t.noise = NoiseFamily::StudentT.noise(0.15);
+    t.dop853_rtol = Some(1e-9);
+    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
+    let opts = DiscoverOptions {
+        bootstrap: 999,
+        seed: 12_345 + 1076,
+        ..DiscoverOptions::default()
+    };
+    let d = run_with(tmp.path(), &opts);
+    assert_eq!(d.effect, "none");
+    assert!(
+        (d.omega_n_hz_m0 - 1600.0).abs() < 20.0,
+        "{}",
+        d.omega_n_hz_m0
+    );
+}

@@ -260,7 +260,7 @@ pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
         Ok(c.speeds_rpm
             .iter()
             .zip(&c.dte_pp_um)
-            .map(|(s, y)| y - dte_pp_um(p[2].abs(), p[0].abs(), dim.omega(*s, p[1])))
+            .map(|(s, y)| y - dte_pp_um(p[2].abs(), p[0].abs(), dim.omega(*s, p[1].abs())))
             .collect())
     };
     let peak = c
@@ -292,7 +292,9 @@ pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
     Ok((
         Globals {
             zeta: b.params[0].abs().clamp(1e-3, 0.5),
-            omega_n_hz: b.params[1],
+            // Eq. 13 depends on Omega^2 only, so the signed fit can end at -omega_n (a Student-t
+            // null set of the discover study did, and every later prediction was refused).
+            omega_n_hz: b.params[1].abs(),
         },
         b.params[2].abs(),
     ))
