@@ -12,6 +12,17 @@ use std::path::Path;
 /// to a bound of what the curve can determine (a flat curve drives it to 0 or past 1).
 pub const FITTED_ZETA: (f64, f64) = (1e-3, 0.9);
 
+/// A value for a message: 4 significant digits, in exponent form outside [1e-4, 1e6) (a fit that
+/// ran off printed zeta as a 77-digit integer).
+fn brief(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && a.is_finite() && !(1e-4..1e6).contains(&a) {
+        format!("{v:.3e}")
+    } else {
+        format!("{}", to_significant(v, 4))
+    }
+}
+
 /// The reason `est` (with the profile intervals `profile` of its first parameters) cannot be
 /// used, if any. Parameter 0 is zeta.
 pub fn fit_failure(est: &Estimate, profile: &[(Option<f64>, Option<f64>)]) -> Option<String> {
@@ -29,8 +40,10 @@ pub fn fit_failure(est: &Estimate, profile: &[(Option<f64>, Option<f64>)]) -> Op
         let (lo, hi) = est.ci95[i];
         if !(lo.is_finite() && hi.is_finite()) {
             return Some(format!(
-                "the 95% interval of {name} = {} is [{lo}, {hi}]: the curve does not determine it",
-                to_significant(v, 4)
+                "the 95% interval of {name} = {} is [{}, {}]: the curve does not determine it",
+                brief(v),
+                brief(lo),
+                brief(hi)
             ));
         }
     }
@@ -39,7 +52,7 @@ pub fn fit_failure(est: &Estimate, profile: &[(Option<f64>, Option<f64>)]) -> Op
         return Some(format!(
             "zeta = {} ran to a bound (plausible fits end in [{}, {}]): the curve shows no \
              resonance that determines the damping",
-            to_significant(zeta, 4),
+            brief(zeta),
             FITTED_ZETA.0,
             FITTED_ZETA.1
         ));
@@ -64,5 +77,21 @@ pub fn fit_failed(dir: &Path, what: &str, reason: String) -> GearError {
     GearError::FitFailed {
         data: dir.to_path_buf(),
         reason: format!("{what}: {reason}"),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::brief;
+
+    /// A runaway value prints in exponent form, a plausible one as it is.
+    #[test]
+    fn messages_print_runaway_values_briefly() {
+        assert_eq!(brief(1.0640000000000001e76), "1.064e76");
+        assert_eq!(brief(0.0175), "0.0175");
+        assert_eq!(brief(1600.04), "1600");
+        assert_eq!(brief(2.5e-7), "2.500e-7");
+        assert_eq!(brief(0.0), "0");
+        assert_eq!(brief(f64::INFINITY), "inf");
     }
 }
