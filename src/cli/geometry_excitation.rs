@@ -7,6 +7,7 @@ use super::limits::{real, whole};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::data::{load_profile_table, ProfilePoints};
 use geardyn::mesh::ReliefShape;
+use geardyn::validate::StiffnessChoice;
 use std::path::PathBuf;
 
 /// A tip relief: its depth (given, or sized by Harris's rule for a load), length and shape.
@@ -34,19 +35,27 @@ pub struct ReliefArgs {
     pub profile_table: Option<PathBuf>,
 }
 
+/// Relief shape on the command line (`mesh`, `validate munro`, `--excitation geometry`).
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Shape {
     Linear,
     Parabolic,
 }
 
+impl Shape {
+    /// The library's shape.
+    pub fn relief_shape(self) -> ReliefShape {
+        match self {
+            Shape::Linear => ReliefShape::Linear,
+            Shape::Parabolic => ReliefShape::Parabolic,
+        }
+    }
+}
+
 impl ReliefArgs {
     /// The relief's shape (linear unless given).
     pub fn shape(&self) -> ReliefShape {
-        match self.relief_shape {
-            Some(Shape::Parabolic) => ReliefShape::Parabolic,
-            _ => ReliefShape::Linear,
-        }
+        self.relief_shape.unwrap_or(Shape::Linear).relief_shape()
     }
 
     /// The points of --profile-table (none without it).
@@ -102,10 +111,22 @@ pub enum Excitation {
     Geometry,
 }
 
+/// Mesh stiffness of a model excited by the geometry, on the command line (`validate munro`,
+/// `--excitation geometry`).
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stiffness {
-    Geometry,
     Constant,
+    Geometry,
+}
+
+impl Stiffness {
+    /// The library's choice.
+    pub fn choice(self) -> StiffnessChoice {
+        match self {
+            Stiffness::Constant => StiffnessChoice::Constant,
+            Stiffness::Geometry => StiffnessChoice::Geometry,
+        }
+    }
 }
 
 impl ExcitationArgs {
@@ -121,10 +142,7 @@ impl ExcitationArgs {
     }
 
     /// The stiffness choice of the library.
-    pub fn stiffness(&self) -> geardyn::validate::StiffnessChoice {
-        match self.mesh_stiffness {
-            Stiffness::Geometry => geardyn::validate::StiffnessChoice::Geometry,
-            Stiffness::Constant => geardyn::validate::StiffnessChoice::Constant,
-        }
+    pub fn stiffness(&self) -> StiffnessChoice {
+        self.mesh_stiffness.choice()
     }
 }

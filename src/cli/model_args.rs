@@ -82,7 +82,6 @@ pub struct Model {
 /// The excitation of `--excitation geometry`, made by the library's tooth-contact model.
 #[derive(Clone, Debug)]
 struct GeometryExcitation {
-    pair: GearPair,
     point: GeometryOperatingPoint,
     stiffness: StiffnessChoice,
     relief_rule: String,
@@ -185,16 +184,13 @@ impl ModelArgs {
         op: OperatingPoint,
         ste_flag: &str,
         origins: Vec<String>,
-        mut geometry: Option<GeometryExcitation>,
+        geometry: Option<GeometryExcitation>,
     ) -> anyhow::Result<Model> {
         let (fm, fah) = (op.mean_force(), op.ste_amplitude());
         check_range("--load-n", "gives F_m", fm, FM)?;
         check_range(ste_flag, "gives F_ah", fah, FAH)?;
         let fat = op.dim.mean_force(self.torque_n.unwrap_or(0.0));
         check_range("--torque-n", "gives F_aT", fat, FAH)?;
-        if let Some(g) = geometry.as_mut().filter(|_| fat > 0.0) {
-            g.pair.torque = vec![Term::new(1, fat)];
-        }
         Ok(Model {
             fm,
             fah,
@@ -256,9 +252,7 @@ impl ModelArgs {
             f_n,
         )?;
         let op = point.op.clone();
-        let pair = point.model.clone();
         let geometry = GeometryExcitation {
-            pair,
             point,
             stiffness,
             relief_rule,
@@ -300,7 +294,11 @@ impl Model {
     /// The paper's model (eq. 5, with eq. 4's torque when F_aT > 0) at frequency `omega`.
     pub fn at(&self, omega: f64) -> anyhow::Result<GearPair> {
         if let Some(g) = &self.geometry {
-            return Ok(g.pair.at_omega(omega)?);
+            let mut pair = g.point.model.clone();
+            if self.fat > 0.0 {
+                pair.torque = vec![Term::new(1, self.fat)];
+            }
+            return Ok(pair.at_omega(omega)?);
         }
         Ok(GearPair::excited(
             self.fm, self.fah, self.fat, self.zeta, omega,
@@ -414,18 +412,19 @@ impl GeometryExcitation {
             p.excitation.mesh_stiffness_mean_n_per_um,
             100.0 * p.excitation.contact_loss_fraction
         )];
-        for s in self.pair.ste.iter().take(self.harmonics) {
-            let k = self
-                .pair
-                .stiffness
-                .iter()
-                .find(|k| k.order == s.order)
-                .map_or(String::new(), |k| {
-                    format!(
-                        ", ε_{} = {:.5}, ψ_{} = {:.4} rad",
-                        k.order, k.amplitude, k.order, k.phase
-                    )
-                });
+        let model = &p.model;
+        for s in model.ste.iter().take(self.harmonics) {
+            let k =
+                model
+                    .stiffness
+                    .iter()
+                    .find(|k| k.order == s.order)
+                    .map_or(String::new(), |k| {
+                        format!(
+                            ", ε_{} = {:.5}, ψ_{} = {:.4} rad",
+                            k.order, k.amplitude, k.order, k.phase
+                        )
+                    });
             out.push(format!(
                 "    F_ah{} = {:.6} (ē_{} = {:.4} µm), φ_{} = {:.4} rad{k}",
                 s.order,
@@ -436,7 +435,7 @@ impl GeometryExcitation {
                 s.phase
             ));
         }
-        let rest = &self.pair.ste[self.harmonics.min(self.pair.ste.len())..];
+        let rest = &model.ste[self.harmonics.min(model.ste.len())..];
         if let Some(largest) = rest.iter().map(|s| s.amplitude).reduce(f64::max) {
             out.push(format!(
                 "    and orders {} to {} (the static deflection's harmonics above the stiffness's, \
@@ -476,8 +475,8 @@ impl GeometryExcitation {
             "ste_pp_um": p.excitation.ste_pp_um,
             "loaded_mesh_stiffness_n_per_um": p.excitation.mesh_stiffness_mean_n_per_um,
             "contact_loss_fraction": p.excitation.contact_loss_fraction,
-            "ste_terms": self.pair.ste,
-            "stiffness_terms": self.pair.stiffness,
+            "ste_terms": p.model.ste,
+            "stiffness_terms": p.model.stiffness,
         })
     }
 }

@@ -1,16 +1,16 @@
 //! `geardyn validate munro|kubo`: fit, predict, compare, and write fits/ and reports/.
 
 use super::common::{check_out_dir, print_text};
+use super::geometry_excitation::{Shape, Stiffness};
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
 use geardyn::data::{load_kubo, load_munro, load_rig_with_geometry};
-use geardyn::mesh::ReliefShape;
 use geardyn::report::{
     data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
 };
 use geardyn::validate::{
     validate_kubo, validate_munro, GeometryOptions, KuboOptions, LoadResult, MunroOptions,
-    ReliefRule, SteMode, StiffnessChoice,
+    ReliefRule, SteMode,
 };
 use std::path::PathBuf;
 
@@ -95,18 +95,6 @@ enum Relief {
     Given,
 }
 
-#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
-enum Shape {
-    Linear,
-    Parabolic,
-}
-
-#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
-enum Stiffness {
-    Constant,
-    Geometry,
-}
-
 impl MunroArgs {
     /// The STE mode; the geometry is read from `rig` (its [geometry] table).
     fn ste_mode(&self, rig: &std::path::Path) -> anyhow::Result<SteMode> {
@@ -127,15 +115,9 @@ impl MunroArgs {
         Ok(SteMode::Geometry(Box::new(GeometryOptions {
             relief,
             relief_length_mm: self.relief_length_mm,
-            relief_shape: match self.relief_shape {
-                Shape::Linear => ReliefShape::Linear,
-                Shape::Parabolic => ReliefShape::Parabolic,
-            },
+            relief_shape: self.relief_shape.relief_shape(),
             ste_harmonics: self.ste_harmonics,
-            stiffness: match self.mesh_stiffness {
-                Stiffness::Constant => StiffnessChoice::Constant,
-                Stiffness::Geometry => StiffnessChoice::Geometry,
-            },
+            stiffness: self.mesh_stiffness.choice(),
             ..GeometryOptions::design_rule(geometry)
         })))
     }

@@ -7,7 +7,6 @@ use super::geometry::GearPairGeometry;
 use super::harmonics::{mesh_harmonics, MeshHarmonic};
 use super::harris::{design_relief, harris_map, HarrisPoint};
 use super::iso6336::IsoStiffness;
-use super::profile_deviation::ProfileDeviation;
 use super::ste::{MeshModel, ReliefShape, SteWaveform, TipRelief};
 use crate::data::{GearGeometry, ProfilePoints, Rig};
 use crate::error::{GearError, Result};
@@ -180,9 +179,7 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
     if opts.loads_n.is_empty() {
         return Err(GearError::param("load_n", 0.0, "no load given"));
     }
-    let deviation =
-        ProfileDeviation::from_diameters(&geo, &opts.profile.pinion, &opts.profile.gear)?;
-    let model = MeshModel::new(geo.clone()).with_deviation(deviation);
+    let model = MeshModel::with_profile(geo.clone(), &opts.profile)?;
     let length = |l: Option<f64>| l.map_or(TipRelief::long_length(&geo), |mm| mm * 1e-3);
     let (relief, designed) = match opts.relief {
         ReliefChoice::Given {

@@ -21,6 +21,7 @@
 use super::geometry::GearPairGeometry;
 use super::profile_deviation::ProfileDeviation;
 use super::tooth_stiffness::StiffnessTable;
+use crate::data::ProfilePoints;
 use crate::error::{GearError, Result};
 use serde::Serialize;
 
@@ -247,6 +248,14 @@ impl MeshModel {
             stiffness,
             deviation: ProfileDeviation::default(),
         }
+    }
+
+    /// The pair of `geometry` with the flanks' profile table `profile` (diameters and reliefs,
+    /// [`ProfileDeviation::from_diameters`]; empty: none).
+    pub fn with_profile(geometry: GearPairGeometry, profile: &ProfilePoints) -> Result<Self> {
+        let deviation =
+            ProfileDeviation::from_diameters(&geometry, &profile.pinion, &profile.gear)?;
+        Ok(Self::new(geometry).with_deviation(deviation))
     }
 
     /// The same pair with the flanks' tabulated profile modification `deviation`.

@@ -20,8 +20,8 @@ use crate::data::{GearGeometry, ProfilePoints, Rig};
 use crate::error::{GearError, Result};
 use crate::mesh::harmonics::fourier;
 use crate::mesh::{
-    design_relief, mesh_harmonics, GearPairGeometry, MeshHarmonic, MeshModel, ProfileDeviation,
-    ReliefShape, TipRelief,
+    design_relief, mesh_harmonics, GearPairGeometry, MeshHarmonic, MeshModel, ReliefShape,
+    TipRelief,
 };
 use crate::model::{Dimensional, GearPair, OperatingPoint, StiffnessSource, Term};
 use serde::Serialize;
@@ -96,6 +96,20 @@ impl GeometryOptions {
 const SAMPLES: usize = 256;
 const REPORTED_ORDERS: u32 = 5;
 
+/// The number of STE harmonics a model of the geometry path may take: 1 to
+/// [`REPORTED_ORDERS`].
+fn check_ste_harmonics(harmonics: u32) -> Result<()> {
+    if (1..=REPORTED_ORDERS).contains(&harmonics) {
+        Ok(())
+    } else {
+        Err(GearError::param(
+            "ste_harmonics",
+            harmonics as f64,
+            "the geometry path takes 1 to 5 STE harmonics",
+        ))
+    }
+}
+
 /// What the geometry gives at one load.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct GeometryExcitation {
@@ -148,17 +162,9 @@ impl GearMesh {
             ..template
         }
         .validate(&geo)?;
-        if !(1..=REPORTED_ORDERS).contains(&opts.ste_harmonics) {
-            return Err(GearError::param(
-                "ste_harmonics",
-                opts.ste_harmonics as f64,
-                "the geometry path takes 1 to 5 STE harmonics",
-            ));
-        }
-        let deviation =
-            ProfileDeviation::from_diameters(&geo, &opts.profile.pinion, &opts.profile.gear)?;
+        check_ste_harmonics(opts.ste_harmonics)?;
         Ok(GearMesh {
-            model: MeshModel::new(geo).with_deviation(deviation),
+            model: MeshModel::with_profile(geo, &opts.profile)?,
             template,
         })
     }
@@ -266,9 +272,9 @@ pub struct GeometryModel {
 /// `harmonics` STE terms F_ahj = e_j / b with phases phi_j, F_m = F / (b k_h) of the rig and
 /// k = 1. With [`StiffnessChoice::Geometry`]: F_m = F / (b k_h(F)), k(t) = 1 + sum eps_j
 /// cos(j Omega t + psi_j) (same orders), omega_n(F) = omega_n sqrt(k_h(F) / k_h(F_design))
-/// (`omega_n_design_hz` the natural frequency at the design load), and STE terms of the
-/// kinematic part delta - F / k_t of the STE, so that the model's static deflection
-/// 1 + F_m / k(t) plus its excitation is the loaded STE delta (the elastic part once).
+/// (`omega_n_design_hz` the natural frequency at the design load), and STE terms of the loaded
+/// STE less the model's own static deflection F / k(t) ([`kinematic_terms_um`]), so that that
+/// deflection plus the excitation is the loaded STE (the elastic part once).
 pub fn geometry_model(
     dim: &Dimensional,
     exc: &GeometryExcitation,
@@ -278,6 +284,7 @@ pub fn geometry_model(
     omega_n_design_hz: f64,
     k_design_n_per_um: f64,
 ) -> Result<GeometryModel> {
+    check_ste_harmonics(harmonics)?;
     let n = harmonics as usize;
     let ste_terms = match stiffness {
         StiffnessChoice::Constant => exc.ste_terms_um(harmonics),
@@ -423,13 +430,6 @@ impl GearMesh {
         zeta: f64,
         omega_n_design_hz: f64,
     ) -> Result<GeometryOperatingPoint> {
-        if !(1..=REPORTED_ORDERS).contains(&harmonics) {
-            return Err(GearError::param(
-                "ste_harmonics",
-                harmonics as f64,
-                "the geometry path takes 1 to 5 STE harmonics",
-            ));
-        }
         let dim = Dimensional::from_rig(rig)?;
         let excitation = self.excitation(load_n, relief_um)?;
         let k_design = self
