@@ -5,6 +5,7 @@ mod attractors;
 mod escape;
 mod exact;
 mod exact_bounds;
+mod excitation_table;
 mod extrema;
 mod fast_math;
 mod flow;

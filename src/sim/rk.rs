@@ -135,7 +135,6 @@ pub struct Outcome<const N: usize> {
 const SAFE: f64 = 0.9;
 const FACC1: f64 = 1.0 / 0.333;
 const FACC2: f64 = 1.0 / 6.0;
-const EXPO1: f64 = 1.0 / 8.0;
 /// A remaining interval below this many units of t_end's magnitude is closed without a step.
 const NEGLIGIBLE: f64 = 16.0 * f64::EPSILON;
 
@@ -249,7 +248,9 @@ impl<const N: usize> Dop853<N> {
             let y_new = stages(sys, t, &y, &f, h, &mut k);
             self.stats.rhs_evaluations += 11;
             let err = error_norm(opts, &y, &y_new, &k, h);
-            let fac11 = err.powf(EXPO1);
+            // err^EXPO1 with dop853.f's EXPO1 = 1/8, as three square roots: a libm `pow` per step was 4% of a discover run
+            // that integrates a time-varying stiffness; the roots agree with it to an ulp.
+            let fac11 = err.sqrt().sqrt().sqrt();
             if err <= 1.0 {
                 let mut h_new = h / (fac11 / SAFE).clamp(FACC2, FACC1);
                 if reject {

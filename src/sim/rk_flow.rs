@@ -13,6 +13,7 @@
 //! continuous, so the vector field is continuous at the switching surfaces and Phi needs no
 //! saltation matrix there (design.md section 6).
 
+use super::excitation_table::ExcitationTable;
 use super::flow::{Observer, PeriodFlow, Piece, State};
 use super::rk::{
     Crossing, DenseStep, Dop853, Dop853Options, EventFunction, LevelCrossing, OdeSystem,
@@ -71,32 +72,27 @@ impl Boundary {
 /// the state (N = 2) or the state with the variational equation (N = 6: q, q', then Phi by
 /// columns).
 struct RegionRhs<'a> {
-    model: &'a GearPair,
+    table: &'a ExcitationTable,
+    zeta: f64,
     kappa: f64,
     offset: f64,
-    varying: bool,
 }
 
 impl<'a> RegionRhs<'a> {
-    fn new(model: &'a GearPair, region: Region) -> Self {
+    fn new(table: &'a ExcitationTable, zeta: f64, region: Region) -> Self {
         RegionRhs {
-            model,
+            table,
+            zeta,
             kappa: region.kappa(),
             offset: region.force_offset(),
-            varying: model.has_stiffness_variation(),
         }
     }
 
     /// Mesh stiffness k(s) and acceleration q'' at (s, q, v).
     #[inline]
     fn accel(&self, s: f64, q: f64, v: f64) -> (f64, f64) {
-        let k = if self.varying {
-            self.model.stiffness_at(s)
-        } else {
-            1.0
-        };
-        let a =
-            self.model.forcing(s) - 2.0 * self.model.zeta * v - k * (self.kappa * q - self.offset);
+        let (f, k) = self.table.at(s);
+        let a = f - 2.0 * self.zeta * v - k * (self.kappa * q - self.offset);
         (k, a)
     }
 }
@@ -113,7 +109,7 @@ impl OdeSystem<6> for RegionRhs<'_> {
     fn rhs(&self, s: f64, y: &[f64; 6]) -> [f64; 6] {
         let (k, a) = self.accel(s, y[0], y[1]);
         let stiff = k * self.kappa;
-        let damp = 2.0 * self.model.zeta;
+        let damp = 2.0 * self.zeta;
         [
             y[1],
             a,
@@ -139,6 +135,7 @@ impl Piece for DenseStep<2> {
 #[derive(Debug)]
 pub struct RkFlow {
     model: GearPair,
+    table: ExcitationTable,
     rtol: f64,
     period: f64,
     h_max: f64,
@@ -149,6 +146,7 @@ impl Clone for RkFlow {
     fn clone(&self) -> Self {
         RkFlow {
             model: self.model.clone(),
+            table: self.table.clone(),
             rtol: self.rtol,
             period: self.period,
             h_max: self.h_max,
@@ -177,6 +175,7 @@ impl RkFlow {
             // Also a quarter of the fastest excitation period, for the same reason as H_MAX.
             h_max: H_MAX.min(period / (4.0 * n)),
             rhs_evaluations: AtomicU64::new(0),
+            table: ExcitationTable::new(&model),
             model,
         })
     }
@@ -225,7 +224,7 @@ impl RkFlow {
         let mut x = x0;
         let result = (|| {
             for _ in 0..MAX_CROSSINGS_PER_PERIOD {
-                let rhs = RegionRhs::new(&self.model, region);
+                let rhs = RegionRhs::new(&self.table, self.model.zeta, region);
                 let bounds = Boundary::of(region);
                 let events: Vec<&dyn EventFunction<N>> = bounds
                     .iter()

@@ -377,6 +377,11 @@ fn analyse<F: PeriodFlow + ?Sized>(
     age: usize,
     opts: &SteadyOptions,
 ) -> Result<SteadyState> {
+    // A stable orbit the transient refined is described by its own p periods: kept periods
+    // would only repeat its points (and were most of a continuation step's cost).
+    if orbit.is_some() {
+        return describe(flow, x, orbit, None, Vec::new(), age, opts);
+    }
     let keep = opts.keep.max(1);
     // Section points of the kept periods (cheap: no observer).
     let mut points = Vec::with_capacity(keep);
