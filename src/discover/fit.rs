@@ -6,10 +6,12 @@
 //! estimation engine's least squares (`crate::fit::least_squares`).
 
 use super::effects::{Candidate, Effect};
-use super::forward::{fitted_damping_admissible, predict, CurvePrediction, Globals, Setup};
+use super::forward::{
+    fitted_damping_admissible, predict, predict_near, CurvePrediction, Globals, Setup,
+};
 use super::noise::Scales;
 use crate::error::{GearError, Result};
-use crate::fit::{least_squares, rss, LmFit, Param, Stop};
+use crate::fit::{least_squares, least_squares_warm, rss, LmFit, Param, Stop};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
 use std::collections::HashMap;
@@ -135,7 +137,25 @@ pub fn fit_model(
             .collect::<Result<_>>()?;
         Ok(residuals_of(setup, idx, &preds, mask, scales))
     };
-    let lm = least_squares(&f, &discovery_params(n, cand, start), stop)?;
+    // A Jacobian column: each curve whose parameters moved continues the base's sweep.
+    let near = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
+        let (g, ste, effect) = unpack(p, n, effect_in_fit);
+        let (g0, ste0, effect0) = unpack(base, n, effect_in_fit);
+        fitted_damping_admissible(setup, idx, g, &effect)?;
+        let preds: Vec<CurvePrediction> = idx
+            .par_iter()
+            .zip(ste.par_iter().zip(&ste0))
+            .map(|(&i, (&e, &e0))| {
+                let at_base = cache.predict(setup, i, g0, e0, &effect0)?;
+                if g == g0 && e == e0 && effect.delta == effect0.delta {
+                    return Ok(at_base);
+                }
+                predict_near(setup, i, g, e, &effect, &at_base)
+            })
+            .collect::<Result<_>>()?;
+        Ok(residuals_of(setup, idx, &preds, mask, scales))
+    };
+    let lm = least_squares_warm(&f, Some(&near), &discovery_params(n, cand, start), stop)?;
     let (globals, ste_um, effect) = unpack(&lm.params, n, effect_in_fit);
     Ok(ModelFit {
         globals,
@@ -211,6 +231,11 @@ pub fn fit_ste(
         let pred = predict(setup, i, g, p[0], effect)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };
+    let near = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
+        let at_base = predict(setup, i, g, base[0], effect)?;
+        let pred = predict_near(setup, i, g, p[0], effect, &at_base)?;
+        Ok(residuals_of(setup, &[i], &[pred], mask, scales))
+    };
     let rss_at = |e: f64| f(&[e]).map(|r| rss(&r));
     // (amplitude, RSS) of the best finite point of the scan, if any.
     let scan = |factors: &[f64], around: f64| -> Result<Option<(f64, f64)>> {
@@ -236,8 +261,9 @@ pub fn fit_ste(
         }
         None => scan(&STE_SCAN_FINE, start.abs())?.map_or(start.abs(), |fine| fine.0),
     };
-    let lm = least_squares(
+    let lm = least_squares_warm(
         &f,
+        Some(&near),
         &[Param::signed("ste_um", best, 0.05)],
         Stop::converged(8),
     )?;

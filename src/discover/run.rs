@@ -1245,6 +1245,7 @@ fn refit_scales(
                 separated: vec![false; n],
                 back_contact: vec![false; n],
                 aperiodic_start: vec![None; n],
+                neighbour_starts: Vec::new(),
             }
         })
         .collect();
@@ -2104,6 +2105,7 @@ mod tests {
             separated: vec![false, true, true, true, true, true, true, false, false],
             back_contact: vec![false, false, false, true, true, false, false, false, false],
             aperiodic_start: vec![None; 9],
+            neighbour_starts: Vec::new(),
         };
         let noise = super::DiscoveryNoise::stated(
             super::NoiseOrigin::StatedOption,

@@ -108,9 +108,14 @@ struct State {
     error: Option<GearError>,
 }
 
+/// Residuals at a point given a nearby point where they were evaluated: `near(p, base)`.
+pub type NearResiduals<'a> = &'a (dyn Fn(&[f64], &[f64]) -> Result<Vec<f64>> + Sync);
+
 /// The residual function with its parameters: what the parallel Jacobian columns share.
 struct Evaluator<'a, F> {
     f: &'a F,
+    /// Residuals at a finite-difference neighbour of a point (see [`least_squares_warm`]).
+    near: Option<NearResiduals<'a>>,
     params: &'a [Param],
     m: usize,
     stop: Stop,
@@ -139,6 +144,16 @@ where
         (r.len() == self.m && r.iter().all(|x| x.is_finite())).then_some(r)
     }
 
+    /// Residuals at internal point u, a finite-difference neighbour of `base`, through `near`
+    /// when the fit has it.
+    fn eval_near(&self, u: &[f64], base: &[f64]) -> Option<Vec<f64>> {
+        let Some(near) = self.near else {
+            return self.eval(u);
+        };
+        let r = near(&self.values(u), &self.values(base)).ok()?;
+        (r.len() == self.m && r.iter().all(|x| x.is_finite())).then_some(r)
+    }
+
     /// Finite-difference step of internal coordinate j at u.
     fn step(&self, u: &[f64], j: usize) -> f64 {
         let p = &self.params[j];
@@ -159,7 +174,7 @@ where
                 let shifted = |s: f64| {
                     let mut v = u.to_vec();
                     v[j] += s;
-                    self.eval(&v)
+                    self.eval_near(&v, u)
                 };
                 let fail = || {
                     GearError::Numerical(format!(
@@ -315,6 +330,23 @@ pub fn least_squares<F>(f: &F, params: &[Param], stop: Stop) -> Result<LmFit>
 where
     F: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
+    least_squares_warm(f, None, params, stop)
+}
+
+/// [`least_squares`] whose Jacobian columns are evaluated by `near(p, base)`: the residuals at
+/// p, a finite-difference neighbour of `base` where `f` was evaluated. A simulated response
+/// can start each steady state there from base's (a continuation step of 1e-4 instead of a
+/// transient from the sweep's previous speed); `near` must give f(p) to the accuracy of the
+/// solver, which the fit's Jacobian then inherits. Trial steps and the start use `f`.
+pub fn least_squares_warm<F>(
+    f: &F,
+    near: Option<NearResiduals<'_>>,
+    params: &[Param],
+    stop: Stop,
+) -> Result<LmFit>
+where
+    F: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
     let u0: Vec<f64> = params
         .iter()
         .map(|p| {
@@ -335,6 +367,7 @@ where
     }
     let ev = Evaluator {
         f,
+        near,
         params,
         m: r0.len(),
         stop,

@@ -14,7 +14,7 @@ mod profile;
 pub use estimate::{
     estimate, Estimate, EstimateOptions, NoiseFit, NoiseSetting, NoiseSource, Robust,
 };
-pub use lm::{least_squares, rss, LmFit, Stop, UNSEEN};
+pub use lm::{least_squares, least_squares_warm, rss, LmFit, NearResiduals, Stop, UNSEEN};
 pub use noise::{
     estimate_noise, log_likelihood, robust_weight, Distribution, NoiseData, NoiseFreedom,
     NoiseModel,

@@ -9,8 +9,8 @@ use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
 use crate::sim::{
-    sweep, Branch, ExactFlow, FlowFactory, IcGrid, PeriodFlow, RkFlow, SteadyOptions, SweepPlan,
-    SweepPoint,
+    from_starts, neighbour_starts, sweep, Branch, ExactFlow, FlowFactory, IcGrid, PeriodFlow,
+    RkFlow, State, SteadyOptions, SteadyState, SweepPlan, SweepPoint,
 };
 use std::path::Path;
 
@@ -379,6 +379,54 @@ pub fn simulate_up_sweep(
     )
 }
 
+/// Where a sweep at parameters near those of `pts` (a [`simulate_up_sweep`] of `model`) starts
+/// each speed ([`crate::sim::neighbour_starts`]).
+pub fn up_sweep_neighbour_starts(model: &GearPair, pts: &[SweepPoint]) -> Vec<State> {
+    let states: Vec<SteadyState> = pts.iter().map(|p| p.steady.clone()).collect();
+    neighbour_starts(&states, up_sweep_start(model))
+}
+
+/// [`simulate_up_sweep`] at parameters near those whose sweep gave `starts`
+/// ([`up_sweep_neighbour_starts`]): each speed from its start, in parallel. Periodic points
+/// give the up-sweep's orbits (to the Newton tolerance) after a few periods instead of a
+/// transient from the speed before.
+pub fn simulate_near_up_sweep(
+    dim: &Dimensional,
+    model: &GearPair,
+    omega_n_hz: f64,
+    speeds: &[f64],
+    rk_rtol: f64,
+    starts: &[State],
+) -> Result<Vec<SweepPoint>> {
+    let models = speeds
+        .iter()
+        .map(|&s| model.at_omega(dim.omega(s, omega_n_hz)))
+        .collect::<Result<Vec<_>>>()?;
+    let states = from_starts(
+        &|m| flow_with_rtol(m, rk_rtol),
+        &models,
+        starts,
+        &SteadyOptions::default(),
+    )?;
+    Ok(models
+        .iter()
+        .zip(states)
+        .map(|(m, steady)| SweepPoint {
+            omega: m.omega,
+            branch: Branch::Up,
+            steady,
+            basin_fraction: None,
+            kind: None,
+            escape_rate: None,
+        })
+        .collect())
+}
+
+/// First state of an up-sweep of `model`: at rest in contact under the mean load.
+fn up_sweep_start(model: &GearPair) -> State {
+    [1.0 + model.mean_force, 0.0]
+}
+
 /// [`simulate_up_sweep`] with the period map of `factory`.
 fn up_sweep(
     dim: &Dimensional,
@@ -392,7 +440,7 @@ fn up_sweep(
     let plan = SweepPlan {
         omegas,
         branch: Branch::Up,
-        x0: [1.0 + model.mean_force, 0.0],
+        x0: up_sweep_start(model),
         grid: IcGrid::new(-2.0, 2.0, 1)?,
         opts: SteadyOptions::default(),
     };
