@@ -168,7 +168,8 @@ pub fn fit_model(
 /// The curve predictions of one fit by their exact parameters. A Jacobian column that moves
 /// one curve's STE amplitude leaves the other curves as they were at the point the Jacobian is
 /// taken at: their predictions are reused instead of simulated again (for two training loads
-/// and the stiffness variation, 10 of the 12 simulated sweeps of a Jacobian instead of 12).
+/// and the stiffness variation, 10 of the 12 simulated sweeps of a Jacobian instead of 12), and
+/// a column's base prediction, whose sweep the column continues, is the one `f` made there.
 #[derive(Default)]
 struct PredictionCache {
     map: Mutex<HashMap<Vec<u64>, CurvePrediction>>,
@@ -227,12 +228,14 @@ pub fn fit_ste(
     effect: &Effect,
     start: f64,
 ) -> Result<(f64, LmFit)> {
+    let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
-        let pred = predict(setup, i, g, p[0], effect)?;
+        let pred = cache.predict(setup, i, g, p[0], effect)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };
+    // The base point was evaluated by `f` (the cache has it); its column continues its sweep.
     let near = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
-        let at_base = predict(setup, i, g, base[0], effect)?;
+        let at_base = cache.predict(setup, i, g, base[0], effect)?;
         let pred = predict_near(setup, i, g, p[0], effect, &at_base)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };

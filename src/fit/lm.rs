@@ -140,7 +140,13 @@ where
 
     /// Residuals at internal point u, or None when the evaluation failed or is not finite.
     fn eval(&self, u: &[f64]) -> Option<Vec<f64>> {
-        let r = (self.f)(&self.values(u)).ok()?;
+        self.usable((self.f)(&self.values(u)))
+    }
+
+    /// An evaluation's residuals, or None when it failed, has the wrong length or is not
+    /// finite.
+    fn usable(&self, r: Result<Vec<f64>>) -> Option<Vec<f64>> {
+        let r = r.ok()?;
         (r.len() == self.m && r.iter().all(|x| x.is_finite())).then_some(r)
     }
 
@@ -150,8 +156,7 @@ where
         let Some(near) = self.near else {
             return self.eval(u);
         };
-        let r = near(&self.values(u), &self.values(base)).ok()?;
-        (r.len() == self.m && r.iter().all(|x| x.is_finite())).then_some(r)
+        self.usable(near(&self.values(u), &self.values(base)))
     }
 
     /// Finite-difference step of internal coordinate j at u.

@@ -20,9 +20,9 @@ pub(crate) struct ExcitationTable {
     mean_force: f64,
     /// (coefficient of sin j theta, coefficient of cos j theta) of F - F_m.
     forcing: Vec<(f64, f64)>,
-    /// (coefficient of sin j theta, coefficient of cos j theta) of k - 1.
+    /// (coefficient of sin j theta, coefficient of cos j theta) of k - 1; empty when k = 1,
+    /// which [`ExcitationTable::at`] then returns exactly.
     stiffness: Vec<(f64, f64)>,
-    varying: bool,
 }
 
 impl ExcitationTable {
@@ -51,7 +51,6 @@ impl ExcitationTable {
         ExcitationTable {
             omega: model.omega,
             mean_force: model.mean_force,
-            varying: !stiffness.is_empty(),
             forcing,
             stiffness,
         }
@@ -76,7 +75,7 @@ impl ExcitationTable {
             }
             (sj, cj) = (sj * c1 + cj * s1, cj * c1 - sj * s1);
         }
-        (f, if self.varying { k } else { 1.0 })
+        (f, k)
     }
 }
 

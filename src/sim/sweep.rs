@@ -153,9 +153,7 @@ pub fn carry(
     for m in models {
         let flow = factory(m)?;
         let steady = steady_state(flow.as_ref(), x, opts)?;
-        if let Some(p) = steady.poincare.first() {
-            x = *p;
-        }
+        x = carried_past(x, &steady);
         out.push(steady);
         progress.advance(1);
     }
@@ -167,21 +165,28 @@ pub fn carry(
 /// frequency: a periodic point on its own orbit, which the nearby orbit continues; any other
 /// from the state the carried sweep brought to it. [`from_starts`] then reproduces a carried
 /// sweep of the nearby parameters on the same branch without its transients.
-pub fn neighbour_starts(states: &[SteadyState], x0: State) -> Vec<State> {
+pub fn neighbour_starts<'a>(
+    states: impl IntoIterator<Item = &'a SteadyState>,
+    x0: State,
+) -> Vec<State> {
     let mut carried = x0;
     states
-        .iter()
+        .into_iter()
         .map(|s| {
             let start = match (s.period, s.poincare.first()) {
                 (Some(_), Some(p)) => *p,
                 _ => carried,
             };
-            if let Some(p) = s.poincare.first() {
-                carried = *p;
-            }
+            carried = carried_past(carried, s);
             start
         })
         .collect()
+}
+
+/// The state a carried sweep takes to the next frequency after `steady`, which it reached
+/// from `x`: the first section point of that steady state (`x` when it has none).
+fn carried_past(x: State, steady: &SteadyState) -> State {
+    steady.poincare.first().copied().unwrap_or(x)
 }
 
 /// Steady states of `models`, each from its own start (see [`neighbour_starts`]), in parallel.

@@ -10,7 +10,7 @@ use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
 use crate::sim::{
     from_starts, neighbour_starts, sweep, Branch, ExactFlow, FlowFactory, IcGrid, PeriodFlow,
-    RkFlow, State, SteadyOptions, SteadyState, SweepPlan, SweepPoint,
+    RkFlow, State, SteadyOptions, SweepPlan, SweepPoint,
 };
 use std::path::Path;
 
@@ -382,8 +382,7 @@ pub fn simulate_up_sweep(
 /// Where a sweep at parameters near those of `pts` (a [`simulate_up_sweep`] of `model`) starts
 /// each speed ([`crate::sim::neighbour_starts`]).
 pub fn up_sweep_neighbour_starts(model: &GearPair, pts: &[SweepPoint]) -> Vec<State> {
-    let states: Vec<SteadyState> = pts.iter().map(|p| p.steady.clone()).collect();
-    neighbour_starts(&states, up_sweep_start(model))
+    neighbour_starts(pts.iter().map(|p| &p.steady), up_sweep_start(model))
 }
 
 /// [`simulate_up_sweep`] at parameters near those whose sweep gave `starts`
