@@ -68,6 +68,19 @@ fn assert_named_with_truth_inside(d: &Discovery, name: &str, truth: f64) {
         "{name} {:?} [{lo}, {hi}]",
         c.estimate
     );
+    // The named effect's interval is the hull of its profile-likelihood and Wald intervals,
+    // and the profile brackets the estimate: each profile side is a fit at which the residual
+    // sum of squares rose by 3.84 sigma^2 from the refit's.
+    assert_eq!(
+        c.ci95_method,
+        "hull of the profile-likelihood and Wald intervals"
+    );
+    let (wl, wh) = c.wald_ci95.unwrap();
+    let (pl, ph) = c.profile_ci95.unwrap();
+    let (pl, ph) = (pl.unwrap(), ph.unwrap());
+    let est = c.estimate.unwrap();
+    assert!(pl < est && est < ph, "profile [{pl}, {ph}] about {est}");
+    assert_eq!((lo, hi), (wl.min(pl), wh.max(ph)));
 }
 
 /// Held-out RMS gap (um) before and after adding the effect.

@@ -52,6 +52,10 @@ pub struct Args {
     /// data (the null rate of the excluded-points rule depends on it).
     #[arg(long)]
     dop853_rtol: Option<f64>,
+    /// Keep each seed's data set in DIR/seed-N (rig.toml + dte.csv, truth included) to look
+    /// at a seed's answer again with `geardyn discover --data DIR/seed-N`.
+    #[arg(long, value_name = "DIR")]
+    keep_sets: Option<PathBuf>,
     #[command(flatten)]
     noise: NoiseArgs,
     /// Bootstrap replicates per discovery run, in [320, 99999].
@@ -79,6 +83,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         strength: a.strength,
         loads: a.loads,
         dop853_rtol: a.dop853_rtol,
+        keep_sets: a.keep_sets,
         noise: a.noise.noise()?,
         discover: DiscoverOptions {
             bootstrap: a.bootstrap,

@@ -149,6 +149,45 @@ impl Candidate {
         }
     }
 
+    /// The coordinate a profile-likelihood interval holds ([`super::profile`]) and the rest of
+    /// delta, free while it is held: for a phase-carrying candidate the first amplitude, and the
+    /// first phase (rad) followed by the other pairs; gamma and nothing; beta (b = b_stated
+    /// e^beta, the internal coordinate of the Wald interval too) and nothing.
+    pub fn profiled(self, delta: &[f64]) -> (f64, Vec<f64>) {
+        if self.has_phase() {
+            let mut free = vec![Candidate::first_phase(delta)];
+            free.extend_from_slice(&delta[2..]);
+            (delta[0].hypot(delta[1]), free)
+        } else {
+            (delta[0], Vec::new())
+        }
+    }
+
+    /// The delta of [`Candidate::profiled`]'s coordinate `u` and free part `free`.
+    pub fn unprofiled(self, u: f64, free: &[f64]) -> Vec<f64> {
+        if self.has_phase() {
+            let (s, c) = free[0].sin_cos();
+            let mut d = vec![u * c, u * s];
+            d.extend_from_slice(&free[1..]);
+            d
+        } else {
+            vec![u]
+        }
+    }
+
+    /// The estimate at profile coordinate `u`: u, or exp(u) for the backlash.
+    pub fn estimate_of_profiled(self, u: f64) -> f64 {
+        match self {
+            Candidate::Backlash => u.exp(),
+            _ => u,
+        }
+    }
+
+    /// Whether the profile coordinate is an amplitude, which cannot go below zero.
+    pub fn profiled_is_amplitude(self) -> bool {
+        self.has_phase()
+    }
+
     /// The value of [`Candidate::estimate`] at delta = 0, where the candidate is M0 itself:
     /// zero amplitude, gamma 0, b / b_stated 1.
     pub fn nested_value(self) -> f64 {

@@ -58,7 +58,7 @@ pub fn residuals_of(
 /// below the fits' floor is rejected by the residuals, not by a transform: `MIN_ZETA` is a
 /// bound on the damping at every load after a damping law, which no transform of zeta alone
 /// can express).
-fn discovery_params(n_curves: usize, cand: Option<Candidate>, start: &[f64]) -> Vec<Param> {
+fn discovery_params(n_curves: usize, effect: EffectInFit, start: &[f64]) -> Vec<Param> {
     let mut p = vec![
         Param::signed("zeta", start[0], 0.005),
         Param::signed("omega_n_hz", start[1], 10.0),
@@ -66,14 +66,25 @@ fn discovery_params(n_curves: usize, cand: Option<Candidate>, start: &[f64]) -> 
     for k in 0..n_curves {
         p.push(Param::signed(&format!("ste_um_{k}"), start[2 + k], 0.05));
     }
-    if let Some(c) = cand {
-        for k in 0..c.dim() {
-            p.push(Param::signed(
-                &format!("{}_{k}", c.name()),
-                start[2 + n_curves + k],
-                c.scale(),
-            ));
+    let tail = &start[2 + n_curves..];
+    match effect {
+        EffectInFit::Fitted(c) => {
+            for (k, &v) in tail.iter().enumerate().take(c.dim()) {
+                p.push(Param::signed(&format!("{}_{k}", c.name()), v, c.scale()));
+            }
         }
+        EffectInFit::Profiled(c, _) => {
+            for (k, &v) in tail.iter().enumerate() {
+                // The first free parameter of a phase-carrying candidate is its phase (rad).
+                let step = if k == 0 && c.has_phase() {
+                    0.05
+                } else {
+                    c.scale()
+                };
+                p.push(Param::signed(&format!("{}_free_{k}", c.name()), v, step));
+            }
+        }
+        EffectInFit::None | EffectInFit::Held(_) => {}
     }
     p
 }
@@ -87,16 +98,10 @@ pub enum EffectInFit<'a> {
     Fitted(Candidate),
     /// M0 + this effect, held as it is.
     Held(&'a Effect),
-}
-
-impl EffectInFit<'_> {
-    /// The candidate whose delta is fitted, if any.
-    fn fitted(self) -> Option<Candidate> {
-        match self {
-            EffectInFit::Fitted(c) => Some(c),
-            _ => None,
-        }
-    }
+    /// M0 + the candidate with its profile coordinate ([`Candidate::profiled`]: an amplitude,
+    /// gamma or beta) held at this value and the rest of its delta fitted (the last
+    /// parameters): one point of a profile likelihood.
+    Profiled(Candidate, f64),
 }
 
 fn unpack(p: &[f64], n_curves: usize, effect: EffectInFit) -> (Globals, Vec<f64>, Effect) {
@@ -109,6 +114,7 @@ fn unpack(p: &[f64], n_curves: usize, effect: EffectInFit) -> (Globals, Vec<f64>
         EffectInFit::None => Effect::none(),
         EffectInFit::Fitted(c) => Effect::of(c, p[2 + n_curves..].to_vec()),
         EffectInFit::Held(e) => e.clone(),
+        EffectInFit::Profiled(c, u) => Effect::of(c, c.unprofiled(u, &p[2 + n_curves..])),
     };
     (g, ste, effect)
 }
@@ -125,7 +131,6 @@ pub fn fit_model(
     stop: Stop,
 ) -> Result<ModelFit> {
     let n = idx.len();
-    let cand = effect_in_fit.fitted();
     let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let (g, ste, effect) = unpack(p, n, effect_in_fit);
@@ -155,7 +160,12 @@ pub fn fit_model(
             .collect::<Result<_>>()?;
         Ok(residuals_of(setup, idx, &preds, mask, scales))
     };
-    let lm = least_squares_warm(&f, Some(&near), &discovery_params(n, cand, start), stop)?;
+    let lm = least_squares_warm(
+        &f,
+        Some(&near),
+        &discovery_params(n, effect_in_fit, start),
+        stop,
+    )?;
     let (globals, ste_um, effect) = unpack(&lm.params, n, effect_in_fit);
     Ok(ModelFit {
         globals,

@@ -17,6 +17,7 @@ mod fit;
 mod forward;
 mod linearized;
 mod noise;
+mod profile;
 mod report;
 mod run;
 pub mod stats;

@@ -31,6 +31,9 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "estimate": c.estimate,
             "estimate_of": c.estimate_name,
             "ci95": c.ci95.map(|(a, b)| [a, b]),
+            "ci95_method": c.ci95_method,
+            "wald_ci95": c.wald_ci95.map(|(a, b)| [a, b]),
+            "profile_ci95": c.profile_ci95.map(|(a, b)| [a, b]),
             "p_value": c.p_value,
             "p_holm": c.p_holm,
             "identifiable": c.identifiable,
@@ -240,7 +243,7 @@ pub fn summary_text(d: &Discovery) -> String {
     }
     for c in &d.candidates {
         s.push_str(&format!(
-            "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}\n",
+            "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}{}\n",
             c.name,
             c.lr,
             opt(c.p_value, 3),
@@ -248,6 +251,7 @@ pub fn summary_text(d: &Discovery) -> String {
             opt(c.estimate, 4),
             opt(c.ci95.map(|x| x.0), 4),
             opt(c.ci95.map(|x| x.1), 4),
+            interval_method_text(c),
             c.note
                 .as_ref()
                 .map_or(String::new(), |n| format!("  ({n})"))
@@ -401,8 +405,9 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
                 opt(c.p_value, 4),
                 opt(c.p_holm, 4),
                 format!("{} = {}", c.estimate_name, opt(c.estimate, 4)),
-                c.ci95
-                    .map_or("-".into(), |(a, b)| format!("{a:.4} .. {b:.4}")),
+                c.ci95.map_or("-".into(), |(a, b)| {
+                    format!("{a:.4} .. {b:.4}{}", interval_method_text(c))
+                }),
                 c.note.clone().unwrap_or_default(),
             ]
         })
@@ -492,4 +497,14 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     files.push("report.md".into());
     let dest = stage.commit()?;
     Ok(files.into_iter().map(|f| dest.join(f)).collect())
+}
+
+/// " (hull of the profile-likelihood and Wald intervals)" and the like after an interval that
+/// is not the Wald interval every refit gets.
+fn interval_method_text(c: &CandidateResult) -> String {
+    if c.ci95.is_some() && c.ci95_method != "Wald" {
+        format!(" ({})", c.ci95_method)
+    } else {
+        String::new()
+    }
 }

@@ -118,6 +118,10 @@ pub struct SeedOutcome {
     pub estimate: Option<f64>,
     pub ci95: Option<(f64, f64)>,
     pub covered: Option<bool>,
+    /// The intervals behind a hull `ci95` ([`crate::discover::CandidateResult`]), to compare
+    /// their coverage.
+    pub wald_ci95: Option<(f64, f64)>,
+    pub profile_ci95: Option<(Option<f64>, Option<f64>)>,
     /// The named candidate's phase is not determined by the training loads (its other-phase
     /// refit is a distinct minimum within chi2(0.95; 1); the interval spans both); None when
     /// no phase-carrying candidate was named.
@@ -209,6 +213,9 @@ pub struct StudyOptions {
     /// Make the sets with DOP853 at this tolerance ([`MunroTruth::dop853_rtol`]): their
     /// chaotic points are then not the fitting solver's, as with real data.
     pub dop853_rtol: Option<f64>,
+    /// Keep each seed's set in `DIR/seed-N` (rig.toml + dte.csv) instead of replacing it with
+    /// the next, so that a seed's answer can be looked at again with `geardyn discover`.
+    pub keep_sets: Option<std::path::PathBuf>,
     pub discover: DiscoverOptions,
 }
 
@@ -223,6 +230,7 @@ impl Default for StudyOptions {
             strength: None,
             loads: None,
             dop853_rtol: None,
+            keep_sets: None,
             discover: DiscoverOptions::default(),
         }
     }
@@ -284,7 +292,10 @@ pub fn run_study(
         if let Some(loads) = &opts.loads {
             t.ste_um = loads.clone();
         }
-        let dir = scratch.join("set");
+        let dir = match &opts.keep_sets {
+            Some(keep) => keep.join(format!("seed-{seed}")),
+            None => scratch.join("set"),
+        };
         synth_munro(&t, &dir, &crate::progress::NoProgress)?;
         let data = load_munro(&dir)?;
         let start = std::time::Instant::now();
@@ -318,6 +329,8 @@ pub fn run_study(
             phase_undetermined,
             estimate,
             ci95,
+            wald_ci95: cand.and_then(|c| c.wald_ci95),
+            profile_ci95: cand.and_then(|c| c.profile_ci95),
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
             held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
             excluded_far_outside: d.excluded_far_outside(),
