@@ -672,6 +672,14 @@ struct IntervalFound {
     method: &'static str,
 }
 
+impl IntervalFound {
+    /// Whether the refit settled: its profile was taken, rather than a better fit found after
+    /// every restart.
+    fn settled(&self) -> bool {
+        self.profile.is_some()
+    }
+}
+
 /// `ci` widened over the other phase basin's Wald interval when the phase is undetermined
 /// between it and the kept fit's `delta` ([`OtherStart`]).
 fn over_both_basins(
@@ -1197,8 +1205,12 @@ fn polar_profile(
 /// degrees and the refit ended 16 sigma^2 above the fit from the truth; at 0.6 x M0's the
 /// best profile value lies in the truth's basin. Neither profile's score tells which is right
 /// (on seed 4 the lower-damping profile scored lower and its starts all ended 150-220
-/// sigma^2 above the other's): the all-load fits decide.
-const PROFILE_ZETA_FACTORS: [f64; 2] = [1.0, 0.6];
+/// sigma^2 above the other's): the all-load fits decide. M0 can also land below the truth's
+/// damping (0.0078 on the eps 0.2 set of study seed 17 and 9 with relative noise, truth
+/// 0.0175), hence twice M0's too: with it that study named 18 of 20 seeds instead of 17
+/// (seed 17, which had named a 2nd STE harmonic, then named eps 0.192 [0.183, 0.203]), at
+/// 2-3.5 s more a run.
+const PROFILE_ZETA_FACTORS: [f64; 3] = [1.0, 0.6, 2.0];
 
 /// Starts taken from each profile: its best phase basin and the next two. With two, an eps
 /// 0.2 set at -86 degrees (relative noise, seed 14) ended at 132 degrees and eps 0.149; the
@@ -2104,6 +2116,13 @@ pub fn discover_setup(
         if !d.ambiguous_with.is_empty() {
             d.ambiguous_with.insert(0, cands[best].name.to_string());
             d.effect = "ambiguous".into();
+        } else if d.named_ci.is_some_and(|(_, found)| !found.settled()) {
+            // Its profile found a better fit after every restart: an estimate still moving is
+            // not named. On an eps 0.2 set (relative noise, study seed 13) a 2nd STE harmonic
+            // refit, 1.18 um RMS off the training curves, improved at each of its restarts
+            // and would have been named in place of the stiffness variation.
+            d.effect = "unexplained".into();
+            d.closest = Some(cands[best].name.to_string());
         } else if d
             .post_fit
             .first()
