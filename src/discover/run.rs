@@ -881,13 +881,13 @@ impl Refit<'_> {
         };
         let profiles: Vec<_> = PROFILE_ZETA_FACTORS
             .par_iter()
-            .map(|&f| profile_at(f))
+            .map(|&(f, n)| (profile_at(f), n))
             .collect();
         let mut first_error = None;
         let mut starts: Vec<Scored> = Vec::new();
-        for p in profiles {
+        for (p, n) in profiles {
             match p {
-                Ok(s) => starts.extend(s.into_iter().take(PROFILE_STARTS_PER_ZETA)),
+                Ok(s) => starts.extend(s.into_iter().take(n)),
                 Err(e) => {
                     first_error.get_or_insert(e);
                 }
@@ -1198,24 +1198,22 @@ fn polar_profile(
     Ok(starts)
 }
 
-/// Damping ratios of the polar profile, as factors of M0's; each profile gives
-/// [`PROFILE_STARTS_PER_ZETA`] starts. M0 absorbs a missing effect partly into its damping (0.028-0.037
+/// Damping ratios of the polar profile, as factors of M0's, and the starts taken from each
+/// (its best phase basins). M0 absorbs a missing effect partly into its damping (0.028-0.037
 /// on eps 0.2 sets made at 0.0175), and at M0's own value the profile can miss the true
 /// phase: on an eps 0.2 set at 191 degrees (relative noise, seed 2) its best was at -50
 /// degrees and the refit ended 16 sigma^2 above the fit from the truth; at 0.6 x M0's the
 /// best profile value lies in the truth's basin. Neither profile's score tells which is right
 /// (on seed 4 the lower-damping profile scored lower and its starts all ended 150-220
-/// sigma^2 above the other's): the all-load fits decide. M0 can also land below the truth's
-/// damping (0.0078 on the eps 0.2 set of study seed 17 and 9 with relative noise, truth
-/// 0.0175), hence twice M0's too: with it that study named 18 of 20 seeds instead of 17
-/// (seed 17, which had named a 2nd STE harmonic, then named eps 0.192 [0.183, 0.203]), at
-/// 2-3.5 s more a run.
-const PROFILE_ZETA_FACTORS: [f64; 3] = [1.0, 0.6, 2.0];
-
-/// Starts taken from each profile: its best phase basin and the next two. With two, an eps
-/// 0.2 set at -86 degrees (relative noise, seed 14) ended at 132 degrees and eps 0.149; the
-/// third basin of the profile at M0's damping led to -70 degrees and eps 0.189.
-const PROFILE_STARTS_PER_ZETA: usize = 3;
+/// sigma^2 above the other's): the all-load fits decide. Three basins of each: with two, an
+/// eps 0.2 set at -86 degrees (relative noise, seed 14) ended at 132 degrees and eps 0.149;
+/// the third basin of the profile at M0's damping led to -70 degrees and eps 0.189.
+///
+/// The best basin of a profile at twice M0's damping too: on the eps 0.2 study with relative
+/// noise, seed 17 (M0 at zeta 0.0175, the truth's) had named a 2nd STE harmonic; with it, eps
+/// 0.192 [0.183, 0.203]. One seed of twenty, at about 2.5 s a run for one start (7.4 s for
+/// three, which changed nothing more on that study).
+const PROFILE_ZETA_FACTORS: [(f64, usize); 3] = [(1.0, 3), (0.6, 3), (2.0, 1)];
 
 /// Phase basins a phase-carrying refit starts from: the profile's best and up to two more.
 const PROFILE_BASINS: usize = 3;
