@@ -584,7 +584,7 @@ const PROFILE_RESTARTS: usize = 2;
 /// [0.0212, 0.0221], profile [0.0023, 0.0224]); the profile where its fits, warm-started along
 /// the profile, stop on ledges of the jumping pp response above their own minimum (eps 0.2
 /// set of study seed 11, relative noise: Wald [0.187, 0.204], profile [0.193, 0.198], truth
-/// 0.2). Over 17 eps 0.2 seeds the Wald interval covered 13, the profile 14, the hull 16.
+/// 0.2). Over 17 eps 0.2 seeds the Wald interval covered 14, the profile 14, the hull 16.
 /// The interval spans both phase basins when the phase is undetermined, as the Wald interval
 /// does.
 fn profiled_refit(
@@ -1331,8 +1331,8 @@ struct Decision {
     /// The best refit's curves and held-out STE fits, even when it does not explain the data.
     refit_preds: Option<Vec<CurvePrediction>>,
     refit_held: Option<Vec<HeldFit>>,
-    /// The profile-likelihood interval of the candidate the decision rests on, and how it
-    /// was found (see [`profile_ci`]).
+    /// The interval of the candidate the decision rests on, and how it was found (see
+    /// [`profiled_refit`]).
     named_ci: Option<(usize, IntervalFound)>,
     /// A better refit of that candidate, found by its profile.
     better_refit: Option<Refitted>,
@@ -2155,7 +2155,6 @@ pub fn discover_setup(
                 c.delta = Some(b.fit.effect.delta.clone());
                 c.refit_zeta = Some(b.fit.globals.zeta);
                 c.refit_omega_n_hz = Some(b.fit.globals.omega_n_hz);
-                c.ci95 = over_both_basins(wald_ci(c.candidate, &b.fit.lm), c, &b.fit.effect.delta);
                 refits.retain(|r| r.cand != b.cand);
                 refits.push(b);
                 for (c, drop) in common_drops(setup, &train, &f0, &scales, refits) {
@@ -2163,7 +2162,12 @@ pub fn discover_setup(
                 }
             }
             if let Some((c, found)) = d.named_ci.take() {
-                cands[c].wald_ci95 = cands[c].ci95;
+                // From the refit itself: on a second decision `ci95` is already a hull.
+                let wald = refits.iter().find(|r| r.cand == c).and_then(|r| {
+                    let w = wald_ci(cands[c].candidate, &r.fit.lm);
+                    over_both_basins(w, &cands[c], &r.fit.effect.delta)
+                });
+                cands[c].wald_ci95 = wald;
                 cands[c].ci95 = found.ci;
                 cands[c].profile_ci95 = found.profile;
                 cands[c].ci95_method = found.method;
