@@ -183,6 +183,15 @@ impl Candidate {
         }
     }
 
+    /// The profile coordinate of estimate `v`, the inverse of
+    /// [`Candidate::estimate_of_profiled`]: ln v for the backlash.
+    pub fn profiled_of_estimate(self, v: f64) -> f64 {
+        match self {
+            Candidate::Backlash => v.max(1e-300).ln(),
+            _ => v,
+        }
+    }
+
     /// Whether the profile coordinate is an amplitude, which cannot go below zero.
     pub fn profiled_is_amplitude(self) -> bool {
         self.has_phase()

@@ -30,7 +30,7 @@ use super::noise::Scales;
 use crate::fit::Stop;
 
 /// sqrt(chi2(0.95; 1)).
-pub const Z95: f64 = 1.959_963_984_540_054;
+const Z95: f64 = 1.959_963_984_540_054;
 /// Profile fits per side at most, bracketing and root search together.
 const MAX_FITS_PER_SIDE: usize = 6;
 /// A side's root is accepted within this of [`Z95`] (about 2.5% of the bound's distance
@@ -77,8 +77,8 @@ enum Side {
 pub enum Profile {
     /// The interval's lower and upper sides.
     Interval(Bound, Bound),
-    /// A point that fits better than the refit: delta and the parameters of a fit of the
-    /// candidate (layout of [`ModelFit::lm`]), to refit from.
+    /// A point that fits better than the refit: its parameters in the layout of a fit of the
+    /// candidate ([`ModelFit::lm`]), to refit from.
     Better(Vec<f64>),
 }
 
@@ -109,11 +109,7 @@ impl ProfileProblem<'_> {
         };
         let guess = |bound: Option<f64>| {
             bound
-                .map(|b| match self.cand {
-                    Candidate::Backlash => b.max(1e-300).ln(),
-                    _ => b,
-                })
-                .map(|u| (u - u_hat).abs())
+                .map(|b| (self.cand.profiled_of_estimate(b) - u_hat).abs())
                 .filter(|h| h.is_finite() && *h > 0.0)
         };
         let fallback = 0.1 * u_hat.abs().max(self.cand.scale());

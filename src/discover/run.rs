@@ -2062,8 +2062,18 @@ pub fn discover_setup(
         };
         // The refit a name would rest on gets its profile interval, and continues from a
         // better point the profile finds, before anything is predicted from it.
+        // A second decision (after every significant candidate was refitted) reuses the
+        // first one's profile of a refit that settled: `refits` already holds that refit,
+        // and its profile would come out the same.
         let mut chosen = chosen;
-        if d.ambiguous_with.is_empty() {
+        let settled_before = cands[best].profile_ci95.map(|profile| IntervalFound {
+            ci: cands[best].ci95,
+            profile: Some(profile),
+            method: cands[best].ci95_method,
+        });
+        if let Some(found) = settled_before.filter(|_| d.ambiguous_with.is_empty()) {
+            d.named_ci = Some((best, found));
+        } else if d.ambiguous_with.is_empty() {
             let (better, ci) =
                 profiled_refit(setup, &train, chosen, &cands[best], opts.refit_iterations)?;
             d.named_ci = Some((best, ci));
