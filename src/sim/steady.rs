@@ -26,6 +26,12 @@ pub struct SteadyOptions {
     pub lyapunov: bool,
     /// Forcing periods averaged for the Lyapunov exponent of non-periodic motion.
     pub lyapunov_periods: usize,
+    /// Classify settled non-periodic motion (chaotic, converging or aperiodic) by its largest
+    /// Lyapunov exponent, at `lyapunov_periods` periods a point. Without it such motion is
+    /// `Aperiodic`, with no exponent and no cloud: a fit that only reads the pp of the
+    /// analysed window and whether the motion is periodic skips the cost (most of a
+    /// non-periodic point's).
+    pub classify_aperiodic: bool,
     /// How long attractor searches follow non-periodic sets to measure their escape (used by
     /// [`super::find_attractors`], not by a single steady state).
     pub escape: EscapeBudget,
@@ -39,6 +45,7 @@ impl Default for SteadyOptions {
             settle: true,
             lyapunov: false,
             lyapunov_periods: 2000,
+            classify_aperiodic: true,
             escape: EscapeBudget::default(),
         }
     }
@@ -455,7 +462,7 @@ fn describe<F: PeriodFlow + ?Sized>(
             after,
             age + analysed,
         ),
-        None if settled => {
+        None if settled && opts.classify_aperiodic => {
             let (l, end) = largest_lyapunov(flow, x, 20, opts.lyapunov_periods, Some(&mut cloud))?;
             (Some(l), end, age + lyapunov_periods)
         }

@@ -360,13 +360,15 @@ pub(crate) fn flow_with_rtol(m: &GearPair, rtol: f64) -> Result<Box<dyn PeriodFl
 
 /// Simulated up-sweep (speed increasing, state carried from one speed to the next, as a test
 /// run) at the given pinion speeds: the full steady state at each (pp DTE, period, impact).
-/// `rk_rtol` is the DOP853 tolerance used when k(t) varies (the exact solver otherwise).
+/// `rk_rtol` is the DOP853 tolerance used when k(t) varies (the exact solver otherwise);
+/// `opts` what each steady state computes.
 pub fn simulate_up_sweep(
     dim: &Dimensional,
     model: &GearPair,
     omega_n_hz: f64,
     speeds: &[f64],
     rk_rtol: f64,
+    opts: &SteadyOptions,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
     up_sweep(
@@ -375,6 +377,7 @@ pub fn simulate_up_sweep(
         omega_n_hz,
         speeds,
         &|m| flow_with_rtol(m, rk_rtol),
+        opts,
         progress,
     )
 }
@@ -396,17 +399,13 @@ pub fn simulate_near_up_sweep(
     speeds: &[f64],
     rk_rtol: f64,
     starts: &[State],
+    opts: &SteadyOptions,
 ) -> Result<Vec<SweepPoint>> {
     let models = speeds
         .iter()
         .map(|&s| model.at_omega(dim.omega(s, omega_n_hz)))
         .collect::<Result<Vec<_>>>()?;
-    let states = from_starts(
-        &|m| flow_with_rtol(m, rk_rtol),
-        &models,
-        starts,
-        &SteadyOptions::default(),
-    )?;
+    let states = from_starts(&|m| flow_with_rtol(m, rk_rtol), &models, starts, opts)?;
     Ok(models
         .iter()
         .zip(states)
@@ -433,6 +432,7 @@ fn up_sweep(
     omega_n_hz: f64,
     speeds: &[f64],
     factory: FlowFactory<'_>,
+    opts: &SteadyOptions,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
     let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
@@ -441,7 +441,7 @@ fn up_sweep(
         branch: Branch::Up,
         x0: up_sweep_start(model),
         grid: IcGrid::new(-2.0, 2.0, 1)?,
-        opts: SteadyOptions::default(),
+        opts: opts.clone(),
     };
     sweep(factory, model, &plan, progress)
 }
@@ -454,7 +454,8 @@ pub fn simulate_dte_curve(
     speeds: &[f64],
     progress: &dyn Progress,
 ) -> Result<Vec<f64>> {
-    let pts = simulate_up_sweep(dim, model, omega_n_hz, speeds, RK_RTOL, progress)?;
+    let opts = SteadyOptions::default();
+    let pts = simulate_up_sweep(dim, model, omega_n_hz, speeds, RK_RTOL, &opts, progress)?;
     Ok(pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect())
 }
 
@@ -564,6 +565,7 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
             truth.omega_n_hz,
             &speeds,
             &factory,
+            &SteadyOptions::default(),
             progress,
         )?
         .iter()
@@ -764,7 +766,16 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         1.0,
     )?;
     let model = truth.hidden.apply(model)?;
-    let pts = simulate_up_sweep(&dim, &model, truth.omega_n_hz, &speeds, RK_RTOL, progress)?;
+    let opts = SteadyOptions::default();
+    let pts = simulate_up_sweep(
+        &dim,
+        &model,
+        truth.omega_n_hz,
+        &speeds,
+        RK_RTOL,
+        &opts,
+        progress,
+    )?;
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("speed_rpm,dynamic_factor_min,dynamic_factor_max\n");
     for (s, p) in speeds.iter().zip(&pts) {
