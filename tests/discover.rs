@@ -177,11 +177,13 @@ fn null_set_gives_none_without_reading_the_truth() {
 
 /// A measured chaotic pp is one observation window of the attractor, and data the fitting
 /// solver did not make (measurements) draw other windows than its prediction. On the shipped
-/// `data/munro` (made by an older solver build) the largest excluded 945 N point lies beyond
-/// M0's predicted pp by more than the rule's margin (84 um against 73 um), so comparing with the
-/// prediction alone answered "unexplained". It lies inside the pp M0 produces over 32 later
-/// windows: "none". (The rule's false-positive rate on sets made by DOP853 is measured by the
-/// null studies, docs/discover-studies.md.)
+/// `data/munro` (made by an older solver build) the largest excluded 945 N point (84 um) lies
+/// inside the pp M0 produces over 32 windows: "none". Which window the prediction itself
+/// draws depends on the state the sweep carries from the speed before: when that state came
+/// 2000 periods later (after a Lyapunov exponent a fit never read) M0's prediction there was
+/// 73 um, and comparing with the prediction alone answered "unexplained"; now it is 83 um.
+/// (The rule's false-positive rate on sets made by DOP853 is measured by the null studies,
+/// docs/discover-studies.md.)
 #[test]
 fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/munro");
@@ -194,11 +196,10 @@ fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
         .find(|e| e.load_n == 945.0)
         .unwrap();
     let margin = |top: f64| 3.0 * d.noise.scale_at(0, 0, top) + 0.1 * top;
+    // The range starts from the prediction's own windows; the 32 later windows reach past
+    // them (88 um against 83 um).
+    assert!(e.model_range_um.1 > e.predicted_range_um.1, "{e:?}");
     let top = e.measured_range_um.1;
-    assert!(
-        top > e.predicted_range_um.1 + margin(e.predicted_range_um.1),
-        "{e:?}"
-    );
     assert!(
         top <= e.model_range_um.1 + margin(e.model_range_um.1),
         "{e:?}"
