@@ -10,6 +10,7 @@ pub mod data;
 pub mod digitize;
 pub mod discover;
 pub mod error;
+pub(crate) mod fast_math;
 pub mod fit;
 pub mod hb;
 pub mod mesh;

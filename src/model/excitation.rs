@@ -3,6 +3,7 @@
 
 use super::mesh::dead_zone;
 use super::params::GearPair;
+use crate::fast_math::sin_cos;
 
 /// One Fourier component `sin_coef sin(w t) + cos_coef cos(w t)` of the total forcing F(t),
 /// at w = order * Omega. Terms of equal order from STE and torque are combined.
@@ -65,7 +66,7 @@ impl GearPair {
     pub fn ste_over_b(&self, t: f64) -> f64 {
         self.ste
             .iter()
-            .map(|s| s.amplitude * (s.order as f64 * self.omega * t + s.phase).sin())
+            .map(|s| s.amplitude * sin_cos(s.order as f64 * self.omega * t + s.phase).0)
             .sum()
     }
 
@@ -74,7 +75,7 @@ impl GearPair {
         1.0 + self
             .stiffness
             .iter()
-            .map(|s| s.amplitude * (s.order as f64 * self.omega * t + s.phase).cos())
+            .map(|s| s.amplitude * sin_cos(s.order as f64 * self.omega * t + s.phase).1)
             .sum::<f64>()
     }
 

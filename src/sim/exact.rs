@@ -25,9 +25,9 @@
 use super::exact_bounds::{
     excluded, hermite_root, safe_horizon, within_rounding, Boundary, Crossing, Sample,
 };
-use super::fast_math::{exp_small, sin_cos, sin_cos_small, EXP_SMALL_LIMIT};
 use super::flow::{Observer, PeriodFlow, Piece, State};
 use crate::error::{GearError, Result};
+use crate::fast_math::{exp_small, sin_cos, sin_cos_small, EXP_SMALL_LIMIT};
 use crate::model::{GearPair, Region};
 use nalgebra::Matrix2;
 

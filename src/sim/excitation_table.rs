@@ -10,7 +10,7 @@
 //! geometry excitation may carry, far under the integrator's tolerance); each term's phase is
 //! folded into its (sin, cos) coefficients.
 
-use super::fast_math::sin_cos;
+use crate::fast_math::sin_cos;
 use crate::model::GearPair;
 
 /// F(s) and k(s) of a [`GearPair`] as Fourier coefficients by order (index j - 1 for order j).

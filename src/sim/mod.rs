@@ -7,7 +7,6 @@ mod exact;
 mod exact_bounds;
 mod excitation_table;
 mod extrema;
-mod fast_math;
 mod flow;
 mod ic_grid;
 mod lyapunov;
