@@ -241,6 +241,9 @@ pub fn summary_text(d: &Discovery) -> String {
     if let Some(t) = zeta_bound_text(d) {
         s.push_str(&format!("NOTE: {t}\n"));
     }
+    if let Some(t) = significant_undetected_text(d) {
+        s.push_str(&format!("NOTE: {t}\n"));
+    }
     for c in &d.candidates {
         s.push_str(&format!(
             "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}{}\n",
@@ -317,6 +320,16 @@ fn excluded_warning(d: &Discovery) -> Option<String> {
 
 /// Why the effect is "unexplained" when only the excluded points detected a discrepancy and
 /// no candidate is significant.
+/// Why a candidate significant on its own test is neither refitted nor named.
+fn significant_undetected_text(d: &Discovery) -> Option<String> {
+    (!d.significant_undetected.is_empty()).then(|| {
+        format!(
+            "{} significant on its own test, but no discrepancy is detected: not refitted and not named (a name needs a detected discrepancy; on the null studies every name given without one was false).",
+            d.significant_undetected.join(", ")
+        )
+    })
+}
+
 fn unexplained_by_excluded_text(d: &Discovery) -> Option<String> {
     (d.effect == "unexplained" && d.detected_by_excluded_points() && !d.detected_by_tests).then(
         || {
@@ -370,6 +383,9 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         d.bootstrap
     ));
     if let Some(t) = zeta_bound_text(d) {
+        page.paragraph(&t);
+    }
+    if let Some(t) = significant_undetected_text(d) {
         page.paragraph(&t);
     }
     page.heading("Detection (bootstrap p-values under M0, Holm-adjusted)");

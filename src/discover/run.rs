@@ -282,6 +282,10 @@ pub struct Discovery {
     pub detected: bool,
     /// Some detection test is significant after Holm at alpha / 2.
     pub detected_by_tests: bool,
+    /// Candidates significant on their own tests on a set where no discrepancy is detected:
+    /// not refitted and not named, since a name needs a detected discrepancy (every name the
+    /// null studies gave without one was false).
+    pub significant_undetected: Vec<String>,
     pub detection: Vec<TestResult>,
     /// Detection tests on the residuals after adding the chosen effect (same null distribution).
     pub post_fit: Vec<TestResult>,
@@ -1957,6 +1961,11 @@ pub fn discover_setup(
     let mut order: Vec<usize> = (0..cands.len())
         .filter(|&c| detected && significant(&cands[c]))
         .collect();
+    let significant_undetected: Vec<String> = cands
+        .iter()
+        .filter(|c| !detected && significant(c))
+        .map(|c| c.name.to_string())
+        .collect();
     let by_lr = order
         .iter()
         .copied()
@@ -2253,6 +2262,7 @@ pub fn discover_setup(
         closest_candidate: closest,
         detected,
         detected_by_tests,
+        significant_undetected,
         post_fit,
         noise,
         noise_range_um,
