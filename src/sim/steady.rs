@@ -559,6 +559,35 @@ mod tests {
         assert!(steady_state(&f, [0.0, 0.0], &huge).is_err());
     }
 
+    /// Without the classification the chaos of Fig. 4 is reported `Aperiodic` with no exponent
+    /// and no cloud, from the same transient and analysed window (the same pp, bit for bit);
+    /// the state it hands on is the end of that window, where the classified one hands on the
+    /// state after the exponent's 2020 periods.
+    #[test]
+    fn unclassified_aperiodic_motion_keeps_its_window() {
+        let m = GearPair::paper(0.1, 0.2, 0.02, 1.0).unwrap();
+        let f = ExactFlow::new(&m).unwrap();
+        let full = steady_state(&f, [0.0, 0.0], &SteadyOptions::default()).unwrap();
+        let plain = SteadyOptions {
+            classify_aperiodic: false,
+            ..SteadyOptions::default()
+        };
+        let s = steady_state(&f, [0.0, 0.0], &plain).unwrap();
+        assert_eq!(full.motion, Motion::Chaotic);
+        assert_eq!(
+            (s.motion, s.lyapunov, s.settled),
+            (Motion::Aperiodic, None, true)
+        );
+        assert!(s.cloud.is_empty() && !full.cloud.is_empty());
+        assert_eq!(
+            (s.dte_pp, s.q_min, s.q_max),
+            (full.dte_pp, full.q_min, full.q_max)
+        );
+        let d = SteadyOptions::default();
+        assert_eq!(full.age - s.age, 20 + d.lyapunov_periods - d.keep);
+        assert_ne!(s.end, full.end);
+    }
+
     /// Linear regime: eq. 13 gives q_a, q_m = 1 + F_m exactly, and pp(x) follows from the
     /// transfer function of x = q + e/b.
     #[test]
