@@ -174,7 +174,7 @@ fn curve_model(
 /// A prediction reads the pp of the analysed window, the period, the impacts and the state
 /// a window starts from, never the exponent; a non-periodic point's range over observation
 /// windows is simulated on its own ([`aperiodic_pp_range`]). The exponent's 2000 periods a
-/// point were 15% of an eps 0.2 `discover` on the 50 rpm grid (36.2 s to 30.7 s).
+/// point were 12-15% of an eps 0.2 `discover` on the 50 rpm grid (36.2 s to 30.7-32.1 s).
 fn fit_steady_options() -> SteadyOptions {
     SteadyOptions {
         classify_aperiodic: false,
