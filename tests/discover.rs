@@ -489,6 +489,23 @@ fn null_sets_with_level_dependent_and_heavy_tailed_noise_give_none() {
     }
 }
 
+/// `discover` as `discover-study --hidden none --dop853-rtol 1e-9 --bootstrap 999` runs it on
+/// `seed` of `family` (noise floor 0.15 um, the 50 rpm grid, the bootstrap seeded 12345 + seed).
+fn study_null_seed(family: NoiseFamily, seed: u64) -> Discovery {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut t = MunroTruth::default_munro();
+    t.seed = seed;
+    t.noise = family.noise(0.15);
+    t.dop853_rtol = Some(1e-9);
+    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
+    let opts = DiscoverOptions {
+        bootstrap: 999,
+        seed: 12_345 + seed,
+        ..DiscoverOptions::default()
+    };
+    run_with(tmp.path(), &opts)
+}
+
 /// A candidate significant on its own test where no discrepancy is detected is neither refitted
 /// nor named, and the run says why. On this null set (relative noise, DOP853, the 50 rpm grid:
 /// study seed 1031) the torque ripple's test gives p 0.001 while every detection test passes;
@@ -496,18 +513,7 @@ fn null_sets_with_level_dependent_and_heavy_tailed_noise_give_none() {
 /// interval deciding (tried, docs/discover-studies.md) it would have been named.
 #[test]
 fn a_significant_candidate_without_a_detected_discrepancy_is_not_refitted() {
-    let tmp = tempfile::tempdir().unwrap();
-    let mut t = MunroTruth::default_munro();
-    t.seed = 1031;
-    t.noise = NoiseFamily::Relative.noise(0.15);
-    t.dop853_rtol = Some(1e-9);
-    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
-    let opts = DiscoverOptions {
-        bootstrap: 999,
-        seed: 12_345 + 1031,
-        ..DiscoverOptions::default()
-    };
-    let d = run_with(tmp.path(), &opts);
+    let d = study_null_seed(NoiseFamily::Relative, 1031);
     assert!(!d.detected, "{:#?}", d.detection);
     assert_eq!(d.effect, "none");
     assert_eq!(d.significant_undetected, ["torque_ripple"]);
@@ -584,18 +590,7 @@ fn stated_noise_is_used_as_stated() {
 /// valid set and stopped the study. Now it answers "none" with omega_n near 1600 Hz.
 #[test]
 fn linear_start_does_not_end_at_a_negative_natural_frequency() {
-    let tmp = tempfile::tempdir().unwrap();
-    let mut t = MunroTruth::default_munro();
-    t.seed = 1076;
-    t.noise = NoiseFamily::StudentT.noise(0.15);
-    t.dop853_rtol = Some(1e-9);
-    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
-    let opts = DiscoverOptions {
-        bootstrap: 999,
-        seed: 12_345 + 1076,
-        ..DiscoverOptions::default()
-    };
-    let d = run_with(tmp.path(), &opts);
+    let d = study_null_seed(NoiseFamily::StudentT, 1076);
     assert_eq!(d.effect, "none");
     assert!(
         (d.omega_n_hz_m0 - 1600.0).abs() < 20.0,
