@@ -318,8 +318,6 @@ fn excluded_warning(d: &Discovery) -> Option<String> {
     ))
 }
 
-/// Why the effect is "unexplained" when only the excluded points detected a discrepancy and
-/// no candidate is significant.
 /// Why a candidate significant on its own test is neither refitted nor named.
 fn significant_undetected_text(d: &Discovery) -> Option<String> {
     (!d.significant_undetected.is_empty()).then(|| {
@@ -330,6 +328,8 @@ fn significant_undetected_text(d: &Discovery) -> Option<String> {
     })
 }
 
+/// Why the effect is "unexplained" when only the excluded points detected a discrepancy and
+/// no candidate is significant.
 fn unexplained_by_excluded_text(d: &Discovery) -> Option<String> {
     (d.effect == "unexplained" && d.detected_by_excluded_points() && !d.detected_by_tests).then(
         || {
