@@ -20,7 +20,7 @@ pub struct Args {
     #[arg(long, default_value_t = 21, allow_hyphen_values = true,
           value_parser = super::limits::whole(1..=1000))]
     repeat: usize,
-    /// Also time `discover` on a synthetic four-load set that needs refits (about a minute).
+    /// Also time `discover` on two synthetic four-load sets that need refits (about two minutes).
     #[arg(long)]
     discover_refit: bool,
 }
@@ -155,21 +155,36 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     print_text(&text)
 }
 
-/// `discover` on the slow case: a SYNTHETIC four-load Munro-style set (seed 1, Munro's 50 rpm
-/// grid, noise 0.15 um) with the second STE harmonic hidden at 40% of the first, so that the
-/// candidates are refitted with the full nonlinear model. The set is written to a temporary
-/// folder and removed.
+/// `discover` on the slow cases: SYNTHETIC four-load Munro-style sets on Munro's 50 rpm grid,
+/// where the candidates are refitted with the full nonlinear model. A second STE harmonic at 40%
+/// of the first (seed 1, constant noise 0.15 um, made by the fit's own solvers), and the
+/// slowest case the studies meet: a mesh stiffness variation eps 0.2 at 115 degrees (seed 3,
+/// noise 3% of the level on a 0.15 um floor, made by DOP853 at rtol 1e-9), whose refits
+/// integrate k(t) by DOP853. Each set is written to a temporary folder and removed.
 fn discover_refit_timing() -> anyhow::Result<String> {
+    let mut r2 = geardyn::validate::MunroTruth::default_munro();
+    r2.hidden.ste2_ratio = 0.4;
+    let mut eps = geardyn::validate::MunroTruth::default_munro();
+    eps.hidden.stiffness_eps = 0.2;
+    eps.hidden.stiffness_phase = 2.0;
+    eps.noise = geardyn::validate::NoiseFamily::Relative.noise(0.15);
+    eps.seed = 3;
+    eps.dop853_rtol = Some(1e-9);
+    let mut text = timed_synthetic(&r2, "the 2nd STE harmonic hidden")?;
+    text.push_str(&timed_synthetic(
+        &eps,
+        "a stiffness variation hidden (relative noise, DOP853-made)",
+    )?);
+    Ok(text)
+}
+
+/// `discover` timed on the set `truth` makes (in a temporary folder, removed after).
+fn timed_synthetic(truth: &geardyn::validate::MunroTruth, hidden: &str) -> anyhow::Result<String> {
     let dir = std::env::temp_dir().join(format!("geardyn-bench-{}", std::process::id()));
-    let mut truth = geardyn::validate::MunroTruth::default_munro();
-    truth.hidden.ste2_ratio = 0.4;
     let timed = (|| -> anyhow::Result<String> {
-        geardyn::validate::synth_munro(&truth, &dir, &NoProgress)?;
+        geardyn::validate::synth_munro(truth, &dir, &NoProgress)?;
         let data = geardyn::data::load_munro(&dir)?;
-        timed_discover(
-            &data,
-            "a SYNTHETIC 4-load set with the 2nd STE harmonic hidden",
-        )
+        timed_discover(&data, &format!("a SYNTHETIC 4-load set with {hidden}"))
     })();
     let _ = std::fs::remove_dir_all(&dir);
     timed

@@ -14,8 +14,6 @@ use crate::error::{GearError, Result};
 use crate::fit::{least_squares, least_squares_warm, rss, LmFit, Param, Stop};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
-use std::collections::HashMap;
-use std::sync::Mutex;
 
 /// Points kept per curve (same shape as the curves).
 pub type Mask = Vec<Vec<bool>>;
@@ -131,14 +129,13 @@ pub fn fit_model(
     stop: Stop,
 ) -> Result<ModelFit> {
     let n = idx.len();
-    let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let (g, ste, effect) = unpack(p, n, effect_in_fit);
         fitted_damping_admissible(setup, idx, g, &effect)?;
         let preds: Vec<CurvePrediction> = idx
             .par_iter()
             .zip(&ste)
-            .map(|(&i, &e)| cache.predict(setup, i, g, e, &effect))
+            .map(|(&i, &e)| predict(setup, i, g, e, &effect))
             .collect::<Result<_>>()?;
         Ok(residuals_of(setup, idx, &preds, mask, scales))
     };
@@ -151,7 +148,10 @@ pub fn fit_model(
             .par_iter()
             .zip(ste.par_iter().zip(&ste0))
             .map(|(&i, (&e, &e0))| {
-                let at_base = cache.predict(setup, i, g0, e0, &effect0)?;
+                // The prediction `f` made there, from the set's memo: a column that moves one
+                // curve's STE leaves the other curves as they were, and continues the base's
+                // sweep.
+                let at_base = predict(setup, i, g0, e0, &effect0)?;
                 if g == g0 && e == e0 && effect.delta == effect0.delta {
                     return Ok(at_base);
                 }
@@ -175,50 +175,6 @@ pub fn fit_model(
     })
 }
 
-/// The curve predictions of one fit by their exact parameters. A Jacobian column that moves
-/// one curve's STE amplitude leaves the other curves as they were at the point the Jacobian is
-/// taken at: their predictions are reused instead of simulated again (for two training loads
-/// and the stiffness variation, 10 of the 12 simulated sweeps of a Jacobian instead of 12), and
-/// a column's base prediction, whose sweep the column continues, is the one `f` made there.
-#[derive(Default)]
-struct PredictionCache {
-    map: Mutex<HashMap<Vec<u64>, CurvePrediction>>,
-}
-
-/// Entries kept at most: a Jacobian's base point and columns, many times over.
-const CACHE_ENTRIES: usize = 256;
-
-impl PredictionCache {
-    fn predict(
-        &self,
-        setup: &Setup,
-        i: usize,
-        g: Globals,
-        ste_um: f64,
-        effect: &Effect,
-    ) -> Result<CurvePrediction> {
-        let mut key = vec![
-            i as u64,
-            g.zeta.to_bits(),
-            g.omega_n_hz.to_bits(),
-            ste_um.to_bits(),
-        ];
-        key.extend(effect.delta.iter().map(|d| d.to_bits()));
-        let cached = self.map.lock().ok().and_then(|m| m.get(&key).cloned());
-        if let Some(p) = cached {
-            return Ok(p);
-        }
-        let p = predict(setup, i, g, ste_um, effect)?;
-        if let Ok(mut m) = self.map.lock() {
-            if m.len() >= CACHE_ENTRIES {
-                m.clear();
-            }
-            m.insert(key, p.clone());
-        }
-        Ok(p)
-    }
-}
-
 /// Relative STE amplitudes scanned around the start of [`fit_ste`].
 const STE_SCAN: [f64; 12] = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4, 1.6, 1.8, 2.0];
 /// Then around the best of those, in 2% steps (the coarse scan's are 10-15%); the factor 1,
@@ -238,14 +194,14 @@ pub fn fit_ste(
     effect: &Effect,
     start: f64,
 ) -> Result<(f64, LmFit)> {
-    let cache = PredictionCache::default();
     let f = |p: &[f64]| -> Result<Vec<f64>> {
-        let pred = cache.predict(setup, i, g, p[0], effect)?;
+        let pred = predict(setup, i, g, p[0], effect)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };
-    // The base point was evaluated by `f` (the cache has it); its column continues its sweep.
+    // The base point was evaluated by `f` (the set's memo has it); its column continues its
+    // sweep.
     let near = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
-        let at_base = cache.predict(setup, i, g, base[0], effect)?;
+        let at_base = predict(setup, i, g, base[0], effect)?;
         let pred = predict_near(setup, i, g, p[0], effect, &at_base)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };

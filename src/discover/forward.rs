@@ -5,6 +5,7 @@
 //! tracking.
 
 use super::effects::Effect;
+use super::memo::PredictionMemo;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair};
@@ -72,7 +73,8 @@ pub struct Curve {
     pub sd_um: Option<Vec<f64>>,
 }
 
-/// The measured data and the rig's stated scales (nothing from `[source.truth]`).
+/// The measured data and the rig's stated scales (nothing from `[source.truth]`), with the
+/// curves predicted from them so far.
 #[derive(Clone, Debug)]
 pub struct Setup {
     pub dim: Dimensional,
@@ -81,9 +83,27 @@ pub struct Setup {
     pub curves: Vec<Curve>,
     /// What the set states of its noise (the rule `validate munro` uses).
     pub noise: MunroNoise,
+    /// [`predict`]'s curves by their inputs (a clone starts empty).
+    predictions: PredictionMemo,
 }
 
 impl Setup {
+    /// A set of `curves` (by descending load) on a rig with scales `dim`.
+    pub fn new(
+        dim: Dimensional,
+        design_load_n: f64,
+        curves: Vec<Curve>,
+        noise: MunroNoise,
+    ) -> Self {
+        Setup {
+            dim,
+            design_load_n,
+            curves,
+            noise,
+            predictions: PredictionMemo::new(),
+        }
+    }
+
     /// From a loaded Munro-style set: at least 8 points per load on increasing speeds.
     pub fn from_munro(data: &MunroData) -> Result<Self> {
         let dim = Dimensional::from_rig(&data.rig.rig)?;
@@ -108,12 +128,12 @@ impl Setup {
                 sd_um: c.iter().map(|p| p.sd_um).collect(),
             });
         }
-        Ok(Setup {
+        Ok(Setup::new(
             dim,
-            design_load_n: data.rig.rig.design_load_n,
+            data.rig.rig.design_load_n,
             curves,
-            noise: noise_setting(data)?,
-        })
+            noise_setting(data)?,
+        ))
     }
 }
 
@@ -182,8 +202,27 @@ fn fit_steady_options() -> SteadyOptions {
     }
 }
 
-/// Predicted curve of `setup.curves[i]` with STE amplitude `ste_um` (um, first harmonic).
+/// Predicted curve of `setup.curves[i]` with STE amplitude `ste_um` (um, first harmonic); a
+/// curve predicted before at the same inputs comes from the set's memo.
 pub fn predict(
+    setup: &Setup,
+    i: usize,
+    g: Globals,
+    ste_um: f64,
+    effect: &Effect,
+) -> Result<CurvePrediction> {
+    setup.predictions.get_or_predict(
+        &setup.curves[i],
+        setup.design_load_n,
+        g,
+        ste_um,
+        effect,
+        || simulated(setup, i, g, ste_um, effect),
+    )
+}
+
+/// [`predict`] simulated.
+fn simulated(
     setup: &Setup,
     i: usize,
     g: Globals,
@@ -313,10 +352,10 @@ mod tests {
     use crate::discover::effects::Candidate;
 
     fn setup(loads: &[f64]) -> Setup {
-        Setup {
-            dim: Dimensional::from_rig(&crate::validate::munro_rig()).unwrap(),
-            design_load_n: 3780.0,
-            curves: loads
+        Setup::new(
+            Dimensional::from_rig(&crate::validate::munro_rig()).unwrap(),
+            3780.0,
+            loads
                 .iter()
                 .map(|&load_n| Curve {
                     load_n,
@@ -325,8 +364,32 @@ mod tests {
                     sd_um: None,
                 })
                 .collect(),
-            noise: MunroNoise::Estimate { floor_min: 0.0 },
-        }
+            MunroNoise::Estimate { floor_min: 0.0 },
+        )
+    }
+
+    /// A repeated prediction is the stored one; a clone starts empty, and with its curve
+    /// changed predicts that curve.
+    #[test]
+    fn a_repeated_prediction_comes_from_the_memo_and_a_changed_clone_predicts_anew() {
+        let s = setup(&[3780.0]);
+        let g = Globals {
+            zeta: 0.0175,
+            omega_n_hz: 1600.0,
+        };
+        let a = predict(&s, 0, g, 0.3, &Effect::none()).unwrap();
+        let b = predict(&s, 0, g, 0.3, &Effect::none()).unwrap();
+        assert_eq!(a.dte_pp_um, b.dte_pp_um);
+        assert_eq!(s.predictions.len(), 1);
+        predict(&s, 0, g, 0.31, &Effect::none()).unwrap();
+        assert_eq!(s.predictions.len(), 2);
+        let mut c = s.clone();
+        assert!(c.predictions.is_empty());
+        c.curves[0].speeds_rpm = vec![1000.0, 2000.0];
+        c.curves[0].dte_pp_um = vec![1.0, 1.0];
+        let d = predict(&c, 0, g, 0.3, &Effect::none()).unwrap();
+        assert_eq!(d.dte_pp_um.len(), 2);
+        assert_eq!(d.dte_pp_um[0], a.dte_pp_um[0]);
     }
 
     /// The floor binds the damping at each fitted load after the law: gamma 1 at a quarter of

@@ -16,6 +16,7 @@ mod effects;
 mod fit;
 mod forward;
 mod linearized;
+mod memo;
 mod noise;
 mod profile;
 mod report;

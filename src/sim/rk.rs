@@ -131,6 +131,11 @@ pub struct Outcome<const N: usize> {
     pub event: Option<usize>,
 }
 
+/// Values or rates of the events at one end of a step. A gear pair's period map restarts the
+/// integration at every change of contact region, with one or two events; on the heap, these
+/// four arrays were millions of allocations a `discover` run.
+type EventValues = smallvec::SmallVec<[f64; 4]>;
+
 /// Step-size controller constants of `dop853.f` (defaults of WORK(2), WORK(3), WORK(4)).
 const SAFE: f64 = 0.9;
 const FACC1: f64 = 1.0 / 0.333;
@@ -205,10 +210,10 @@ impl<const N: usize> Dop853<N> {
         let mut f = sys.rhs(t, &y);
         self.stats.rhs_evaluations += 1;
         let ne = events.len();
-        let mut g0: Vec<f64> = events.iter().map(|e| e.value(t, &y)).collect();
-        let mut r0: Vec<f64> = events.iter().map(|e| e.rate(t, &y, &f)).collect();
-        let mut g1 = vec![0.0; ne];
-        let mut r1 = vec![0.0; ne];
+        let mut g0: EventValues = events.iter().map(|e| e.value(t, &y)).collect();
+        let mut r0: EventValues = events.iter().map(|e| e.rate(t, &y, &f)).collect();
+        let mut g1: EventValues = smallvec::smallvec![0.0; ne];
+        let mut r1: EventValues = smallvec::smallvec![0.0; ne];
 
         let mut h = match self.h_next {
             Some(h) => h,

@@ -226,7 +226,7 @@ impl RkFlow {
             for _ in 0..MAX_CROSSINGS_PER_PERIOD {
                 let rhs = RegionRhs::new(&self.table, self.model.zeta, region);
                 let bounds = Boundary::of(region);
-                let events: Vec<&dyn EventFunction<N>> = bounds
+                let events: smallvec::SmallVec<[&dyn EventFunction<N>; 2]> = bounds
                     .iter()
                     .map(|b| &b.event as &dyn EventFunction<N>)
                     .collect();
