@@ -18,6 +18,8 @@ mod forward;
 mod linearized;
 mod memo;
 mod noise;
+#[cfg(test)]
+mod power;
 mod profile;
 mod report;
 mod run;
