@@ -200,6 +200,33 @@ mod tests {
         assert!(noncentral_chi2_sf_even(2, 686.0, 5.991465) > 0.999_999);
     }
 
+    /// lambda of the ripple 0.03 on all four loads of the 100 rpm grid, fitted from the truth's
+    /// and the matched STE (no continuation).
+    fn ripple_lambda(phase_deg: f64) -> f64 {
+        let speeds: Vec<f64> = (0..=40).map(|k| 1000.0 + 100.0 * k as f64).collect();
+        let phase = phase_deg.to_radians();
+        let e = Effect::of(
+            Candidate::TorqueRipple,
+            vec![0.03 * phase.cos(), 0.03 * phase.sin()],
+        );
+        let (setup, scales, mask) = truth_set(&speeds, &e).unwrap();
+        m0_fit(&setup, &scales, &mask, &[0, 1, 2, 3], &e, None).0
+    }
+
+    /// The two ends of the study below, which docs/discover-studies.md quotes: in quadrature
+    /// with the STE's force (270 deg) M0 fits the ripple's curves to within a fraction of one
+    /// sigma^2 (0.31), so no test has power there; in phase (0 deg) its best fit stays 61
+    /// sigma^2 off. The bounds are an order of magnitude apart, well beyond a change of fit.
+    #[test]
+    fn a_ripple_in_quadrature_with_the_ste_is_invisible_and_in_phase_is_not() {
+        let quadrature = ripple_lambda(270.0);
+        assert!(quadrature < 1.0, "lambda at 270 deg: {quadrature}");
+        assert!(noncentral_chi2_sf_even(2, quadrature, 7.377759) < 0.06);
+        let in_phase = ripple_lambda(0.0);
+        assert!(in_phase > 30.0, "lambda at 0 deg: {in_phase}");
+        assert!(noncentral_chi2_sf_even(2, in_phase, 7.377759) > 0.99);
+    }
+
     /// The torque ripple 0.03 of the recovery studies at 36 phases, on the 100 and 50 rpm grids:
     /// lambda with every load fitted and with `discover`'s training loads (3780, 1890 N), and
     /// the power of a 2-dof test at 0.05 and at 0.025 (`discover`'s level per side).
