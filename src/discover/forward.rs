@@ -23,8 +23,11 @@ const RK_RTOL: f64 = 1e-7;
 
 /// Observation windows over which the pp of a non-periodic steady state is sampled by
 /// [`aperiodic_pp_range`]. A measured chaotic pp is one window out of a distribution: on the
-/// shipped data/munro at 945 N and 4300 rpm, M0's windows of 64 periods range over 35-84 um,
-/// its first window (the prediction) says 46 um, the data 84 um. Among n windows the largest
+/// shipped data/munro at 945 N and 4300 rpm, M0's windows of 64 periods ranged over 35-84 um
+/// and its first window (the prediction) said 46 um, the data 84 um (measured when a sweep
+/// carried its state on from 2000 periods after a chaotic point's window; from the window's
+/// end, as now, the prediction at the load's largest excluded point is 83 um and the windows
+/// reach 88 um: `tests/discover.rs`). Among n windows the largest
 /// exceeds a fresh window's pp with probability n / (n + 1); 32 windows at each of a load's
 /// non-periodic points make that range the attractor's, at about 2000 periods a point, the
 /// cost of the Lyapunov exponent that classified it.
