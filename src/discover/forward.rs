@@ -446,7 +446,7 @@ mod tests {
                 let w = e
                     .mesh_frequency_equivalent_um(deflection, deflection)
                     .unwrap();
-                let roots = crate::discover::run::ste_roots(a, w);
+                let roots = crate::discover::refit::ste_roots(a, w);
                 assert!(!roots.is_empty());
                 let matched = roots.iter().map(|&r| worst(r, &e)).fold(0.0, f64::max);
                 assert!(matched < 0.04, "{} psi {psi}: {matched}", cand.name());

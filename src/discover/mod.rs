@@ -21,6 +21,7 @@ mod noise;
 #[cfg(test)]
 mod power;
 mod profile;
+mod refit;
 mod report;
 mod run;
 pub mod stats;

@@ -15,7 +15,7 @@ use super::effects::{Candidate, Effect};
 use super::fit::{fit_model, residuals_of, EffectInFit, Mask};
 use super::forward::{predict, Curve, Globals, Setup};
 use super::noise::Scales;
-use super::run::ste_roots;
+use super::refit::ste_roots;
 use crate::error::Result;
 use crate::fit::{rss, Stop};
 use crate::model::Dimensional;
