@@ -1128,44 +1128,41 @@ fn noise_spec(setup: &Setup, opts: &DiscoverOptions) -> Result<NoiseSpec> {
     })
 }
 
-/// [`discover`] on an already built setup.
-pub fn discover_setup(
-    setup: &Setup,
-    opts: &DiscoverOptions,
-    progress: &dyn Progress,
-) -> Result<Discovery> {
-    check_options(opts)?;
-    let n_curves = setup.curves.len();
-    let (train, held) = split(n_curves);
-    let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
-    let spec = noise_spec(setup, opts)?;
-    let probes: Vec<(usize, Vec<f64>)> = LIBRARY
+/// Every probe of the candidate library: (candidate index in [`LIBRARY`], delta).
+fn library_probes() -> Vec<(usize, Vec<f64>)> {
+    LIBRARY
         .iter()
         .enumerate()
         .flat_map(|(c, cand)| cand.probes().into_iter().map(move |d| (c, d)))
-        .collect();
-    progress.start(4 + probes.len() as u64, "discovery steps");
+        .collect()
+}
 
-    let m0_fit = fit_m0(setup, &train, &held, &spec, progress)?;
-    let excluded = excluded_by_load(setup, &m0_fit, &train, &m0_fit.noise)?;
-    let M0Fit {
-        m0,
-        mask,
-        f0,
-        held0,
-        omega,
-        noise,
-        scales,
-        mut lin,
-    } = m0_fit;
-    let ws = lin.windows.clone();
+/// The probe dictionary at M0's fit, by candidate ([`LIBRARY`] order): each probe's change of
+/// the training curves on their kept points, its delta, and whether some probe moves the
+/// design-load curve by the noise (the identifiability rule on the refit's first stage).
+struct ProbeDictionary {
+    raw: Vec<Vec<DVector<f64>>>,
+    deltas: Vec<Vec<Vec<f64>>>,
+    seen_at_design: [bool; LIBRARY.len()],
+}
 
-    // 2. Probe dictionary at the M0 fit (training curves).
+/// [`ProbeDictionary`] of M0's fit `m0` (its curves `f0`) on the training curves `train`, one
+/// step of `progress` a probe.
+fn probe_dictionary(
+    setup: &Setup,
+    train: &[usize],
+    m0: &ModelFit,
+    mask: &Mask,
+    f0: &[CurvePrediction],
+    scales: &Scales,
+    progress: &dyn Progress,
+) -> Result<ProbeDictionary> {
+    let probes = library_probes();
     let probe_curves: Vec<Result<(usize, Vec<f64>)>> = probes
         .par_iter()
         .map(|(c, d)| {
             let e = Effect::of(LIBRARY[*c], d.clone());
-            let p = predict_many(setup, &train, m0.globals, &m0.ste_um, &e)?;
+            let p = predict_many(setup, train, m0.globals, &m0.ste_um, &e)?;
             let mut v = Vec::new();
             for (k, &i) in train.iter().enumerate() {
                 for (j, keep) in mask[i].iter().enumerate() {
@@ -1178,11 +1175,10 @@ pub fn discover_setup(
             Ok((*c, v))
         })
         .collect();
-    let mut raw_probes: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
-    let mut dict_delta: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
-    // Whether some probe moves the design-load curve (the first kept points of each probe's
-    // differences) by the noise: the identifiability rule, on the refit's first stage.
-    let design_scales = row_scales(&train[..1], &mask, &scales);
+    let mut raw: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
+    let mut deltas: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
+    // The design-load curve's rows are the first kept points of each probe's differences.
+    let design_scales = row_scales(&train[..1], mask, scales);
     let mut seen_at_design = [false; LIBRARY.len()];
     for (pc, (c, d)) in probe_curves.into_iter().zip(&probes) {
         let (_, v) = pc?;
@@ -1192,35 +1188,42 @@ pub fn discover_setup(
             .map(|(x, s)| (x / s).powi(2))
             .sum();
         seen_at_design[*c] |= design >= 1.0;
-        raw_probes[*c].push(DVector::from_vec(v));
-        dict_delta[*c].push(d.clone());
+        raw[*c].push(DVector::from_vec(v));
+        deltas[*c].push(d.clone());
     }
-    lin.probes = raw_probes;
-    // The probes standardized by the data's noise and projected off the weighted M0 Jacobian.
-    let dict = lin.weighted_probes(&scales);
+    Ok(ProbeDictionary {
+        raw,
+        deltas,
+        seen_at_design,
+    })
+}
 
-    // 3. Observed statistics and the bootstrap under M0.
-    let observed = lin.statistics(&measured);
-    let reps = lin.bootstrap(opts.bootstrap, opts.seed);
-    progress.advance(1);
-    let names = detection_names(&ws);
-    let detection = detection_tests(&names, &observed, &reps);
-    let detected_by_tests = min_holm(&detection) < opts.alpha / 2.0;
-    let detected = detected_by_tests || far_outside(&excluded) > 0;
-
-    // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
-    // In single-sided impacts the teeth fly through the gap and return to the same flank: the
-    // other flank, 2b away, is never reached, so b only enters with back-side contact. That
-    // contact may come from a probe with a smaller b where M0 at the stated b has none (a
-    // rattle-regime set with b x 0.7 does this), so the guard is the probes' effect on the
-    // curves, like every other candidate's; M0's own back contact only names the reason.
-    let back_contact = train.iter().any(|&i| {
+/// Whether M0's training curves `f0` touch the back flank at a kept point. In single-sided
+/// impacts the teeth fly through the gap and return to the same flank: the other flank, 2b
+/// away, is never reached, so b only enters with back-side contact. That contact may come from
+/// a probe with a smaller b where M0 at the stated b has none (a rattle-regime set with b x 0.7
+/// does this), so the guard is the probes' effect on the curves, like every other candidate's;
+/// M0's own back contact only names the reason.
+fn back_contact_in(train: &[usize], f0: &[CurvePrediction], mask: &Mask) -> bool {
+    train.iter().any(|&i| {
         f0[i]
             .back_contact
             .iter()
             .zip(&mask[i])
             .any(|(s, m)| *s && *m)
-    });
+    })
+}
+
+/// Each candidate before any refit: identifiable when its largest standardized probe `dict`
+/// moves the fitted curves by the noise, its score and dictionary LR (`observed`), the LR's
+/// bootstrap p-value against the replicates `reps`, Holm-adjusted across the identifiable
+/// candidates.
+fn candidate_results(
+    dict: &[Vec<DVector<f64>>],
+    observed: &Statistics,
+    reps: &[Statistics],
+    back_contact: bool,
+) -> Vec<CandidateResult> {
     let mut cands: Vec<CandidateResult> = LIBRARY
         .iter()
         .enumerate()
@@ -1264,16 +1267,31 @@ pub fn discover_setup(
     for c in cands.iter_mut().filter(|c| c.p_value.is_some()) {
         c.p_holm = adj.next();
     }
-    let significant = |c: &CandidateResult| c.p_holm.is_some_and(|p| p < opts.alpha / 2.0);
+    cands
+}
 
-    // Refit the leading significant candidates by score, and the one with the largest
-    // dictionary LR. The score is the local (delta -> 0) statistic; where M0 is far off and an
-    // effect acts through a threshold, the finite probes see more: on a rattle-regime set
-    // (true b x 0.7) the backlash had the largest LR of all five and ranked third by score.
-    // Only once a discrepancy is detected: a name needs one. Every name the null studies gave
-    // without one was false (constant noise, seeds 1053, 1174, 1267: each detection p-value
-    // above 0.05; a torque ripple or damping law refit settling on a ledge of the jumping pp
-    // response), and none of the ~120 correct names of the recovery studies came without one.
+/// Whether a candidate's Holm-adjusted p-value is below alpha / 2 (the level per side).
+fn significant(c: &CandidateResult, alpha: f64) -> bool {
+    c.p_holm.is_some_and(|p| p < alpha / 2.0)
+}
+
+/// The candidates refitted first, and the names of those significant on a set without a
+/// detected discrepancy (listed, not refitted).
+///
+/// Refit the leading significant candidates by score, and the one with the largest
+/// dictionary LR. The score is the local (delta -> 0) statistic; where M0 is far off and an
+/// effect acts through a threshold, the finite probes see more: on a rattle-regime set
+/// (true b x 0.7) the backlash had the largest LR of all five and ranked third by score.
+/// Only once a discrepancy is detected: a name needs one. Every name the null studies gave
+/// without one was false (constant noise, seeds 1053, 1174, 1267: each detection p-value
+/// above 0.05; a torque ripple or damping law refit settling on a ledge of the jumping pp
+/// response), and none of the ~120 correct names of the recovery studies came without one.
+fn first_refits(
+    cands: &[CandidateResult],
+    detected: bool,
+    opts: &DiscoverOptions,
+) -> (Vec<usize>, Vec<String>) {
+    let significant = |c: &CandidateResult| significant(c, opts.alpha);
     let mut order: Vec<usize> = (0..cands.len())
         .filter(|&c| detected && significant(&cands[c]))
         .collect();
@@ -1291,6 +1309,56 @@ pub fn discover_setup(
     if let Some(c) = by_lr.filter(|c| !refit.contains(c)) {
         refit.push(c);
     }
+    (refit, significant_undetected)
+}
+
+/// [`discover`] on an already built setup.
+pub fn discover_setup(
+    setup: &Setup,
+    opts: &DiscoverOptions,
+    progress: &dyn Progress,
+) -> Result<Discovery> {
+    check_options(opts)?;
+    let n_curves = setup.curves.len();
+    let (train, held) = split(n_curves);
+    let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+    let spec = noise_spec(setup, opts)?;
+    progress.start(4 + library_probes().len() as u64, "discovery steps");
+
+    let m0_fit = fit_m0(setup, &train, &held, &spec, progress)?;
+    let excluded = excluded_by_load(setup, &m0_fit, &train, &m0_fit.noise)?;
+    let M0Fit {
+        m0,
+        mask,
+        f0,
+        held0,
+        omega,
+        noise,
+        scales,
+        mut lin,
+    } = m0_fit;
+    let ws = lin.windows.clone();
+
+    // 2. Probe dictionary at the M0 fit (training curves).
+    let probes = probe_dictionary(setup, &train, &m0, &mask, &f0, &scales, progress)?;
+    let (dict_delta, seen_at_design) = (probes.deltas, probes.seen_at_design);
+    lin.probes = probes.raw;
+    // The probes standardized by the data's noise and projected off the weighted M0 Jacobian.
+    let dict = lin.weighted_probes(&scales);
+
+    // 3. Observed statistics and the bootstrap under M0.
+    let observed = lin.statistics(&measured);
+    let reps = lin.bootstrap(opts.bootstrap, opts.seed);
+    progress.advance(1);
+    let names = detection_names(&ws);
+    let detection = detection_tests(&names, &observed, &reps);
+    let detected_by_tests = min_holm(&detection) < opts.alpha / 2.0;
+    let detected = detected_by_tests || far_outside(&excluded) > 0;
+
+    // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
+    let mut cands = candidate_results(&dict, &observed, &reps, back_contact_in(&train, &f0, &mask));
+
+    let (refit, significant_undetected) = first_refits(&cands, detected, opts);
     // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
     type Refit = (
         ModelFit,
@@ -1521,7 +1589,7 @@ pub fn discover_setup(
     // sets (b x 0.7) M0 sometimes settled at zeta 0.058 and omega_n 1815 Hz (true 0.0175,
     // 1600 Hz), where the backlash probes ranked third by score and by LR.
     let rest: Vec<usize> = (0..cands.len())
-        .filter(|&c| significant(&cands[c]) && !refit.contains(&c))
+        .filter(|&c| significant(&cands[c], opts.alpha) && !refit.contains(&c))
         .collect();
     if decision.effect == "unexplained" && !rest.is_empty() {
         refit_round(&rest, &mut cands, &mut refits);
