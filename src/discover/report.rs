@@ -318,11 +318,11 @@ fn excluded_warning(d: &Discovery) -> Option<String> {
     ))
 }
 
-/// Why a candidate significant on its own test is neither refitted nor named.
+/// Why a candidate significant among the candidates' tests is neither refitted nor named.
 fn significant_undetected_text(d: &Discovery) -> Option<String> {
     (!d.significant_undetected.is_empty()).then(|| {
         format!(
-            "{} significant on its own test, but no discrepancy is detected: not refitted and not named (a name needs a detected discrepancy; on the null studies every name given without one was false).",
+            "{} significant among the candidates' tests, but no discrepancy is detected (Holm over all the tests of M0, detection and candidates together, does not reject it): not refitted and not named (a name needs a detected discrepancy; on the null studies every name given without one was false).",
             d.significant_undetected.join(", ")
         )
     })

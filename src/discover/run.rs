@@ -278,7 +278,8 @@ pub struct Discovery {
     /// A discrepancy is detected: by the tests (`detected_by_tests`) or by excluded points far
     /// outside M0's range ([`Discovery::detected_by_excluded_points`]).
     pub detected: bool,
-    /// Some detection test is significant after Holm at alpha / 2.
+    /// Some test of M0, a detection test or a candidate's own, is significant after Holm over
+    /// all of them at alpha / 2.
     pub detected_by_tests: bool,
     /// Candidates significant on their own tests on a set where no discrepancy is detected:
     /// not refitted and not named, since a name needs a detected discrepancy (every name the
@@ -551,8 +552,21 @@ fn detection_tests(names: &[String], s: &Statistics, reps: &[Statistics]) -> Vec
         .collect()
 }
 
-fn min_holm(t: &[TestResult]) -> f64 {
-    t.iter().filter_map(|x| x.p_holm).fold(1.0, f64::min)
+/// Whether M0's tests reject it: the detection tests and the candidates' own tests all test
+/// the same null (M0 explains the curves), so Holm runs over all of them at alpha / 2. A
+/// targeted test sees what the omnibus ones miss: a damping law (gamma -1 on five loads, 100
+/// rpm grid, constant noise) gave its candidate test p = 0.001 on 10 of 10 seeds while the
+/// detection tests alone reached Holm's level on 3, and with detection by those alone it was
+/// named on 3/10 (relative noise 0/10) where it had been 18/20. The null names without a
+/// detected discrepancy that led to the rule (constant noise, seeds 1053, 1174, 1267) had
+/// candidate p-values of 0.004-0.006, above Holm's threshold over every test.
+fn m0_rejected(detection: &[TestResult], cands: &[CandidateResult], alpha: f64) -> bool {
+    let p: Vec<f64> = detection
+        .iter()
+        .filter_map(|t| t.p_value)
+        .chain(cands.iter().filter_map(|c| c.p_value))
+        .collect();
+    holm(&p).into_iter().fold(1.0, f64::min) < alpha / 2.0
 }
 
 /// 95% Wald interval of `cand`'s estimate from a fit's Jacobian (delta method; delta is the
@@ -1352,11 +1366,11 @@ pub fn discover_setup(
     progress.advance(1);
     let names = detection_names(&ws);
     let detection = detection_tests(&names, &observed, &reps);
-    let detected_by_tests = min_holm(&detection) < opts.alpha / 2.0;
-    let detected = detected_by_tests || far_outside(&excluded) > 0;
 
     // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
     let mut cands = candidate_results(&dict, &observed, &reps, back_contact_in(&train, &f0, &mask));
+    let detected_by_tests = m0_rejected(&detection, &cands, opts.alpha);
+    let detected = detected_by_tests || far_outside(&excluded) > 0;
 
     let (refit, significant_undetected) = first_refits(&cands, detected, opts);
     // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
