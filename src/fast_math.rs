@@ -7,7 +7,8 @@
 //! (An fdlibm `exp` was tried too: glibc's table-driven `exp` is as cheap, so it stays.) The
 //! model's own e(t) and k(t) ([`crate::model::GearPair::ste_over_b`], `stiffness_at`), which
 //! the response's extrema evaluate hundreds of times a period, use it too: glibc's `sin` (with
-//! its rounding-mode save and restore) was 6% of an eps 0.2 `discover`.
+//! its rounding-mode save and restore) was 6% of an eps 0.2 `discover` in perf, although
+//! back-to-back runs could not resolve a saving from the switch (docs/performance.md).
 //!
 //! sin/cos (fdlibm, Sun Microsystems 1993, `k_sin.c`, `k_cos.c`, `e_rem_pio2.c`): Cody-Waite
 //! reduction x = k pi/2 + r with pi/2 split in a 33-bit head and a tail (k pi/2 head exact for

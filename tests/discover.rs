@@ -549,13 +549,11 @@ fn a_damping_law_only_its_own_test_sees_is_detected_and_named() {
     t.speeds_rpm = (1000.0, 5000.0, 100.0);
     t.hidden.damping_exponent = -1.0;
     let d = study_seed(t, NoiseFamily::Constant, 3);
-    assert!(
-        d.detection
-            .iter()
-            .all(|x| x.p_holm.is_none_or(|p| p >= 0.025)),
-        "{:#?}",
-        d.detection
-    );
+    // Holm among the detection tests alone: its smallest adjusted p-value is m times the
+    // smallest raw one (the reported p_holm is over every test of M0).
+    let p: Vec<f64> = d.detection.iter().filter_map(|x| x.p_value).collect();
+    let least = p.iter().copied().fold(1.0, f64::min);
+    assert!(least * p.len() as f64 >= 0.025, "{:#?}", d.detection);
     assert!(d.detected_by_tests);
     assert_named_with_truth_inside(&d, "damping_law", -1.0);
 }

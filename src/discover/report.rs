@@ -388,7 +388,9 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     if let Some(t) = significant_undetected_text(d) {
         page.paragraph(&t);
     }
-    page.heading("Detection (bootstrap p-values under M0, Holm-adjusted)");
+    page.heading(
+        "Detection (bootstrap p-values under M0, Holm-adjusted over these and the candidates' tests)",
+    );
     let test_rows = |t: &[super::run::TestResult]| -> Vec<Vec<String>> {
         t.iter()
             .map(|x| {
