@@ -118,7 +118,7 @@ impl Candidate {
     }
 
     /// Amplitudes of a phase-carrying candidate's polar profile at the design-load fit (see
-    /// `run::polar_profile`): its estimate's plausible range, from where the training curves
+    /// `refit::polar_profile`): its estimate's plausible range, from where the training curves
     /// hardly see it to where M0's response is no longer recognisable (eps, r2, F_aT / F_m).
     pub fn profile_amplitudes(self) -> &'static [f64] {
         match self {

@@ -12,9 +12,11 @@
 mod ambiguity;
 #[cfg(test)]
 mod bootstrap_check;
+mod decide;
 mod effects;
 mod fit;
 mod forward;
+mod interval;
 mod linearized;
 mod memo;
 mod noise;

@@ -9,8 +9,9 @@ use super::fit::{fit_model, fit_ste, residuals_of, EffectInFit, Mask, ModelFit};
 use super::forward::{
     fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup, MIN_ZETA,
 };
+use super::interval::wald_ci;
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
-use super::run::{make_mask, noise_about, row_scales, wald_ci, OtherStart};
+use super::run::{make_mask, noise_about, row_scales, OtherStart};
 use crate::error::{GearError, Result};
 use crate::fit::{rss, LmFit, Stop};
 use rayon::prelude::*;

@@ -3,7 +3,7 @@
 //! ratio, refit the leading ones, decide (a name, "none", "ambiguous" or "unexplained"), and
 //! measure the gap before and after on training and held-out loads.
 
-use super::ambiguity::{ambiguous_with as ambiguous_partners, Contender};
+use super::decide::{Decision, Refitted, Rounds};
 use super::effects::{Candidate, Effect, LIBRARY};
 use super::fit::{
     fit_model, fit_ste, linear_start, ste_from_low_speed, EffectInFit, Mask, ModelFit,
@@ -14,8 +14,6 @@ use super::noise::{
     estimate as estimate_noise, DiscoveryNoise, NoiseOrigin, NoiseSpec, PseudoInput, Scales,
     TailChoice,
 };
-use super::profile::{Bound, Profile, ProfileProblem};
-use super::refit::{refit_candidate, RunNoise};
 use super::stats::{bootstrap_p, chi2_sf, holm};
 use super::windows::{windows, Window};
 use crate::data::MunroData;
@@ -352,7 +350,7 @@ pub fn split(n: usize) -> (Vec<usize>, Vec<usize>) {
 /// All predictions of a model: training curves with their fitted STE, held-out curves with an
 /// STE fitted alone (from `held_start`, else the quasi-static estimate). Returns predictions of
 /// every curve and, per held-out curve, its STE amplitude and sensitivity column.
-fn predict_all(
+pub(super) fn predict_all(
     setup: &Setup,
     fit: &ModelFit,
     train: &[usize],
@@ -405,7 +403,7 @@ fn predict_all(
 
 /// A held-out curve's index, fitted STE (um) and its sensitivity (um per um of STE) on its
 /// kept points.
-type HeldFit = (usize, f64, DVector<f64>);
+pub(super) type HeldFit = (usize, f64, DVector<f64>);
 
 /// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
 /// measured pp there depends on history beyond the model) and the two points around every
@@ -534,7 +532,7 @@ fn residual_curves(
 /// The null names without a detected discrepancy that led to that rule (constant noise, seeds
 /// 1053, 1174, 1267) had candidate p-values of 0.004-0.006, above Holm's threshold over every
 /// test. After a refit the family is the detection tests alone (`others` empty).
-fn detection_tests(
+pub(super) fn detection_tests(
     names: &[String],
     s: &Statistics,
     reps: &[Statistics],
@@ -572,257 +570,6 @@ fn detection_tests(
         })
         .collect();
     (tests, least)
-}
-
-/// 95% Wald interval of `cand`'s estimate from a fit's Jacobian (delta method; delta is the
-/// last `cand.dim()` parameters, see [`ModelFit::lm`]): on exp(beta) for the backlash,
-/// symmetric for gamma, clipped at zero for the amplitudes. None when J'J is singular.
-pub(super) fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
-    let p0 = lm.params.len() - cand.dim();
-    let delta = &lm.params[p0..];
-    let (est, grad) = cand.estimate(delta);
-    let jt = &lm.jacobian;
-    let cov = (jt.transpose() * jt).try_inverse()?;
-    let g = DVector::from_vec(grad);
-    let sub: DMatrix<f64> = cov.view((p0, p0), (cand.dim(), cand.dim())).into_owned();
-    let var = (g.transpose() * &sub * &g)[(0, 0)].max(0.0);
-    Some(match cand {
-        Candidate::Backlash => {
-            let sb = sub[(0, 0)].max(0.0).sqrt();
-            ((delta[0] - 1.96 * sb).exp(), (delta[0] + 1.96 * sb).exp())
-        }
-        Candidate::DampingLaw => (est - 1.96 * var.sqrt(), est + 1.96 * var.sqrt()),
-        _ => ((est - 1.96 * var.sqrt()).max(0.0), est + 1.96 * var.sqrt()),
-    })
-}
-
-/// Refits a profile may restart from a better point before its interval is taken.
-const PROFILE_RESTARTS: usize = 2;
-
-/// The refit `refit` of candidate `c` with its 95% profile-likelihood interval
-/// ([`super::profile`]) on its own points and noise scales, from its Wald interval as first
-/// guesses. Where a profile point fits better than the refit, the refit continues from there
-/// (at most [`PROFILE_RESTARTS`] times) and the better refit is returned too.
-///
-/// The interval reported is the hull of the profile and Wald intervals: each is too narrow in
-/// its own way. The Wald interval next to a fold (a torque ripple on a null set: Wald
-/// [0.0212, 0.0221], profile [0.0023, 0.0224]); the profile where its fits, warm-started along
-/// the profile, stop on ledges of the jumping pp response above their own minimum (eps 0.2
-/// set of study seed 11, relative noise: Wald [0.187, 0.204], profile [0.193, 0.198], truth
-/// 0.2). Over 17 eps 0.2 seeds the Wald interval covered 14, the profile 14, the hull 16.
-/// The interval spans both phase basins when the phase is undetermined, as the Wald interval
-/// does.
-fn profiled_refit(
-    setup: &Setup,
-    train: &[usize],
-    refit: &Refitted,
-    c: &CandidateResult,
-    iters: usize,
-) -> Result<(Option<Refitted>, IntervalFound)> {
-    let mut better: Option<Refitted> = None;
-    for _ in 0..=PROFILE_RESTARTS {
-        let current = better.as_ref().unwrap_or(refit);
-        let own_wald = wald_ci(c.candidate, &current.fit.lm);
-        let problem = ProfileProblem {
-            setup,
-            train,
-            mask: &current.mask,
-            scales: &current.scales,
-            cand: c.candidate,
-            fit: &current.fit,
-        };
-        let (lo, hi) = match problem.interval(own_wald) {
-            Profile::Interval(lo, hi) => (lo, hi),
-            Profile::Better(start) => {
-                let f = fit_model(
-                    setup,
-                    train,
-                    &current.mask,
-                    &current.scales,
-                    EffectInFit::Fitted(c.candidate),
-                    &start,
-                    Stop::converged(iters / 2 + 1),
-                )?;
-                if f.lm.rss >= current.fit.lm.rss {
-                    break;
-                }
-                let train_preds = predict_many(setup, train, f.globals, &f.ste_um, &f.effect)?;
-                better = Some(Refitted {
-                    cand: current.cand,
-                    fit: f,
-                    mask: current.mask.clone(),
-                    train_preds,
-                    scales: current.scales.clone(),
-                });
-                continue;
-            }
-        };
-        let side = |b: Bound| match b {
-            Bound::At(v) => Some(v),
-            Bound::Zero => Some(0.0),
-            Bound::Open => None,
-        };
-        let profile = (side(lo), side(hi));
-        // The hull of both: each is too narrow in its own way (see the doc comment).
-        let ci = own_wald.map(|(a, b)| {
-            (
-                profile.0.map_or(a, |p| p.min(a)),
-                profile.1.map_or(b, |p| p.max(b)),
-            )
-        });
-        let found = IntervalFound {
-            ci: over_both_basins(ci, c, &current.fit.effect.delta),
-            profile: Some(profile),
-            method: "hull of the profile-likelihood and Wald intervals",
-        };
-        return Ok((better, found));
-    }
-    let current = better.as_ref().unwrap_or(refit);
-    let ci = wald_ci(c.candidate, &current.fit.lm);
-    let found = IntervalFound {
-        ci: over_both_basins(ci, c, &current.fit.effect.delta),
-        profile: None,
-        method: "Wald (the profile kept finding better fits)",
-    };
-    Ok((better, found))
-}
-
-/// The interval of the estimate a decision rests on, and how it was found.
-#[derive(Clone, Copy, Debug)]
-struct IntervalFound {
-    ci: Option<(f64, f64)>,
-    /// The profile-likelihood interval's sides (None: the profile did not rise within its
-    /// fits on that side).
-    profile: Option<(Option<f64>, Option<f64>)>,
-    method: &'static str,
-}
-
-impl IntervalFound {
-    /// Whether the refit settled: its profile was taken, rather than a better fit found after
-    /// every restart.
-    fn settled(&self) -> bool {
-        self.profile.is_some()
-    }
-}
-
-/// `ci` widened over the other phase basin's Wald interval when the phase is undetermined
-/// between it and the kept fit's `delta` ([`OtherStart`]).
-fn over_both_basins(
-    ci: Option<(f64, f64)>,
-    c: &CandidateResult,
-    delta: &[f64],
-) -> Option<(f64, f64)> {
-    match c
-        .other_start
-        .as_ref()
-        .filter(|o| o.phase_undetermined(delta))
-    {
-        Some(o) => ci.zip(o.ci95).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))),
-        None => ci,
-    }
-}
-
-/// The decision from the refits so far, and what the report shows of it.
-struct Decision {
-    effect: String,
-    ambiguous_with: Vec<String>,
-    closest: Option<String>,
-    /// Detection tests after the best refit (empty without one).
-    post_fit: Vec<TestResult>,
-    /// Curves shown as "after": the best refit's when it explains the data, else M0's.
-    after_preds: Vec<CurvePrediction>,
-    /// Points both M0 and the best refit compare (M0's mask without one).
-    compare_mask: Mask,
-    /// The best refit's curves and held-out STE fits, even when it does not explain the data.
-    refit_preds: Option<Vec<CurvePrediction>>,
-    refit_held: Option<Vec<HeldFit>>,
-    /// The interval of the candidate the decision rests on, and how it was found (see
-    /// [`profiled_refit`]).
-    named_ci: Option<(usize, IntervalFound)>,
-    /// A better refit of that candidate, found by its profile.
-    better_refit: Option<Refitted>,
-}
-
-/// A refitted candidate.
-struct Refitted {
-    /// Its index in [`LIBRARY`].
-    cand: usize,
-    fit: ModelFit,
-    /// The points it was fitted on: M0's with the points around its own jumps dropped.
-    mask: Mask,
-    /// Its predictions of the training curves.
-    train_preds: Vec<CurvePrediction>,
-    /// The noise scales of its last stage (the noise estimated about the refit, see
-    /// [`refit_scales`]).
-    scales: Scales,
-}
-
-/// Each refit's drop in the residual sum of squares from M0 (standardized residuals), on the
-/// training points that every refit and M0 keep. Refits are compared on the same points: each
-/// refit drops the points around its own jumps, and an effect that brings jumps (the stiffness
-/// variation opens instability regions) would otherwise be compared on fewer points than one
-/// that does not, and lose to a worse fit (eps 0.2, relative noise, seed 1: a drop of 1458 on
-/// its own points against 7803 for a second STE harmonic with the wrong damping on its own).
-fn common_drops(
-    setup: &Setup,
-    train: &[usize],
-    f0: &[CurvePrediction],
-    scales: &Scales,
-    refits: &[Refitted],
-) -> Vec<(usize, f64)> {
-    let kept = |i: usize, j: usize| refits.iter().all(|r| r.mask[i][j]);
-    let rss_of = |preds: &dyn Fn(usize) -> f64, i: usize| -> f64 {
-        let c = &setup.curves[i];
-        (0..c.dte_pp_um.len())
-            .filter(|&j| kept(i, j))
-            .map(|j| ((c.dte_pp_um[j] - preds(j)) / scales[i][j]).powi(2))
-            .sum()
-    };
-    let rss0: f64 = train
-        .iter()
-        .map(|&i| rss_of(&|j| f0[i].dte_pp_um[j], i))
-        .sum();
-    refits
-        .iter()
-        .map(|r| {
-            let rss: f64 = train
-                .iter()
-                .enumerate()
-                .map(|(k, &i)| rss_of(&|j| r.train_preds[k].dte_pp_um[j], i))
-                .sum();
-            (r.cand, rss0 - rss)
-        })
-        .collect()
-}
-
-/// The model Jacobian (um per parameter) of refit `f`, fitted on the points `fitted` keeps, on
-/// the rows of M0's `mask` (the training curves' kept points in order): a row the refit did not
-/// fit is zero.
-fn refit_jacobian(
-    f: &ModelFit,
-    train: &[usize],
-    mask: &Mask,
-    fitted: &Mask,
-    scales: &Scales,
-) -> DMatrix<f64> {
-    let j = model_jacobian(&f.lm, &row_scales(train, fitted, scales));
-    let rows: Vec<bool> = train
-        .iter()
-        .flat_map(|&i| {
-            (0..mask[i].len())
-                .filter(move |&k| mask[i][k])
-                .map(move |k| fitted[i][k])
-        })
-        .collect();
-    let mut out = DMatrix::zeros(rows.len(), j.ncols());
-    let mut next = 0;
-    for (r, fit_row) in rows.iter().enumerate() {
-        if *fit_row && next < j.nrows() {
-            out.row_mut(r).copy_from(&j.row(next));
-            next += 1;
-        }
-    }
-    out
 }
 
 /// M0 fitted to the training curves with everything the tests need fixed under the null.
@@ -1380,231 +1127,31 @@ pub fn discover_setup(
     let detected = detected_by_tests || far_outside(&excluded) > 0;
 
     let (refit, significant_undetected) = first_refits(&cands, detected, opts);
-    // Refit `list` (in parallel) and record each converged refit in `cands` and `refits`.
-    type Refit = (
-        ModelFit,
-        Mask,
-        Vec<CurvePrediction>,
-        Option<OtherStart>,
-        Scales,
-    );
-    let refit_round =
-        |list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>| {
-            let fits: Vec<(usize, Result<Refit>)> = list
-                .par_iter()
-                .map(|&c| {
-                    let k = observed.lr[c].1;
-                    let f = refit_candidate(
-                        setup,
-                        &train,
-                        &mask,
-                        RunNoise {
-                            scales: &scales,
-                            noise: &noise,
-                            spec: &spec,
-                        },
-                        LIBRARY[c],
-                        &m0,
-                        &dict_delta[c][k],
-                        seen_at_design[c],
-                        opts.refit_iterations,
-                    )
-                    .and_then(|(f, m2, other, s3)| {
-                        let preds = predict_many(setup, &train, f.globals, &f.ste_um, &f.effect)?;
-                        Ok((f, m2, preds, other, s3))
-                    });
-                    (c, f)
-                })
-                .collect();
-            for (c, f) in fits {
-                let Ok((f, m2, preds, other, s3)) = f else {
-                    continue;
-                };
-                let cand = LIBRARY[c];
-                let est = cand.estimate(&f.effect.delta).0;
-                cands[c].other_start = other;
-                cands[c].estimate = Some(est);
-                // Two basins within chi2(0.95; 1) of each other: the interval spans both.
-                cands[c].ci95 = over_both_basins(wald_ci(cand, &f.lm), &cands[c], &f.effect.delta);
-                cands[c].delta = Some(f.effect.delta.clone());
-                cands[c].refit_zeta = Some(f.globals.zeta);
-                cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
-                refits.push(Refitted {
-                    cand: c,
-                    fit: f,
-                    mask: m2,
-                    train_preds: preds,
-                    scales: s3,
-                });
-            }
-            // Every refit's drop on the points all of them and M0 keep.
-            let drops = common_drops(setup, &train, &f0, &scales, refits);
-            for (c, d) in drops {
-                cands[c].refit_lr = Some(d);
-            }
-        };
-
-    // 5. Decide, from the refits so far.
-    let decide = |cands: &[CandidateResult], refits: &[Refitted]| -> Result<Decision> {
-        let mut d = Decision {
-            effect: if detected { "unexplained" } else { "none" }.to_string(),
-            ambiguous_with: Vec::new(),
-            closest: None,
-            post_fit: Vec::new(),
-            after_preds: f0.clone(),
-            compare_mask: mask.clone(),
-            refit_preds: None,
-            refit_held: None,
-            named_ci: None,
-            better_refit: None,
-        };
-        let sig: Vec<usize> = refits.iter().map(|r| r.cand).collect();
-        let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
-        let Some(&best) = sig.iter().max_by(|&&a, &&b| drop(a).total_cmp(&drop(b))) else {
-            return Ok(d);
-        };
-        // Two refitted candidates are ambiguous when the data cannot tell their fits apart
-        // (see `ambiguity`); the coarse dictionary LR is not used.
-        let contender = |c: usize| Contender {
-            index: c,
-            drop: drop(c),
-            direction: &dict[c][observed.lr[c].1],
-        };
-        let others: Vec<Contender> = sig.iter().map(|&c| contender(c)).collect();
-        d.ambiguous_with = ambiguous_partners(&contender(best), &others, opts.collinear_cos)
-            .into_iter()
-            .map(|c| cands[c].name.to_string())
-            .collect();
-        let Some(chosen) = refits.iter().find(|r| r.cand == best) else {
-            return Ok(d);
-        };
-        // The refit a name would rest on gets its profile interval, and continues from a
-        // better point the profile finds, before anything is predicted from it.
-        // A second decision (after every significant candidate was refitted) reuses the
-        // first one's profile of a refit that settled: `refits` already holds that refit,
-        // and its profile would come out the same.
-        let mut chosen = chosen;
-        let settled_before = cands[best].profile_ci95.map(|profile| IntervalFound {
-            ci: cands[best].ci95,
-            profile: Some(profile),
-            method: cands[best].ci95_method,
-        });
-        if let Some(found) = settled_before.filter(|_| d.ambiguous_with.is_empty()) {
-            d.named_ci = Some((best, found));
-        } else if d.ambiguous_with.is_empty() {
-            let (better, ci) =
-                profiled_refit(setup, &train, chosen, &cands[best], opts.refit_iterations)?;
-            d.named_ci = Some((best, ci));
-            d.better_refit = better;
-            if let Some(b) = &d.better_refit {
-                chosen = b;
-            }
-        }
-        let f = &chosen.fit;
-        let (preds, held1) = predict_all(setup, f, &train, &held, &mask, &scales, Some(&held0))?;
-        let every: Vec<usize> = (0..preds.len()).collect();
-        let m1 = make_mask(&preds, &every, &noise);
-        let zero: Mask = mask
-            .iter()
-            .zip(&m1)
-            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && !*b).collect())
-            .collect();
-        d.compare_mask = m1
-            .iter()
-            .zip(&mask)
-            .map(|(a, b)| a.iter().zip(b).map(|(a, b)| *a && *b).collect())
-            .collect();
-        let lin1 = Linearized {
-            f0: preds.iter().map(|p| p.dte_pp_um.clone()).collect(),
-            zero: Some(zero),
-            jac_train: refit_jacobian(f, &train, &mask, &chosen.mask, &chosen.scales),
-            held_sens: held1.iter().map(|(i, _, s)| (*i, s.clone())).collect(),
-            held_globals: Vec::new(),
-            probes: Vec::new(),
-            // The noise about the refit: its tails and relative part chosen anew, where M0's
-            // misfit no longer inflates them.
-            noise: noise_about(setup, &spec, &preds, &d.compare_mask)?,
-            ..lin.clone()
-        };
-        let post = lin1.statistics(&measured);
-        // Its null is the bootstrap under the refitted curves, not under M0: the noise is
-        // re-estimated from second differences of each replicate, which also see the
-        // curves' own jumps and chaotic scatter. On a rattle-regime set (M0 24 um off) a
-        // refit at the noise (training RMS 0.151 um against a true 0.15 um, data sigma
-        // 0.267 um) failed this test at p = 0.02 under M0's bootstrap: a statistic of 29
-        // on 94 rows that M0's replicates exceeded only 2% of the time, whose noise
-        // re-estimate must have come out near twice the data's.
-        let post_reps = lin1.bootstrap(opts.bootstrap, opts.seed);
-        d.post_fit = detection_tests(&names, &post, &post_reps, &[]).0;
-        d.refit_held = Some(held1);
-        d.refit_preds = Some(preds.clone());
-        d.after_preds = preds;
-        if !d.ambiguous_with.is_empty() {
-            d.ambiguous_with.insert(0, cands[best].name.to_string());
-            d.effect = "ambiguous".into();
-        } else if d.named_ci.is_some_and(|(_, found)| !found.settled()) {
-            // Its profile found a better fit after every restart: an estimate still moving is
-            // not named. On an eps 0.2 set (relative noise, study seed 13) a 2nd STE harmonic
-            // refit, 1.18 um RMS off the training curves, improved at each of its restarts
-            // and would have been named in place of the stiffness variation.
-            d.effect = "unexplained".into();
-            d.closest = Some(cands[best].name.to_string());
-        } else if d
-            .post_fit
-            .first()
-            .and_then(|t| t.p_value)
-            .is_some_and(|p| p < opts.alpha / 2.0)
-        {
-            // The training chi-square after the refit (its null from the refit's bootstrap): the
-            // held-out loads are predictions and their multi-stable branches are reported as
-            // the held-out gap, not used to reject the name.
-            d.effect = "unexplained".into();
-            d.closest = Some(cands[best].name.to_string());
-        } else if !d
-            .named_ci
-            .and_then(|(_, found)| found.ci)
-            .is_some_and(|ci| cands[best].candidate.excludes_nested(ci))
-        {
-            // The refit explains the curves, but its size is not told apart from M0's
-            // (delta = 0): the effect is not named. What remains is what the tests said.
-            d.closest = Some(cands[best].name.to_string());
-        } else {
-            d.effect = cands[best].name.to_string();
-        }
-        Ok(d)
+    let rounds = Rounds {
+        setup,
+        opts,
+        train: &train,
+        held: &held,
+        measured: &measured,
+        m0: &m0,
+        mask: &mask,
+        f0: &f0,
+        held0: &held0,
+        noise: &noise,
+        scales: &scales,
+        spec: &spec,
+        lin: &lin,
+        dict: &dict,
+        dict_delta: &dict_delta,
+        seen_at_design: &seen_at_design,
+        observed: &observed,
+        names: &names,
+        detected,
     };
-
-    // The profile's interval and better refit of the candidate a decision rests on.
-    let keep_profile =
-        |cands: &mut [CandidateResult], refits: &mut Vec<Refitted>, d: &mut Decision| {
-            if let Some(b) = d.better_refit.take() {
-                let c = &mut cands[b.cand];
-                c.estimate = Some(c.candidate.estimate(&b.fit.effect.delta).0);
-                c.delta = Some(b.fit.effect.delta.clone());
-                c.refit_zeta = Some(b.fit.globals.zeta);
-                c.refit_omega_n_hz = Some(b.fit.globals.omega_n_hz);
-                refits.retain(|r| r.cand != b.cand);
-                refits.push(b);
-                for (c, drop) in common_drops(setup, &train, &f0, &scales, refits) {
-                    cands[c].refit_lr = Some(drop);
-                }
-            }
-            if let Some((c, found)) = d.named_ci.take() {
-                // From the refit itself: on a second decision `ci95` is already a hull.
-                let wald = refits.iter().find(|r| r.cand == c).and_then(|r| {
-                    let w = wald_ci(cands[c].candidate, &r.fit.lm);
-                    over_both_basins(w, &cands[c], &r.fit.effect.delta)
-                });
-                cands[c].wald_ci95 = wald;
-                cands[c].ci95 = found.ci;
-                cands[c].profile_ci95 = found.profile;
-                cands[c].ci95_method = found.method;
-            }
-        };
     let mut refits: Vec<Refitted> = Vec::new();
-    refit_round(&refit, &mut cands, &mut refits);
-    let mut decision = decide(&cands, &refits)?;
-    keep_profile(&mut cands, &mut refits, &mut decision);
+    rounds.refit(&refit, &mut cands, &mut refits);
+    let mut decision = rounds.decide(&cands, &refits)?;
+    rounds.keep_profile(&mut cands, &mut refits, &mut decision);
     // Before a discrepancy is called unexplained, every significant candidate is refitted:
     // where M0 is far off, its local statistics can rank the right one low. On rattle-regime
     // sets (b x 0.7) M0 sometimes settled at zeta 0.058 and omega_n 1815 Hz (true 0.0175,
@@ -1613,9 +1160,9 @@ pub fn discover_setup(
         .filter(|&c| significant(&cands[c], opts.alpha) && !refit.contains(&c))
         .collect();
     if decision.effect == "unexplained" && !rest.is_empty() {
-        refit_round(&rest, &mut cands, &mut refits);
-        decision = decide(&cands, &refits)?;
-        keep_profile(&mut cands, &mut refits, &mut decision);
+        rounds.refit(&rest, &mut cands, &mut refits);
+        decision = rounds.decide(&cands, &refits)?;
+        rounds.keep_profile(&mut cands, &mut refits, &mut decision);
     }
     progress.advance(1);
     let Decision {
