@@ -150,50 +150,34 @@ pub(super) struct Rounds<'a> {
     pub detected: bool,
 }
 
-/// A candidate's refit with what the decision needs of it: its fit, the points it kept, its
-/// training curves, its other phase basin and the noise scales of its last stage.
-type Refit = (
-    ModelFit,
-    Mask,
-    Vec<CurvePrediction>,
-    Option<OtherStart>,
-    Scales,
-);
-
 impl Rounds<'_> {
     /// Refit the candidates `list` (in parallel) and record each converged refit in `cands`
     /// and `refits`, then every refit's drop on the points all of them and M0 keep.
     pub fn refit(&self, list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>) {
-        let fits: Vec<(usize, Result<Refit>)> =
-            list.par_iter().map(|&c| (c, self.refit_one(c))).collect();
-        for (c, f) in fits {
-            let Ok((f, m2, preds, other, s3)) = f else {
-                continue;
-            };
+        let fits: Vec<Result<(Refitted, Option<OtherStart>)>> =
+            list.par_iter().map(|&c| self.refit_one(c)).collect();
+        // A refit that failed leaves its candidate unrefitted.
+        for (r, other) in fits.into_iter().flatten() {
+            let c = r.cand;
             let cand = LIBRARY[c];
-            let est = cand.estimate(&f.effect.delta).0;
+            let delta = &r.fit.effect.delta;
             cands[c].other_start = other;
-            cands[c].estimate = Some(est);
+            cands[c].estimate = Some(cand.estimate(delta).0);
             // Two basins within chi2(0.95; 1) of each other: the interval spans both.
-            cands[c].ci95 = over_both_basins(wald_ci(cand, &f.lm), &cands[c], &f.effect.delta);
-            cands[c].delta = Some(f.effect.delta.clone());
-            cands[c].refit_zeta = Some(f.globals.zeta);
-            cands[c].refit_omega_n_hz = Some(f.globals.omega_n_hz);
-            refits.push(Refitted {
-                cand: c,
-                fit: f,
-                mask: m2,
-                train_preds: preds,
-                scales: s3,
-            });
+            cands[c].ci95 = over_both_basins(wald_ci(cand, &r.fit.lm), &cands[c], delta);
+            cands[c].delta = Some(delta.clone());
+            cands[c].refit_zeta = Some(r.fit.globals.zeta);
+            cands[c].refit_omega_n_hz = Some(r.fit.globals.omega_n_hz);
+            refits.push(r);
         }
         self.record_drops(cands, refits);
     }
 
-    /// Candidate `c` refitted from its largest-LR probe, with its training predictions.
-    fn refit_one(&self, c: usize) -> Result<Refit> {
+    /// Candidate `c` refitted from its largest-LR probe, with its training predictions, and
+    /// the other phase basin's fit when it has one.
+    fn refit_one(&self, c: usize) -> Result<(Refitted, Option<OtherStart>)> {
         let k = self.observed.lr[c].1;
-        let (f, m2, other, s3) = refit_candidate(
+        let (fit, mask, other, scales) = refit_candidate(
             self.setup,
             self.train,
             self.mask,
@@ -208,8 +192,21 @@ impl Rounds<'_> {
             self.seen_at_design[c],
             self.opts.refit_iterations,
         )?;
-        let preds = predict_many(self.setup, self.train, f.globals, &f.ste_um, &f.effect)?;
-        Ok((f, m2, preds, other, s3))
+        let train_preds = predict_many(
+            self.setup,
+            self.train,
+            fit.globals,
+            &fit.ste_um,
+            &fit.effect,
+        )?;
+        let refitted = Refitted {
+            cand: c,
+            fit,
+            mask,
+            train_preds,
+            scales,
+        };
+        Ok((refitted, other))
     }
 
     /// Every refit's drop from M0 on the points all of them and M0 keep ([`common_drops`]).
