@@ -37,6 +37,8 @@ pub(super) struct Decision {
     pub named_ci: Option<(usize, IntervalFound)>,
     /// A better refit of that candidate, found by its profile.
     pub better_refit: Option<Refitted>,
+    /// The refitted candidate the decision rests on (None without a refit).
+    pub rests_on: Option<usize>,
 }
 
 /// A refitted candidate.
@@ -51,6 +53,19 @@ pub(super) struct Refitted {
     /// The noise scales of its last stage (the noise estimated about the refit, see
     /// [`super::refit::refit_scales`]).
     pub scales: Scales,
+}
+
+/// A candidate's drop from M0: its refit's on the common points, else its dictionary LR.
+fn drop_of(c: &CandidateResult) -> f64 {
+    c.refit_lr.unwrap_or(c.lr)
+}
+
+/// The refitted candidate with the largest drop from M0.
+fn largest_drop(cands: &[CandidateResult], refits: &[Refitted]) -> Option<usize> {
+    refits
+        .iter()
+        .map(|r| r.cand)
+        .max_by(|&a, &b| drop_of(&cands[a]).total_cmp(&drop_of(&cands[b])))
 }
 
 /// Each refit's drop in the residual sum of squares from M0 (standardized residuals), on the
@@ -216,10 +231,34 @@ impl Rounds<'_> {
         }
     }
 
+    /// The decision from the refits so far ([`Rounds::decide`]), with what it found kept
+    /// ([`Rounds::keep_profile`]). The profile of the candidate a decision rests on may
+    /// replace its refit with a better one, whose drop on the points every refit keeps can
+    /// then be smaller than another candidate's: the decision is made again on the candidate
+    /// with the largest drop, at most once per refit. On an eps 0.2 set (Student-t noise,
+    /// study seed 13) a 2nd STE harmonic led by 755 against 740, its profile's better refit
+    /// fell to 719, and the harmonic, with zeta 0.0045 against a true 0.0175, was named.
+    pub fn decision(
+        &self,
+        cands: &mut [CandidateResult],
+        refits: &mut Vec<Refitted>,
+    ) -> Result<Decision> {
+        let mut d = self.decide(cands, refits)?;
+        self.keep_profile(cands, refits, &mut d);
+        for _ in 0..refits.len() {
+            if largest_drop(cands, refits) == d.rests_on {
+                break;
+            }
+            d = self.decide(cands, refits)?;
+            self.keep_profile(cands, refits, &mut d);
+        }
+        Ok(d)
+    }
+
     /// The decision from the refits so far: the candidate with the largest drop, ambiguous
     /// with those the data cannot tell apart from it, its profile interval, the detection
     /// tests after its refit, and its verdict ([`Rounds::verdict`]).
-    pub fn decide(&self, cands: &[CandidateResult], refits: &[Refitted]) -> Result<Decision> {
+    fn decide(&self, cands: &[CandidateResult], refits: &[Refitted]) -> Result<Decision> {
         let mut d = Decision {
             effect: if self.detected { "unexplained" } else { "none" }.to_string(),
             ambiguous_with: Vec::new(),
@@ -231,12 +270,14 @@ impl Rounds<'_> {
             refit_held: None,
             named_ci: None,
             better_refit: None,
+            rests_on: None,
         };
         let sig: Vec<usize> = refits.iter().map(|r| r.cand).collect();
-        let drop = |c: usize| cands[c].refit_lr.unwrap_or(cands[c].lr);
-        let Some(&best) = sig.iter().max_by(|&&a, &&b| drop(a).total_cmp(&drop(b))) else {
+        let drop = |c: usize| drop_of(&cands[c]);
+        let Some(best) = largest_drop(cands, refits) else {
             return Ok(d);
         };
+        d.rests_on = Some(best);
         // Two refitted candidates are ambiguous when the data cannot tell their fits apart
         // (see `ambiguity`); the coarse dictionary LR is not used.
         let contender = |c: usize| Contender {
@@ -394,7 +435,7 @@ impl Rounds<'_> {
 
     /// Keep what the decision `d` found of the candidate it rests on: a better refit its
     /// profile reached (replacing the earlier refit) and its interval.
-    pub fn keep_profile(
+    fn keep_profile(
         &self,
         cands: &mut [CandidateResult],
         refits: &mut Vec<Refitted>,

@@ -1150,8 +1150,7 @@ pub fn discover_setup(
     };
     let mut refits: Vec<Refitted> = Vec::new();
     rounds.refit(&refit, &mut cands, &mut refits);
-    let mut decision = rounds.decide(&cands, &refits)?;
-    rounds.keep_profile(&mut cands, &mut refits, &mut decision);
+    let mut decision = rounds.decision(&mut cands, &mut refits)?;
     // Before a discrepancy is called unexplained, every significant candidate is refitted:
     // where M0 is far off, its local statistics can rank the right one low. On rattle-regime
     // sets (b x 0.7) M0 sometimes settled at zeta 0.058 and omega_n 1815 Hz (true 0.0175,
@@ -1161,8 +1160,7 @@ pub fn discover_setup(
         .collect();
     if decision.effect == "unexplained" && !rest.is_empty() {
         rounds.refit(&rest, &mut cands, &mut refits);
-        decision = rounds.decide(&cands, &refits)?;
-        rounds.keep_profile(&mut cands, &mut refits, &mut decision);
+        decision = rounds.decision(&mut cands, &mut refits)?;
     }
     progress.advance(1);
     let Decision {
@@ -1176,6 +1174,7 @@ pub fn discover_setup(
         refit_held,
         named_ci: _,
         better_refit: _,
+        rests_on: _,
     } = decision;
     let after_name = LIBRARY
         .iter()

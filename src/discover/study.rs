@@ -131,6 +131,11 @@ pub struct SeedOutcome {
     /// Raw (unadjusted) bootstrap p-value of every detection test and every identifiable
     /// candidate's likelihood ratio, by name: under the null each should be uniform.
     pub p_values: Vec<(String, f64)>,
+    /// The candidate the decision rested on (named, closest or first of the ambiguous), and
+    /// the raw p-values of the detection tests after its refit (bootstrap under the refit),
+    /// by name; empty without a refit.
+    pub leading_refit: Option<String>,
+    pub post_fit_p_values: Vec<(String, f64)>,
     /// Points excluded from the tests whose measured pp lies far outside M0's range there
     /// (the run's warning; see `ExcludedPoints`).
     pub excluded_far_outside: usize,
@@ -313,6 +318,18 @@ pub fn run_study(
                     .filter_map(|c| c.p_value.map(|p| (format!("candidate_{}", c.name), p))),
             )
             .collect();
+        let post_fit_p_values = d
+            .post_fit
+            .iter()
+            .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
+            .collect();
+        let leading_refit = (!d.post_fit.is_empty())
+            .then(|| {
+                cand.map(|c| c.name.to_string())
+                    .or_else(|| d.closest_candidate.clone())
+                    .or_else(|| d.ambiguous_with.first().cloned())
+            })
+            .flatten();
         let estimate = cand.and_then(|c| c.estimate);
         let phase_undetermined = cand.and_then(|c| {
             c.other_start
@@ -342,6 +359,8 @@ pub fn run_study(
                 .collect(),
             effect: d.effect,
             p_values,
+            leading_refit,
+            post_fit_p_values,
             seconds: start.elapsed().as_secs_f64(),
         };
         on_seed(&outcome)?;
