@@ -39,6 +39,9 @@ pub(super) struct Decision {
     pub better_refit: Option<Refitted>,
     /// The refitted candidate the decision rests on (None without a refit).
     pub rests_on: Option<usize>,
+    /// The held-out loads' preference when the training loads' differs ([`Rounds::held_out_split`]):
+    /// the candidate whose refit predicts the held-out loads while the leading one's does not.
+    pub held_out_prefers: Option<String>,
 }
 
 /// A refitted candidate.
@@ -54,6 +57,10 @@ pub(super) struct Refitted {
     /// [`super::refit::refit_scales`]).
     pub scales: Scales,
 }
+
+/// The detection tests [`Rounds::held_out_split`] reads after a refit.
+const TRAINING_TEST: &str = "chi_square_training";
+const HELD_OUT_TEST: &str = "chi_square_held_out";
 
 /// A candidate's drop from M0: its refit's on the common points, else its dictionary LR.
 fn drop_of(c: &CandidateResult) -> f64 {
@@ -271,6 +278,7 @@ impl Rounds<'_> {
             named_ci: None,
             better_refit: None,
             rests_on: None,
+            held_out_prefers: None,
         };
         let sig: Vec<usize> = refits.iter().map(|r| r.cand).collect();
         let drop = |c: usize| drop_of(&cands[c]);
@@ -302,7 +310,52 @@ impl Rounds<'_> {
         d.refit_preds = Some(checked.preds.clone());
         d.after_preds = checked.preds;
         self.verdict(&mut d, &cands[best]);
+        if d.effect == cands[best].name {
+            self.held_out_split(&mut d, best, cands, refits)?;
+        }
         Ok(d)
+    }
+
+    /// A name whose refit fails the held-out chi-square while another refit passes both the
+    /// training and the held-out one is "ambiguous": the training loads prefer one candidate,
+    /// the held-out loads the other. On eps 0.2 sets at phases near 250 deg (and 330 deg) the
+    /// training loads let a 2nd STE harmonic with a wrong damping (zeta 0.005-0.007 against a
+    /// true 0.0175) fit better than the stiffness variation: seven of 160 sets named it, each
+    /// failing the held-out test at p 0.001. The held-out test alone is no veto: it also
+    /// fails on 22 of 224 correct names (the 945 N curve's chaotic and multi-stable points).
+    /// The split turned 2 of the 10 wrong names that failed it in the studies into
+    /// "ambiguous" (the others' rival refits fail it too) and changed no correct name.
+    fn held_out_split(
+        &self,
+        d: &mut Decision,
+        best: usize,
+        cands: &[CandidateResult],
+        refits: &[Refitted],
+    ) -> Result<()> {
+        let half = self.opts.alpha / 2.0;
+        let p_of = |tests: &[TestResult], name: &str| {
+            tests
+                .iter()
+                .find(|t| t.name == name)
+                .and_then(|t| t.p_value)
+        };
+        if !p_of(&d.post_fit, HELD_OUT_TEST).is_some_and(|p| p < half) {
+            return Ok(());
+        }
+        let mut others: Vec<&Refitted> = refits.iter().filter(|r| r.cand != best).collect();
+        others.sort_by(|a, b| drop_of(&cands[b.cand]).total_cmp(&drop_of(&cands[a.cand])));
+        for r in others {
+            let check = self.check_refit(r)?;
+            let passes = |name| p_of(&check.post_fit, name).is_some_and(|p| p >= half);
+            if passes(TRAINING_TEST) && passes(HELD_OUT_TEST) {
+                let other = cands[r.cand].name.to_string();
+                d.ambiguous_with = vec![cands[best].name.to_string(), other.clone()];
+                d.effect = "ambiguous".into();
+                d.held_out_prefers = Some(other);
+                return Ok(());
+            }
+        }
+        Ok(())
     }
 
     /// The refit a name would rest on gets its profile interval, and continues from a better

@@ -22,6 +22,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "data_kind": data.rig.source.kind.name(),
         "effect": d.effect,
         "ambiguous_with": d.ambiguous_with,
+        "held_out_prefers": d.held_out_prefers,
         "closest_candidate": d.closest_candidate,
         "detected": d.detected,
         "detected_by_tests": d.detected_by_tests,
@@ -241,6 +242,9 @@ pub fn summary_text(d: &Discovery) -> String {
     if let Some(t) = zeta_bound_text(d) {
         s.push_str(&format!("NOTE: {t}\n"));
     }
+    if let Some(t) = held_out_split_text(d) {
+        s.push_str(&format!("NOTE: {t}\n"));
+    }
     if let Some(t) = significant_undetected_text(d) {
         s.push_str(&format!("NOTE: {t}\n"));
     }
@@ -319,6 +323,15 @@ fn excluded_warning(d: &Discovery) -> Option<String> {
 }
 
 /// Why a candidate significant among the candidates' tests is neither refitted nor named.
+/// Why the answer is "ambiguous" when the held-out loads prefer another candidate.
+fn held_out_split_text(d: &Discovery) -> Option<String> {
+    let other = d.held_out_prefers.as_ref()?;
+    let leading = d.ambiguous_with.first()?;
+    Some(format!(
+        "the training loads prefer {leading}, but its refit fails the held-out chi-square; {other}'s refit passes both the training and the held-out chi-square: the loads do not agree on one effect."
+    ))
+}
+
 fn significant_undetected_text(d: &Discovery) -> Option<String> {
     (!d.significant_undetected.is_empty()).then(|| {
         format!(
@@ -383,6 +396,9 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         d.bootstrap
     ));
     if let Some(t) = zeta_bound_text(d) {
+        page.paragraph(&t);
+    }
+    if let Some(t) = held_out_split_text(d) {
         page.paragraph(&t);
     }
     if let Some(t) = significant_undetected_text(d) {

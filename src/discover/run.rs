@@ -283,6 +283,10 @@ pub struct Discovery {
     /// not refitted and not named, since a name needs a detected discrepancy (every name the
     /// null studies gave without one was false).
     pub significant_undetected: Vec<String>,
+    /// When the answer is "ambiguous" because the held-out loads prefer another candidate
+    /// than the training loads: that candidate (its refit predicts the held-out loads, the
+    /// leading one's does not).
+    pub held_out_prefers: Option<String>,
     /// Detection tests under M0, their `p_holm` over every test of M0 (these and the
     /// candidates' own), the family `detected_by_tests` decides on.
     pub detection: Vec<TestResult>,
@@ -1175,6 +1179,7 @@ pub fn discover_setup(
         named_ci: _,
         better_refit: _,
         rests_on: _,
+        held_out_prefers,
     } = decision;
     let after_name = LIBRARY
         .iter()
@@ -1214,6 +1219,7 @@ pub fn discover_setup(
         detected,
         detected_by_tests,
         significant_undetected,
+        held_out_prefers,
         post_fit,
         noise,
         noise_range_um,
