@@ -603,7 +603,7 @@ fn a_name_the_held_out_loads_reject_in_favour_of_another_is_ambiguous() {
     let text = geardyn::discover::summary_text(&d);
     assert!(
         text.contains(
-            "the training loads prefer damping_law, but its refit fails the held-out chi-square"
+            "The training loads prefer damping_law, but its refit fails the held-out chi-square"
         ),
         "{text}"
     );

@@ -328,7 +328,7 @@ fn held_out_split_text(d: &Discovery) -> Option<String> {
     let other = d.held_out_prefers.as_ref()?;
     let leading = d.ambiguous_with.first()?;
     Some(format!(
-        "the training loads prefer {leading}, but its refit fails the held-out chi-square; {other}'s refit passes both the training and the held-out chi-square: the loads do not agree on one effect."
+        "The training loads prefer {leading}, but its refit fails the held-out chi-square; {other}'s refit passes both the training and the held-out chi-square: the loads do not agree on one effect."
     ))
 }
 
