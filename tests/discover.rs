@@ -511,6 +511,15 @@ fn study_null_seed(family: NoiseFamily, seed: u64) -> Discovery {
     study_seed(MunroTruth::default_munro(), family, seed)
 }
 
+/// [`study_seed`] of `discover-study --random-phase --speed-step 100` with `hidden` at the
+/// phase the study drew for the seed.
+fn study_seed_on_100_rpm(hidden: HiddenEffects, family: NoiseFamily, seed: u64) -> Discovery {
+    let mut t = MunroTruth::default_munro();
+    t.speeds_rpm = (1000.0, 5000.0, 100.0);
+    t.hidden = hidden;
+    study_seed(t, family, seed)
+}
+
 /// A candidate significant among the candidates' tests where M0's tests together do not reject
 /// it is neither refitted nor named, and the run says why. On this null set (constant noise,
 /// DOP853, the 50 rpm grid: study seed 1031) the torque ripple's test gives p 0.006, below
@@ -566,11 +575,12 @@ fn a_damping_law_only_its_own_test_sees_is_detected_and_named() {
 /// with the truth inside its interval.
 #[test]
 fn a_decision_is_made_again_when_its_profile_demotes_its_candidate() {
-    let mut t = MunroTruth::default_munro();
-    t.speeds_rpm = (1000.0, 5000.0, 100.0);
-    t.hidden.stiffness_eps = 0.2;
-    t.hidden.stiffness_phase = 4.428205224803389;
-    let d = study_seed(t, NoiseFamily::StudentT, 13);
+    let hidden = HiddenEffects {
+        stiffness_eps: 0.2,
+        stiffness_phase: 4.428205224803389,
+        ..HiddenEffects::default()
+    };
+    let d = study_seed_on_100_rpm(hidden, NoiseFamily::StudentT, 13);
     assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
     let drop = |name: &str| {
         let c = d.candidates.iter().find(|c| c.name == name).unwrap();
@@ -590,11 +600,12 @@ fn a_decision_is_made_again_when_its_profile_demotes_its_candidate() {
 /// ripple's refit passes both. The damping law used to be named.
 #[test]
 fn a_name_the_held_out_loads_reject_in_favour_of_another_is_ambiguous() {
-    let mut t = MunroTruth::default_munro();
-    t.speeds_rpm = (1000.0, 5000.0, 100.0);
-    t.hidden.torque_ripple_ratio = 0.03;
-    t.hidden.torque_ripple_phase = 4.294180151578195;
-    let d = study_seed(t, NoiseFamily::Constant, 38);
+    let hidden = HiddenEffects {
+        torque_ripple_ratio: 0.03,
+        torque_ripple_phase: 4.294180151578195,
+        ..HiddenEffects::default()
+    };
+    let d = study_seed_on_100_rpm(hidden, NoiseFamily::Constant, 38);
     assert_eq!(d.effect, "ambiguous", "{:#?}", d.candidates);
     assert_eq!(d.ambiguous_with, ["damping_law", "torque_ripple"]);
     assert_eq!(d.held_out_prefers.as_deref(), Some("torque_ripple"));
