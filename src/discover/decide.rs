@@ -7,7 +7,7 @@ use super::effects::LIBRARY;
 use super::fit::{Mask, ModelFit};
 use super::forward::{predict_many, CurvePrediction, Setup};
 use super::interval::{over_both_basins, profiled_refit, wald_ci, IntervalFound};
-use super::linearized::{Linearized, Statistics};
+use super::linearized::{Linearized, Statistics, CHI_SQUARE_HELD_OUT, CHI_SQUARE_TRAINING};
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
 use super::refit::{refit_candidate, RunNoise};
 use super::run::{
@@ -58,9 +58,13 @@ pub(super) struct Refitted {
     pub scales: Scales,
 }
 
-/// The detection tests [`Rounds::held_out_split`] reads after a refit.
-const TRAINING_TEST: &str = "chi_square_training";
-const HELD_OUT_TEST: &str = "chi_square_held_out";
+/// The p-value of the test `name` among `tests` (None: absent, or not computed).
+fn p_value_of(tests: &[TestResult], name: &str) -> Option<f64> {
+    tests
+        .iter()
+        .find(|t| t.name == name)
+        .and_then(|t| t.p_value)
+}
 
 /// A candidate's drop from M0: its refit's on the common points, else its dictionary LR.
 fn drop_of(c: &CandidateResult) -> f64 {
@@ -333,21 +337,15 @@ impl Rounds<'_> {
         refits: &[Refitted],
     ) -> Result<()> {
         let half = self.opts.alpha / 2.0;
-        let p_of = |tests: &[TestResult], name: &str| {
-            tests
-                .iter()
-                .find(|t| t.name == name)
-                .and_then(|t| t.p_value)
-        };
-        if !p_of(&d.post_fit, HELD_OUT_TEST).is_some_and(|p| p < half) {
+        if !p_value_of(&d.post_fit, CHI_SQUARE_HELD_OUT).is_some_and(|p| p < half) {
             return Ok(());
         }
         let mut others: Vec<&Refitted> = refits.iter().filter(|r| r.cand != best).collect();
         others.sort_by(|a, b| drop_of(&cands[b.cand]).total_cmp(&drop_of(&cands[a.cand])));
         for r in others {
             let check = self.check_refit(r)?;
-            let passes = |name| p_of(&check.post_fit, name).is_some_and(|p| p >= half);
-            if passes(TRAINING_TEST) && passes(HELD_OUT_TEST) {
+            let passes = |name| p_value_of(&check.post_fit, name).is_some_and(|p| p >= half);
+            if passes(CHI_SQUARE_TRAINING) && passes(CHI_SQUARE_HELD_OUT) {
                 let other = cands[r.cand].name.to_string();
                 d.ambiguous_with = vec![cands[best].name.to_string(), other.clone()];
                 d.effect = "ambiguous".into();
@@ -462,12 +460,7 @@ impl Rounds<'_> {
             // and would have been named in place of the stiffness variation.
             d.effect = "unexplained".into();
             d.closest = Some(best.name.to_string());
-        } else if d
-            .post_fit
-            .first()
-            .and_then(|t| t.p_value)
-            .is_some_and(|p| p < alpha / 2.0)
-        {
+        } else if p_value_of(&d.post_fit, CHI_SQUARE_TRAINING).is_some_and(|p| p < alpha / 2.0) {
             // The training chi-square after the refit (its null from the refit's bootstrap): the
             // held-out loads are predictions and their multi-stable branches are reported as
             // the held-out gap, not used to reject the name.

@@ -79,11 +79,16 @@ pub struct Statistics {
     pub score: Vec<f64>,
 }
 
+/// The chi-square of the training curves' normalised residuals (the first detection test).
+pub const CHI_SQUARE_TRAINING: &str = "chi_square_training";
+/// The chi-square of the held-out curves' residuals about their predictions.
+pub const CHI_SQUARE_HELD_OUT: &str = "chi_square_held_out";
+
 /// Names of the detection statistics, in [`Statistics::detection`] order.
 pub fn detection_names(windows: &[Window]) -> Vec<String> {
     let mut n = vec![
-        "chi_square_training".to_string(),
-        "chi_square_held_out".to_string(),
+        CHI_SQUARE_TRAINING.to_string(),
+        CHI_SQUARE_HELD_OUT.to_string(),
         "runs_along_frequency".to_string(),
     ];
     n.extend(windows.iter().map(|w| format!("window_omega_{}", w.label)));

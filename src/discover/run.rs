@@ -320,7 +320,35 @@ pub struct Discovery {
     pub bootstrap: usize,
 }
 
+/// The candidate an answer rests on: the named one, else the closest, else the first of the
+/// ambiguous ones (None when the answer names no candidate).
+fn leading_candidate(
+    effect: &str,
+    closest: Option<&str>,
+    ambiguous_with: &[String],
+) -> Option<&'static str> {
+    let in_library = |name: &str| LIBRARY.iter().map(|c| c.name()).find(|n| *n == name);
+    in_library(effect)
+        .or_else(|| closest.and_then(in_library))
+        .or_else(|| ambiguous_with.first().and_then(|a| in_library(a)))
+}
+
 impl Discovery {
+    /// The refitted candidate the answer rests on, whose refit the post-fit tests and the
+    /// gap after are about; None without a refit.
+    pub fn leading_refit(&self) -> Option<&'static str> {
+        let refitted = !self.post_fit.is_empty();
+        refitted
+            .then(|| {
+                leading_candidate(
+                    &self.effect,
+                    self.closest_candidate.as_deref(),
+                    &self.ambiguous_with,
+                )
+            })
+            .flatten()
+    }
+
     /// Excluded points, over all loads, whose measured pp lies far outside M0's range there
     /// (see [`ExcludedPoints::outside_model_range`]): the run warns when there are any.
     pub fn excluded_far_outside(&self) -> usize {
@@ -1181,20 +1209,7 @@ pub fn discover_setup(
         rests_on: _,
         held_out_prefers,
     } = decision;
-    let after_name = LIBRARY
-        .iter()
-        .find(|c| c.name() == effect)
-        .or_else(|| {
-            LIBRARY
-                .iter()
-                .find(|c| closest.as_deref() == Some(c.name()))
-        })
-        .or_else(|| {
-            ambiguous_with
-                .first()
-                .and_then(|a| LIBRARY.iter().find(|c| c.name() == a))
-        })
-        .map(|c| c.name());
+    let after_name = leading_candidate(&effect, closest.as_deref(), &ambiguous_with);
     let gap_after_model = match (after_name, refit_preds.is_some()) {
         (Some(n), true) => format!("M0 + {n}"),
         _ => {

@@ -323,13 +323,7 @@ pub fn run_study(
             .iter()
             .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
             .collect();
-        let leading_refit = (!d.post_fit.is_empty())
-            .then(|| {
-                cand.map(|c| c.name.to_string())
-                    .or_else(|| d.closest_candidate.clone())
-                    .or_else(|| d.ambiguous_with.first().cloned())
-            })
-            .flatten();
+        let leading_refit = d.leading_refit().map(str::to_string);
         let estimate = cand.and_then(|c| c.estimate);
         let phase_undetermined = cand.and_then(|c| {
             c.other_start
