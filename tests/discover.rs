@@ -567,14 +567,16 @@ fn a_damping_law_only_its_own_test_sees_is_detected_and_named() {
     assert_named_with_truth_inside(&d, "damping_law", -1.0);
 }
 
-/// A decision rests on the refit with the largest drop once its profile has been taken. On
-/// this set (eps 0.2 at 254 deg, Student-t noise, the 100 rpm grid: study seed 13) a 2nd STE
-/// harmonic led the stiffness variation by 755 against 740 sigma^2; its profile found a better
-/// refit whose drop on the points every refit keeps was 719, and the harmonic, with zeta 0.0045
-/// against a true 0.0175, used to be named. Decided again, the stiffness variation is named
-/// with the truth inside its interval.
+/// A stiffness variation at a phase where |STE + its mesh-frequency equivalent| falls toward
+/// zero STE is not taken for a 2nd STE harmonic. On this set (eps 0.2 at 254 deg, Student-t
+/// noise, the 100 rpm grid: study seed 13) the matched start of the design load had only the
+/// upper root of that magnitude (the lower one negative), its refit ended far from the truth,
+/// and a harmonic with zeta 0.0045 against a true 0.0175 led by 755 against 740 sigma^2: it was
+/// named, then, once its profile demoted it, the stiffness variation was decided on again.
+/// With zero STE scored as well, the stiffness variation leads from the first decision
+/// (only its profile is taken) and is named with the truth inside its interval.
 #[test]
-fn a_decision_is_made_again_when_its_profile_demotes_its_candidate() {
+fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
     let hidden = HiddenEffects {
         stiffness_eps: 0.2,
         stiffness_phase: 4.428205224803389,
@@ -582,15 +584,18 @@ fn a_decision_is_made_again_when_its_profile_demotes_its_candidate() {
     };
     let d = study_seed_on_100_rpm(hidden, NoiseFamily::StudentT, 13);
     assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
-    let drop = |name: &str| {
-        let c = d.candidates.iter().find(|c| c.name == name).unwrap();
-        (c.refit_lr.unwrap(), c.profile_ci95)
-    };
-    let (eps, _) = drop("mesh_stiffness_variation");
-    let (r2, r2_profile) = drop("ste_harmonics");
-    // The harmonic was decided on first: its profile was taken, and it demoted it.
-    assert!(r2_profile.is_some());
-    assert!(eps > r2, "eps {eps} r2 {r2}");
+    let profiled: Vec<&str> = d
+        .candidates
+        .iter()
+        .filter(|c| c.profile_ci95.is_some())
+        .map(|c| c.name)
+        .collect();
+    assert_eq!(
+        profiled,
+        ["mesh_stiffness_variation"],
+        "{:#?}",
+        d.candidates
+    );
 }
 
 /// When the training loads prefer one candidate and the held-out loads another, the answer is

@@ -248,7 +248,9 @@ impl Rounds<'_> {
     /// then be smaller than another candidate's: the decision is made again on the candidate
     /// with the largest drop, at most once per refit. On an eps 0.2 set (Student-t noise,
     /// study seed 13) a 2nd STE harmonic led by 755 against 740, its profile's better refit
-    /// fell to 719, and the harmonic, with zeta 0.0045 against a true 0.0175, was named.
+    /// fell to 719, and the harmonic, with zeta 0.0045 against a true 0.0175, was named. (Since
+    /// a matched start also scores zero STE, [`super::refit::ste_roots`], the stiffness
+    /// variation leads there from the first decision; no study seed since has needed a second.)
     pub fn decision(
         &self,
         cands: &mut [CandidateResult],

@@ -103,8 +103,9 @@ impl Refit<'_> {
     /// The all-load stage's start at globals `g` with `effect` and each training load's STE
     /// matched to it: the STE that, with the effect's first-order part at the mesh frequency
     /// ([`Effect::mesh_frequency_equivalent_um`]), keeps M0's fitted amplitude at that load. Of
-    /// the two roots, the one with the lower residual sum of squares at that load; where no
-    /// STE reaches M0's amplitude, the one that comes closest. Scored on all training loads.
+    /// the STEs that come locally closest to it ([`ste_roots`]: the roots, and zero where the
+    /// lower root is negative), the one with the lower residual sum of squares at that load.
+    /// Scored on all training loads.
     ///
     /// Without the matching, a profile over the effect at M0's STE scores how much the effect
     /// changes M0's first-order response, which the STE alone would absorb: on an eps 0.2 set
@@ -297,9 +298,20 @@ impl Refit<'_> {
     }
 }
 
-/// The STE amplitudes (um, >= 0, phase 0) whose sum with the complex amplitude `w` (um) has
-/// the magnitude `a`: |ste + w| = a gives ste = -Re w +- sqrt(a^2 - (Im w)^2). Where no
-/// non-negative root exists, the amplitude that comes closest, max(-Re w, 0).
+/// The STE amplitudes (um, >= 0, phase 0) whose sum with the complex amplitude `w` (um) comes
+/// locally closest to the magnitude `a`: the roots of |ste + w| = a, ste = -Re w +-
+/// sqrt(a^2 - (Im w)^2), that are not negative, lower first; where the lower root is
+/// negative while |ste + w| still falls with ste at zero (Re w < 0), also zero, the closest
+/// that branch comes (the model takes |ste|, so a negative root is no STE of phase 0); where no
+/// root exists, the amplitude that comes closest, max(-Re w, 0).
+///
+/// Without the zero a matched start could only take the upper root on that branch: on an eps
+/// 0.2 set at 212 deg (relative noise, study seed 9) M0's design-load STE of 3.02 um and
+/// w = (-1.52, 2.39) um gave the roots -0.32 and 3.36 um; the truth's 0.3 um lies on the
+/// lower root's branch (|0.3 + w| = 2.69 um). From 3.36 um the polar profile's truth-phase
+/// value scored 166 sigma^2 (17.5 with the true STE), every all-load fit ended at least 20
+/// sigma^2 above the one from the truth, and the refit (eps 0.18 [0.172, 0.191]) failed the
+/// training chi-square.
 pub(super) fn ste_roots(a: f64, w: (f64, f64)) -> Vec<f64> {
     let disc = a * a - w.1 * w.1;
     let mut roots: Vec<f64> = if disc >= 0.0 {
@@ -311,7 +323,10 @@ pub(super) fn ste_roots(a: f64, w: (f64, f64)) -> Vec<f64> {
         Vec::new()
     };
     roots.dedup();
-    if roots.is_empty() {
+    let lower_branch_reaches_zero = disc >= 0.0 && -w.0 - disc.sqrt() < 0.0 && -w.0 > 0.0;
+    if lower_branch_reaches_zero {
+        roots.push(0.0);
+    } else if roots.is_empty() {
         roots.push((-w.0).max(0.0));
     }
     roots
@@ -704,9 +719,42 @@ fn restandardized(lm: &LmFit, idx: &[usize], mask: &Mask, old: &Scales, new: &Sc
 
 #[cfg(test)]
 mod tests {
-    use super::{polar_profile, profile_start};
+    use super::{polar_profile, profile_start, ste_roots};
     use crate::discover::effects::{Candidate, Effect};
     use crate::error::GearError;
+
+    /// The admissible STEs closest to M0's amplitude: both roots where both are positive; the
+    /// upper root and zero where the lower root is negative and |ste + w| falls at zero (study
+    /// seed 9's design load: a 3.02 um, w (-1.52, 2.39) um, roots -0.32 and 3.36 um); the upper
+    /// root alone where it rises there; the vertex where no root exists.
+    #[test]
+    fn ste_roots_are_the_admissible_local_best_matches() {
+        let close = |got: &[f64], want: &[f64]| {
+            got.len() == want.len() && got.iter().zip(want).all(|(g, w)| (g - w).abs() < 1e-12)
+        };
+        // |ste + (-2, 1)| = 2: ste = 2 -+ sqrt(3).
+        let both = ste_roots(2.0, (-2.0, 1.0));
+        assert!(
+            close(&both, &[2.0 - 3f64.sqrt(), 2.0 + 3f64.sqrt()]),
+            "{both:?}"
+        );
+        let (a, w): (f64, (f64, f64)) = (3.02, (-1.52, 2.39));
+        let upper = -w.0 + (a * a - w.1 * w.1).sqrt();
+        assert!((upper - 3.36).abs() < 0.01);
+        let seed9 = ste_roots(a, w);
+        assert!(close(&seed9, &[upper, 0.0]), "{seed9:?}");
+        // At zero |ste + w| = 2.83 um < a: the lower branch's best admissible STE.
+        assert!(w.0.hypot(w.1) < a);
+        // Re w > 0: |ste + w| rises from zero, which is no local best.
+        let rising = ste_roots(a, (1.52, 2.39));
+        assert!(
+            close(&rising, &[-1.52 + (a * a - 2.39 * 2.39).sqrt()]),
+            "{rising:?}"
+        );
+        // No root: the vertex, or zero when the vertex is negative.
+        assert!(close(&ste_roots(1.0, (-2.0, 3.0)), &[2.0]));
+        assert!(close(&ste_roots(1.0, (2.0, 3.0)), &[0.0]));
+    }
 
     /// The profile takes the best probe, then the best refinement step around it, skips the
     /// values its scorer rejects, and fails only when every value is rejected.
