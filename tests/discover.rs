@@ -584,14 +584,8 @@ fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
     };
     let d = study_seed_on_100_rpm(hidden, NoiseFamily::StudentT, 13);
     assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
-    let profiled: Vec<&str> = d
-        .candidates
-        .iter()
-        .filter(|c| c.profile_ci95.is_some())
-        .map(|c| c.name)
-        .collect();
     assert_eq!(
-        profiled,
+        d.decided_on(),
         ["mesh_stiffness_variation"],
         "{:#?}",
         d.candidates

@@ -314,20 +314,16 @@ impl Refit<'_> {
 /// training chi-square.
 pub(super) fn ste_roots(a: f64, w: (f64, f64)) -> Vec<f64> {
     let disc = a * a - w.1 * w.1;
-    let mut roots: Vec<f64> = if disc >= 0.0 {
-        [-w.0 - disc.sqrt(), -w.0 + disc.sqrt()]
-            .into_iter()
-            .filter(|r| *r >= 0.0)
-            .collect()
-    } else {
-        Vec::new()
-    };
+    if disc < 0.0 {
+        return vec![(-w.0).max(0.0)];
+    }
+    let (lower, upper) = (-w.0 - disc.sqrt(), -w.0 + disc.sqrt());
+    let mut roots: Vec<f64> = [lower, upper].into_iter().filter(|r| *r >= 0.0).collect();
     roots.dedup();
-    let lower_branch_reaches_zero = disc >= 0.0 && -w.0 - disc.sqrt() < 0.0 && -w.0 > 0.0;
-    if lower_branch_reaches_zero {
+    // Zero where the lower branch still falls there (the closest it comes), or where both
+    // roots are negative (|ste + w| rises from zero, already above a).
+    if (lower < 0.0 && -w.0 > 0.0) || roots.is_empty() {
         roots.push(0.0);
-    } else if roots.is_empty() {
-        roots.push((-w.0).max(0.0));
     }
     roots
 }

@@ -349,6 +349,17 @@ impl Discovery {
             .flatten()
     }
 
+    /// The candidates a decision rested on (their profile-likelihood interval was taken), in
+    /// library order: more than one when a profile demoted its candidate and the decision was
+    /// made again.
+    pub fn decided_on(&self) -> Vec<&'static str> {
+        self.candidates
+            .iter()
+            .filter(|c| c.profile_ci95.is_some())
+            .map(|c| c.name)
+            .collect()
+    }
+
     /// Excluded points, over all loads, whose measured pp lies far outside M0's range there
     /// (see [`ExcludedPoints::outside_model_range`]): the run warns when there are any.
     pub fn excluded_far_outside(&self) -> usize {

@@ -4,7 +4,7 @@
 //! afterwards). Rates come with Wilson 95% intervals.
 
 use super::effects::Candidate;
-use super::run::{discover, CandidateResult, DiscoverOptions, Discovery};
+use super::run::{discover, DiscoverOptions, Discovery};
 use super::stats::{clopper_pearson_upper95, ks_from_uniform, wilson95};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
@@ -141,8 +141,7 @@ pub struct SeedOutcome {
     pub excluded_far_outside: usize,
     /// Candidates refitted with the full model (leading by score, and the dictionary-LR leader).
     pub refitted: Vec<&'static str>,
-    /// Candidates a decision rested on (their profile-likelihood interval was taken): more
-    /// than one when a profile demoted its candidate and the decision was made again.
+    /// [`Discovery::decided_on`].
     pub decided_on: Vec<&'static str>,
     pub seconds: f64,
 }
@@ -348,8 +347,13 @@ pub fn run_study(
             held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
             held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
             excluded_far_outside: d.excluded_far_outside(),
-            refitted: candidates_where(&d, |c| c.estimate.is_some()),
-            decided_on: candidates_where(&d, |c| c.profile_ci95.is_some()),
+            refitted: d
+                .candidates
+                .iter()
+                .filter(|c| c.estimate.is_some())
+                .map(|c| c.name)
+                .collect(),
+            decided_on: d.decided_on(),
             effect: d.effect,
             p_values,
             leading_refit,
@@ -454,14 +458,5 @@ fn calibration(outcomes: &[SeedOutcome]) -> Vec<TestCalibration> {
                 ks_distance: ks_from_uniform(&p),
             }
         })
-        .collect()
-}
-
-/// The names of `d`'s candidates that `keep` selects, in library order.
-fn candidates_where(d: &Discovery, keep: impl Fn(&CandidateResult) -> bool) -> Vec<&'static str> {
-    d.candidates
-        .iter()
-        .filter(|c| keep(c))
-        .map(|c| c.name)
         .collect()
 }
