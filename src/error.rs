@@ -15,8 +15,9 @@ pub enum GearError {
     /// A request that the chosen method cannot honour (e.g. the exact solver with k(t) != 1).
     #[error("{0}")]
     Unsupported(String),
-    /// Malformed input data, located by file, line and field.
-    #[error("{file}:{line}: field '{field}': {message}", file = file.display())]
+    /// Malformed input data, located by file, line and field (line 0: the file as a whole, a
+    /// key it lacks, or a check over several lines).
+    #[error("{location}: field '{field}': {message}", location = located(file, *line))]
     Data {
         file: PathBuf,
         line: usize,
@@ -65,5 +66,13 @@ impl GearError {
             value,
             reason,
         }
+    }
+}
+
+/// `file:line`, or the file alone when no line applies (line 0).
+fn located(file: &Path, line: usize) -> String {
+    match line {
+        0 => file.display().to_string(),
+        n => format!("{}:{n}", file.display()),
     }
 }

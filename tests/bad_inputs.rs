@@ -264,6 +264,38 @@ fn table() -> Vec<Case> {
             "backlash_mm = 0.1\nomega_n_hz = 1600",
             "rig.toml:10: field 'rig.omega_n_hz'",
         ),
+        case(
+            "stated relative noise without a floor",
+            VALIDATE,
+            "rig.toml:11: field 'noise.floor_um': a stated noise needs a positive floor_um",
+            Setup::Data(
+                format!("{HEADER}{}", flat_curve()),
+                RIG.replace("[source]\n", "[noise]\nrelative = 0.03\n\n[source]\n"),
+            ),
+        ),
+        case(
+            "discover with 5 speeds at a load",
+            "discover --data data --out out",
+            "c.csv:2: field 'load_n': discovery needs at least 8 speeds per load; load 3780 N has 5",
+            Setup::Data(
+                format!("{HEADER}3780,1000,1.0\n3780,1100,1.1\n3780,1200,1.2\n3780,1300,1.4\n3780,1400,1.6\n"),
+                RIG.to_string(),
+            ),
+        ),
+        case(
+            "validate kubo: zeta and omega_n given without the STE",
+            "validate kubo --data data --fits fits --reports reports",
+            // No line: the key is missing, and so is its table.
+            "rig.toml: field 'ste.amplitude_um': zeta and omega_n_hz are given",
+            Setup::Data(
+                "speed_rpm,dynamic_factor_min,dynamic_factor_max\n1000,1.0,1.1\n2000,1.1,1.4\n"
+                    .into(),
+                RIG.replace(
+                    "backlash_mm = 0.1",
+                    "backlash_mm = 0.1\ntest_load_n = 3780.0\nzeta = 0.1\nomega_n_hz = 2500",
+                ),
+            ),
+        ),
         rig(
             "required keys missing",
             "module_mm = 6.35\npressure_angle_deg = 20.0\n",

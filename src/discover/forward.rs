@@ -114,9 +114,12 @@ impl Setup {
         for load in data.loads() {
             let c = data.curve(load);
             if c.len() < 8 {
+                let (file, line) = c
+                    .first()
+                    .map_or((data.dir.join("rig.toml"), 0), |p| (p.file.clone(), p.line));
                 return Err(GearError::Data {
-                    file: data.dir.join("rig.toml"),
-                    line: 0,
+                    file,
+                    line,
                     field: "load_n".into(),
                     message: format!(
                         "discovery needs at least 8 speeds per load; load {load} N has {}",

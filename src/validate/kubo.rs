@@ -15,7 +15,7 @@ use super::curve_metrics::{rms, transition_location};
 use super::fit_check::{fit_failed, fit_failure};
 use super::linear::load_factor_max;
 use crate::data::{rig_key_error, KuboData, KuboPoint};
-use crate::error::{GearError, Result};
+use crate::error::Result;
 use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
 };
@@ -178,6 +178,19 @@ impl ContactFit<'_> {
     }
 }
 
+/// zeta, omega_n and the STE amplitude the model curves are drawn with, and where they came
+/// from.
+struct ModelParameters {
+    /// The fit, when zeta and omega_n were not given in rig.toml.
+    fit: Option<Estimate>,
+    profile: Vec<(Option<f64>, Option<f64>)>,
+    zeta: f64,
+    omega_n_hz: f64,
+    ste_um: f64,
+    source: &'static str,
+    points_used: usize,
+}
+
 /// Run the Kubo validation on a loaded data set.
 pub fn validate_kubo(
     data: &KuboData,
@@ -189,191 +202,36 @@ pub fn validate_kubo(
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
     let ste_given = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
-    let contact: Vec<&KuboPoint> = data
-        .points
-        .iter()
-        .filter(|p| p.dynamic_factor_max < CONTACT_LIMIT)
-        .collect();
-    let mut used_count = 0;
-    if let (Some(_), None) | (None, Some(_)) = (rig.zeta, rig.omega_n_hz) {
-        let key = if rig.zeta.is_some() {
-            "zeta"
-        } else {
-            "omega_n_hz"
-        };
-        return Err(rig_key_error(
-            &data.dir,
-            "rig",
-            key,
-            "validate kubo takes zeta and omega_n_hz as fixed values only when both are given \
-             (else it fits both): give the other one too, or remove this one",
-        ));
-    }
-    let (fit_result, profile, zeta, wn, ste, source) = match (rig.zeta, rig.omega_n_hz) {
-        (Some(z), Some(w)) => {
-            let e = ste_given.ok_or_else(|| GearError::Data {
-                file: data.dir.join("rig.toml"),
-                line: 0,
-                field: "ste.amplitude_um".into(),
-                message: "zeta and omega_n_hz are given, so the STE amplitude at the test load must be given too".into(),
-            })?;
-            (None, Vec::new(), z, w, e, "given in rig.toml".to_string())
-        }
-        _ => {
-            let k = 2 + usize::from(ste_given.is_none());
-            if contact.len() < k + 3 {
-                return Err(GearError::Data {
-                    file: data.dir.join("rig.toml"),
-                    line: 0,
-                    field: "zeta".into(),
-                    message: format!(
-                        "only {} points have D_L < {CONTACT_LIMIT} (teeth in contact); give zeta and omega_n_hz in rig.toml",
-                        contact.len()
-                    ),
-                });
-            }
-            // Below the resonance the up-sweep is on the contact branch while D_L < limit; above
-            // it the separated branch can persist, so those points join only where the
-            // describing-function solution says contact is the unique steady state.
-            let peak_speed = data
-                .points
-                .iter()
-                .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
-                .map_or(f64::INFINITY, |p| p.speed_rpm);
-            let below: Vec<&KuboPoint> = contact
-                .iter()
-                .copied()
-                .filter(|p| p.speed_rpm < peak_speed)
-                .collect();
-            let peak = dim.mesh_frequency_hz(peak_speed);
-            let mut starts = Vec::new();
-            for z in [0.03, 0.1, 0.2] {
-                for f in [0.8, 1.0, 1.2] {
-                    let mut s = vec![z, peak * f];
-                    if ste_given.is_none() {
-                        s.push(1.0);
-                    }
-                    starts.push(s);
-                }
-            }
-            let first = ContactFit {
-                dim: &dim,
-                fm,
-                points: below.clone(),
-                ste_um: ste_given,
-            }
-            .fit(&starts)?;
-            let all: Vec<&KuboPoint> = data.points.iter().collect();
-            let mut r = first;
-            let mut selected: Vec<f64> = Vec::new();
-            let mut problem = None;
-            for _ in 0..SELECTION_ROUNDS {
-                let e = ste_of(ste_given, &r.params);
-                let used = contact_points(
-                    &all,
-                    &dim,
-                    fm,
-                    dim.ste_amplitude(e),
-                    r.params[0],
-                    r.params[1],
-                )?;
-                let speeds: Vec<f64> = used.iter().map(|p| p.speed_rpm).collect();
-                if speeds == selected || used.len() < k + 3 {
-                    break;
-                }
-                selected = speeds;
-                let pr = ContactFit {
-                    dim: &dim,
-                    fm,
-                    points: used,
-                    ste_um: ste_given,
-                };
-                starts.push(r.params.clone());
-                r = pr.fit(&starts)?;
-                problem = Some(pr);
-            }
-            let problem = problem.unwrap_or(ContactFit {
-                dim: &dim,
-                fm,
-                points: below,
-                ste_um: ste_given,
-            });
-            let prof = problem.profile(&r)?;
-            if let Some(reason) = fit_failure(&r, &prof) {
-                return Err(fit_failed(&data.dir, "fit to the contact part", reason));
-            }
-            let e = ste_of(ste_given, &r.params);
-            let (z, w) = (r.params[0], r.params[1]);
-            used_count = problem.points.len();
-            (
-                Some(r),
-                prof,
-                z,
-                w,
-                e,
-                "fitted to the contact part of the curve".to_string(),
-            )
+    let par = match (rig.zeta, rig.omega_n_hz) {
+        (Some(z), Some(w)) => given_parameters(data, z, w, ste_given)?,
+        (None, None) => fit_contact_part(data, &dim, fm, ste_given)?,
+        (Some(_), None) | (None, Some(_)) => {
+            let key = if rig.zeta.is_some() {
+                "zeta"
+            } else {
+                "omega_n_hz"
+            };
+            return Err(rig_key_error(
+                &data.dir,
+                "rig",
+                key,
+                "validate kubo takes zeta and omega_n_hz as fixed values only when both are given \
+                 (else it fits both): give the other one too, or remove this one",
+            ));
         }
     };
-    let fah = dim.ste_amplitude(ste);
-    let model = GearPair::paper(fm, fah, zeta, 1.0)?;
-    let speeds_measured: Vec<f64> = data.points.iter().map(|p| p.speed_rpm).collect();
-    let (lo, hi) = (
-        speeds_measured[0],
-        speeds_measured[speeds_measured.len() - 1],
-    );
-    let n = opts.dense_points.max(2);
-    let mut speeds: Vec<f64> = (0..n)
-        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
-        .collect();
-    speeds.extend(&speeds_measured);
-    speeds.sort_by(f64::total_cmp);
-    speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
-    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, wn)).collect();
-    let factory =
-        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
+    let fah = dim.ste_amplitude(par.ste_um);
+    let model = GearPair::paper(fm, fah, par.zeta, 1.0)?;
+    let speeds = drawing_speeds(&data.points, opts.dense_points);
     progress.start(2, "branches");
-    let carried = |branch: Branch| -> Result<Vec<(f64, f64, u8)>> {
-        let plan = SweepPlan {
-            omegas: omegas.clone(),
-            branch,
-            x0: [1.0 + fm, 0.0],
-            grid: IcGrid::new(-2.0, 2.0, 1)?,
-            opts: SteadyOptions::default(),
-        };
-        let pts = sweep(&factory, &model, &plan, &crate::progress::NoProgress)?;
-        progress.advance(1);
-        Ok(pts
-            .iter()
-            .map(|p| {
-                (
-                    dim.speed_rpm(p.omega, wn),
-                    p.steady.dl_max.unwrap_or(f64::NAN),
-                    p.steady.impact.case(),
-                )
-            })
-            .collect())
-    };
+    let carried = |branch| carried_branch(&dim, &model, fm, &speeds, par.omega_n_hz, branch);
     let up = carried(Branch::Up)?;
+    progress.advance(1);
     let down = carried(Branch::Down)?;
+    progress.advance(1);
     progress.finish();
-    let mut inside = 0usize;
-    let mut outside = Vec::new();
-    for p in &data.points {
-        let m = up
-            .iter()
-            .find(|u| (u.0 - p.speed_rpm).abs() <= 1e-6 * p.speed_rpm)
-            .map_or(f64::NAN, |u| u.1);
-        let d = if m < p.dynamic_factor_min {
-            p.dynamic_factor_min - m
-        } else if m > p.dynamic_factor_max {
-            m - p.dynamic_factor_max
-        } else {
-            inside += 1;
-            0.0
-        };
-        outside.push(d);
-    }
+    let outside = outside_envelope(&data.points, &up);
+    let inside = outside.iter().filter(|d| **d == 0.0).count();
     let mid: Vec<(f64, f64)> = data
         .points
         .iter()
@@ -387,12 +245,12 @@ pub fn validate_kubo(
     let jump_measured = transition_location(&mid, 6.0);
     let jump_up = transition_location(&up.iter().map(|u| (u.0, u.1)).collect::<Vec<_>>(), 6.0);
     Ok(KuboValidation {
-        fit: fit_result,
-        ci95_profile: profile,
-        parameter_source: source,
-        zeta,
-        omega_n_hz: wn,
-        ste_um: ste,
+        fit: par.fit,
+        ci95_profile: par.profile,
+        parameter_source: par.source.to_string(),
+        zeta: par.zeta,
+        omega_n_hz: par.omega_n_hz,
+        ste_um: par.ste_um,
         ste_source: if ste_given.is_some() {
             "rig.toml"
         } else {
@@ -402,7 +260,7 @@ pub fn validate_kubo(
         load_n: load,
         mean_force: fm,
         ste_amplitude: fah,
-        points_used_in_fit: used_count,
+        points_used_in_fit: par.points_used,
         envelope: data
             .points
             .iter()
@@ -416,4 +274,201 @@ pub fn validate_kubo(
         up,
         down,
     })
+}
+
+/// zeta and omega_n as rig.toml gives them, which then has to give the STE amplitude too.
+fn given_parameters(
+    data: &KuboData,
+    zeta: f64,
+    omega_n_hz: f64,
+    ste_given: Option<f64>,
+) -> Result<ModelParameters> {
+    let ste_um = ste_given.ok_or_else(|| {
+        rig_key_error(
+            &data.dir,
+            "ste",
+            "amplitude_um",
+            "zeta and omega_n_hz are given, so the STE amplitude at the test load must be given too",
+        )
+    })?;
+    Ok(ModelParameters {
+        fit: None,
+        profile: Vec::new(),
+        zeta,
+        omega_n_hz,
+        ste_um,
+        source: "given in rig.toml",
+        points_used: 0,
+    })
+}
+
+/// zeta, omega_n (and the STE amplitude when rig.toml does not give it) fitted to the envelope
+/// midline where the model keeps the teeth in contact (see the module's doc): a first fit to
+/// the points below the resonance whose measured D_L is under [`CONTACT_LIMIT`], then refits
+/// on the model's own selection until it repeats.
+fn fit_contact_part(
+    data: &KuboData,
+    dim: &Dimensional,
+    fm: f64,
+    ste_given: Option<f64>,
+) -> Result<ModelParameters> {
+    let contact: Vec<&KuboPoint> = data
+        .points
+        .iter()
+        .filter(|p| p.dynamic_factor_max < CONTACT_LIMIT)
+        .collect();
+    let k = 2 + usize::from(ste_given.is_none());
+    if contact.len() < k + 3 {
+        return Err(rig_key_error(
+            &data.dir,
+            "rig",
+            "zeta",
+            format!(
+                "only {} points have D_L < {CONTACT_LIMIT} (teeth in contact); give zeta and omega_n_hz in rig.toml",
+                contact.len()
+            ),
+        ));
+    }
+    // Below the resonance the up-sweep is on the contact branch while D_L < limit; above
+    // it the separated branch can persist, so those points join only where the
+    // describing-function solution says contact is the unique steady state.
+    let peak_speed = data
+        .points
+        .iter()
+        .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
+        .map_or(f64::INFINITY, |p| p.speed_rpm);
+    let below: Vec<&KuboPoint> = contact
+        .iter()
+        .copied()
+        .filter(|p| p.speed_rpm < peak_speed)
+        .collect();
+    let mut starts = first_starts(dim.mesh_frequency_hz(peak_speed), ste_given);
+    let problem_on = |points| ContactFit {
+        dim,
+        fm,
+        points,
+        ste_um: ste_given,
+    };
+    let mut r = problem_on(below.clone()).fit(&starts)?;
+    let all: Vec<&KuboPoint> = data.points.iter().collect();
+    let mut selected: Vec<f64> = Vec::new();
+    let mut problem = None;
+    for _ in 0..SELECTION_ROUNDS {
+        let e = ste_of(ste_given, &r.params);
+        let used = contact_points(
+            &all,
+            dim,
+            fm,
+            dim.ste_amplitude(e),
+            r.params[0],
+            r.params[1],
+        )?;
+        let speeds: Vec<f64> = used.iter().map(|p| p.speed_rpm).collect();
+        if speeds == selected || used.len() < k + 3 {
+            break;
+        }
+        selected = speeds;
+        let pr = problem_on(used);
+        starts.push(r.params.clone());
+        r = pr.fit(&starts)?;
+        problem = Some(pr);
+    }
+    let problem = problem.unwrap_or_else(|| problem_on(below));
+    let profile = problem.profile(&r)?;
+    if let Some(reason) = fit_failure(&r, &profile) {
+        return Err(fit_failed(&data.dir, "fit to the contact part", reason));
+    }
+    Ok(ModelParameters {
+        ste_um: ste_of(ste_given, &r.params),
+        zeta: r.params[0],
+        omega_n_hz: r.params[1],
+        fit: Some(r),
+        profile,
+        source: "fitted to the contact part of the curve",
+        points_used: problem.points.len(),
+    })
+}
+
+/// Starts of the first contact fit: zeta over a decade, omega_n about the mesh frequency of
+/// the measured peak (the resonance), the STE amplitude at 1 um when it is fitted.
+fn first_starts(peak_mesh_hz: f64, ste_given: Option<f64>) -> Vec<Vec<f64>> {
+    let mut starts = Vec::new();
+    for z in [0.03, 0.1, 0.2] {
+        for f in [0.8, 1.0, 1.2] {
+            let mut s = vec![z, peak_mesh_hz * f];
+            if ste_given.is_none() {
+                s.push(1.0);
+            }
+            starts.push(s);
+        }
+    }
+    starts
+}
+
+/// The speeds the model curves are drawn at: a dense grid over the measured range, with the
+/// measured speeds themselves (where the envelope is compared).
+fn drawing_speeds(points: &[KuboPoint], dense_points: usize) -> Vec<f64> {
+    let measured: Vec<f64> = points.iter().map(|p| p.speed_rpm).collect();
+    let (lo, hi) = (measured[0], measured[measured.len() - 1]);
+    let n = dense_points.max(2);
+    let mut speeds: Vec<f64> = (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect();
+    speeds.extend(&measured);
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+    speeds
+}
+
+/// (speed, D_L, impact case) along a sweep with the state carried in `branch`'s direction.
+fn carried_branch(
+    dim: &Dimensional,
+    model: &GearPair,
+    fm: f64,
+    speeds: &[f64],
+    omega_n_hz: f64,
+    branch: Branch,
+) -> Result<Vec<(f64, f64, u8)>> {
+    let factory =
+        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
+    let plan = SweepPlan {
+        omegas: speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect(),
+        branch,
+        x0: [1.0 + fm, 0.0],
+        grid: IcGrid::new(-2.0, 2.0, 1)?,
+        opts: SteadyOptions::default(),
+    };
+    let pts = sweep(&factory, model, &plan, &crate::progress::NoProgress)?;
+    Ok(pts
+        .iter()
+        .map(|p| {
+            (
+                dim.speed_rpm(p.omega, omega_n_hz),
+                p.steady.dl_max.unwrap_or(f64::NAN),
+                p.steady.impact.case(),
+            )
+        })
+        .collect())
+}
+
+/// At each measured speed, how far the up branch's D_L lies outside the measured envelope
+/// (0 inside it, and where the branch has no point at that speed: such a speed is counted
+/// as inside).
+fn outside_envelope(points: &[KuboPoint], up: &[(f64, f64, u8)]) -> Vec<f64> {
+    points
+        .iter()
+        .map(|p| {
+            let m = up
+                .iter()
+                .find(|u| (u.0 - p.speed_rpm).abs() <= 1e-6 * p.speed_rpm)
+                .map_or(f64::NAN, |u| u.1);
+            if m < p.dynamic_factor_min {
+                p.dynamic_factor_min - m
+            } else if m > p.dynamic_factor_max {
+                m - p.dynamic_factor_max
+            } else {
+                0.0
+            }
+        })
+        .collect()
 }

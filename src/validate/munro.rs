@@ -541,12 +541,12 @@ pub fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
             distribution: Distribution::Gaussian,
         })),
         Some(_) | None if stated.is_some_and(|n| n.relative.is_some() || n.floor_um.is_some()) => {
-            Err(GearError::Data {
-                file: data.dir.join("rig.toml"),
-                line: 0,
-                field: "noise.floor_um".into(),
-                message: "a stated noise needs a positive floor_um (the relative part alone gives a zero scale at zero level); give floor_um, or leave [noise] to reading_um and let the fit estimate the noise".into(),
-            })
+            Err(rig_key_error(
+                &data.dir,
+                "noise",
+                "floor_um",
+                "a stated noise needs a positive floor_um (the relative part alone gives a zero scale at zero level); give floor_um, or leave [noise] to reading_um and let the fit estimate the noise",
+            ))
         }
         _ => Ok(MunroNoise::Estimate {
             floor_min: stated.and_then(|n| n.reading_um).unwrap_or(0.0),
