@@ -297,7 +297,6 @@ pub fn write_munro_report(
     let banner = data_kind_banner(&data.rig);
     let synthetic = data.rig.source.kind == DataKind::Synthetic;
     let stage = Staged::new(reports_dir)?;
-    let kind = data.rig.source.kind.name();
     let mut page = Page::new(
         "geardyn validate munro: pp dynamic transmission error",
         &banner,
@@ -305,6 +304,28 @@ pub fn write_munro_report(
     );
     page.toc();
     parameter_table(&mut page, data, r);
+    errors_per_load(&mut page, r);
+    if let Some(g) = &r.geometry {
+        geometry_section(&mut page, data, r, g);
+    }
+    if let Some(t) = &data.rig.source.truth {
+        page.heading("Truth of the synthetic data (recorded in rig.toml, never read by the fit)");
+        page.preformatted(&toml::to_string(t).unwrap_or_default());
+    }
+    for l in &r.loads {
+        load_figures(&stage, &mut page, data, r, figures, l)?;
+    }
+    finish_report(
+        stage,
+        page,
+        "geardyn validate munro",
+        &fits_dir.join("munro.json"),
+        &munro_json(data, r),
+    )
+}
+
+/// The table of errors per load, with what each column means.
+fn errors_per_load(page: &mut Page, r: &MunroValidation) {
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
     let rows: Vec<Vec<String>> = r
         .loads
@@ -372,125 +393,123 @@ pub fn write_munro_report(
         ("jump measured / model up (rpm)", "speed of the steepest step of the data, and of the model's speed-up sweep; - where there is none."),
         ("jump error (rpm)", "model jump minus measured jump."),
     ]);
-    if let Some(g) = &r.geometry {
-        geometry_section(&mut page, data, r, g);
-    }
-    if let Some(t) = &data.rig.source.truth {
-        page.heading("Truth of the synthetic data (recorded in rig.toml, never read by the fit)");
-        page.preformatted(&toml::to_string(t).unwrap_or_default());
-    }
-    for l in &r.loads {
-        let stem = format!("load_{:.0}", l.load_n);
-        let mut series = vec![
-            Series::markers(measured_label(data.rig.source.kind), l.measured.clone())
-                .with_color(0)
-                .with_marker(Marker::Square),
+}
+
+/// The pp DTE figure of load `l` (measured, the model's sweeps, the geometry path's when it
+/// ran, every attractor) and its residuals, written as PNG and SVG and shown on the page.
+fn load_figures(
+    stage: &Staged,
+    page: &mut Page,
+    data: &MunroData,
+    r: &MunroValidation,
+    figures: &MunroFigures,
+    l: &LoadResult,
+) -> Result<()> {
+    let kind = data.rig.source.kind.name();
+    let stem = format!("load_{:.0}", l.load_n);
+    let mut series = vec![
+        Series::markers(measured_label(data.rig.source.kind), l.measured.clone())
+            .with_color(0)
+            .with_marker(Marker::Square),
+        Series::line(
+            "model, speed up",
+            l.up.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+        )
+        .with_color(1),
+        Series::dashed(
+            "model, speed down",
+            l.down.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+        )
+        .with_color(2),
+    ];
+    let geo = r.geometry.as_ref().and_then(|g| {
+        g.loads
+            .iter()
+            .find(|x| crate::data::same_load(x.load_n, l.load_n))
+    });
+    if let Some(gl) = geo {
+        series.push(
             Series::line(
-                "model, speed up",
-                l.up.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+                "geometry STE, speed up",
+                gl.up.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
             )
-            .with_color(1),
+            .with_color(4),
+        );
+        series.push(
             Series::dashed(
-                "model, speed down",
-                l.down.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+                "geometry STE, speed down",
+                gl.down.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
             )
-            .with_color(2),
-        ];
-        let geo = r.geometry.as_ref().and_then(|g| {
-            g.loads
-                .iter()
-                .find(|x| crate::data::same_load(x.load_n, l.load_n))
-        });
-        if let Some(gl) = geo {
-            series.push(
-                Series::line(
-                    "geometry STE, speed up",
-                    gl.up.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
-                )
-                .with_color(4),
-            );
-            series.push(
-                Series::dashed(
-                    "geometry STE, speed down",
-                    gl.down.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
-                )
-                .with_color(5),
-            );
-        }
-        if !l.all.is_empty() {
-            series.push({
-                let all = Series::markers(
-                    "model, all attractors",
-                    l.all.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
-                )
-                .with_color(3)
-                .with_marker(Marker::Cross);
-                if figures.all_attractors_in_range {
-                    all
-                } else {
-                    all.outside_range()
-                }
-            });
-        }
-        let plot = XyPlot {
-            title: format!(
-                "{} N{} ({kind} data)",
-                l.load_n,
-                if l.fitted {
-                    ", design load, fitted"
-                } else {
-                    ", predicted"
-                }
-            ),
-            caption: Some(match (geo, r.geometry.as_ref()) {
-                (Some(gl), Some(g)) => format!(
-                    "STE from the curve {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz | from the geometry {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz",
-                    l.ste_um, l.force_ratio, r.zeta, r.omega_n_hz,
-                    gl.ste_um, gl.force_ratio, g.zeta, g.omega_n_hz
-                ),
-                _ => format!(
-                    "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
-                    l.mean_force,
-                    l.ste_amplitude,
-                    l.ste_um,
-                    ste_source_text(l.ste_source),
-                    l.force_ratio,
-                    r.zeta,
-                    r.omega_n_hz
-                ),
-            }),
-            x_label: "speed (rpm)".into(),
-            y_label: "pp dynamic transmission error (um)".into(),
-            series,
-            ..XyPlot::default()
-        };
-        write_xy(&plot, &stage.path(&stem))?;
-        let res = XyPlot {
-            title: format!("Residuals at {} N ({kind} data)", l.load_n),
-            caption: Some(format!(
-                "{} minus the nearer model branch (up or down)",
-                measured_label(data.rig.source.kind)
-            )),
-            x_label: "speed (rpm)".into(),
-            y_label: "residual (um)".into(),
-            series: vec![Series::markers("residual", l.residuals.clone())],
-            ..XyPlot::default()
-        };
-        write_xy(&res, &stage.path(&format!("{stem}_residuals")))?;
-        page.heading(&format!("{} N", l.load_n));
-        page.image(&format!("{stem}.png"), &format!("pp DTE at {} N", l.load_n));
-        page.image(
-            &format!("{stem}_residuals.png"),
-            &format!("residuals at {} N", l.load_n),
+            .with_color(5),
         );
     }
-    finish_report(
-        stage,
-        page,
-        "geardyn validate munro",
-        &fits_dir.join("munro.json"),
-        &munro_json(data, r),
-    )
+    if !l.all.is_empty() {
+        series.push({
+            let all = Series::markers(
+                "model, all attractors",
+                l.all.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+            )
+            .with_color(3)
+            .with_marker(Marker::Cross);
+            if figures.all_attractors_in_range {
+                all
+            } else {
+                all.outside_range()
+            }
+        });
+    }
+    let plot = XyPlot {
+        title: format!(
+            "{} N{} ({kind} data)",
+            l.load_n,
+            if l.fitted {
+                ", design load, fitted"
+            } else {
+                ", predicted"
+            }
+        ),
+        caption: Some(match (geo, r.geometry.as_ref()) {
+            (Some(gl), Some(g)) => format!(
+                "STE from the curve {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz | from the geometry {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz",
+                l.ste_um, l.force_ratio, r.zeta, r.omega_n_hz,
+                gl.ste_um, gl.force_ratio, g.zeta, g.omega_n_hz
+            ),
+            _ => format!(
+                "F_m = {:.4}, F_ah = {:.4} (STE {:.2} µm, {}), F_hat = {:.2}, ζ = {:.4}, ωₙ = {:.0} Hz",
+                l.mean_force,
+                l.ste_amplitude,
+                l.ste_um,
+                ste_source_text(l.ste_source),
+                l.force_ratio,
+                r.zeta,
+                r.omega_n_hz
+            ),
+        }),
+        x_label: "speed (rpm)".into(),
+        y_label: "pp dynamic transmission error (um)".into(),
+        series,
+        ..XyPlot::default()
+    };
+    write_xy(&plot, &stage.path(&stem))?;
+    let res = XyPlot {
+        title: format!("Residuals at {} N ({kind} data)", l.load_n),
+        caption: Some(format!(
+            "{} minus the nearer model branch (up or down)",
+            measured_label(data.rig.source.kind)
+        )),
+        x_label: "speed (rpm)".into(),
+        y_label: "residual (um)".into(),
+        series: vec![Series::markers("residual", l.residuals.clone())],
+        ..XyPlot::default()
+    };
+    write_xy(&res, &stage.path(&format!("{stem}_residuals")))?;
+    page.heading(&format!("{} N", l.load_n));
+    page.image(&format!("{stem}.png"), &format!("pp DTE at {} N", l.load_n));
+    page.image(
+        &format!("{stem}_residuals.png"),
+        &format!("residuals at {} N", l.load_n),
+    );
+    Ok(())
 }
 
 /// The fitted parameters first: estimate, 95% intervals (Fisher, sandwich, profile), unit,
