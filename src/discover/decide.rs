@@ -11,7 +11,7 @@ use super::linearized::{Linearized, Statistics, CHI_SQUARE_HELD_OUT, CHI_SQUARE_
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
 use super::refit::{refit_candidate, RunNoise};
 use super::run::{
-    detection_tests, make_mask, model_jacobian, noise_about, predict_all, row_scales,
+    detection_tests, make_mask, model_jacobian, noise_about, predict_all, row_scales, significant,
     CandidateResult, DiscoverOptions, HeldFit, OtherStart, TestResult,
 };
 use crate::error::Result;
@@ -71,10 +71,21 @@ fn drop_of(c: &CandidateResult) -> f64 {
     c.refit_lr.unwrap_or(c.lr)
 }
 
-/// The refitted candidate with the largest drop from M0.
-fn largest_drop(cands: &[CandidateResult], refits: &[Refitted]) -> Option<usize> {
+/// The refits of candidates that can be named (significant after Holm's correction), not the
+/// rivals refitted for the held-out split alone ([`Rounds::held_out_rivals`]).
+fn namable<'a>(
+    cands: &'a [CandidateResult],
+    refits: &'a [Refitted],
+    alpha: f64,
+) -> impl Iterator<Item = &'a Refitted> {
     refits
         .iter()
+        .filter(move |r| significant(&cands[r.cand], alpha))
+}
+
+/// The namable refitted candidate with the largest drop from M0.
+fn largest_drop(cands: &[CandidateResult], refits: &[Refitted], alpha: f64) -> Option<usize> {
+    namable(cands, refits, alpha)
         .map(|r| r.cand)
         .max_by(|&a, &b| drop_of(&cands[a]).total_cmp(&drop_of(&cands[b])))
 }
@@ -90,7 +101,7 @@ fn common_drops(
     train: &[usize],
     f0: &[CurvePrediction],
     scales: &Scales,
-    refits: &[Refitted],
+    refits: &[&Refitted],
 ) -> Vec<(usize, f64)> {
     let kept = |i: usize, j: usize| refits.iter().all(|r| r.mask[i][j]);
     let rss_of = |preds: &dyn Fn(usize) -> f64, i: usize| -> f64 {
@@ -235,11 +246,29 @@ impl Rounds<'_> {
         Ok((refitted, other))
     }
 
-    /// Every refit's drop from M0 on the points all of them and M0 keep ([`common_drops`]).
+    /// Every namable refit's drop from M0 on the points all of them and M0 keep
+    /// ([`common_drops`]): a rival's refit, which cannot be named, does not move the points
+    /// the others are compared on.
     fn record_drops(&self, cands: &mut [CandidateResult], refits: &[Refitted]) {
-        for (c, d) in common_drops(self.setup, self.train, self.f0, self.scales, refits) {
+        let alpha = self.opts.alpha;
+        let compared: Vec<&Refitted> = namable(cands, refits, alpha).collect();
+        for (c, d) in common_drops(self.setup, self.train, self.f0, self.scales, &compared) {
             cands[c].refit_lr = Some(d);
         }
+    }
+
+    /// Whether decision `d` names an effect whose refit fails the held-out chi-square: then
+    /// the candidates significant on their own tests before Holm's correction but not after
+    /// are refitted as rivals for the held-out split ([`Rounds::held_out_split`]), never to be
+    /// named themselves. On eps sets at 250-270 and 357 deg the stiffness variation's own test
+    /// (p 0.012-0.015) did not survive Holm's correction while the 2nd STE harmonic's did;
+    /// the harmonic was named with a held-out chi-square at p 0.001, and the stiffness
+    /// variation, never refitted, could not be the rival the split turns to.
+    pub fn held_out_rivals(&self, d: &Decision) -> bool {
+        let named = d.rests_on.is_some_and(|b| d.effect == LIBRARY[b].name());
+        named
+            && p_value_of(&d.post_fit, CHI_SQUARE_HELD_OUT)
+                .is_some_and(|p| p < self.opts.alpha / 2.0)
     }
 
     /// The decision from the refits so far ([`Rounds::decide`]), with what it found kept
@@ -259,7 +288,7 @@ impl Rounds<'_> {
         let mut d = self.decide(cands, refits)?;
         self.keep_profile(cands, refits, &mut d);
         for _ in 0..refits.len() {
-            if largest_drop(cands, refits) == d.rests_on {
+            if largest_drop(cands, refits, self.opts.alpha) == d.rests_on {
                 break;
             }
             d = self.decide(cands, refits)?;
@@ -286,9 +315,11 @@ impl Rounds<'_> {
             rests_on: None,
             held_out_prefers: None,
         };
-        let sig: Vec<usize> = refits.iter().map(|r| r.cand).collect();
+        let sig: Vec<usize> = namable(cands, refits, self.opts.alpha)
+            .map(|r| r.cand)
+            .collect();
         let drop = |c: usize| drop_of(&cands[c]);
-        let Some(best) = largest_drop(cands, refits) else {
+        let Some(best) = largest_drop(cands, refits, self.opts.alpha) else {
             return Ok(d);
         };
         d.rests_on = Some(best);

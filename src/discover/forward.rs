@@ -294,7 +294,9 @@ fn prediction(
 
 /// Where the observation windows of each sweep point start: where no period up to 32 was
 /// found (chaotic or aperiodic), the start of the analysed window; at a subharmonic point, the
-/// state the sweep arrived with from the speed before. A measurement at such a point can show
+/// state where the speed before ended its analysis (where a rig's run-up goes on from; the
+/// carried sweep itself starts the point from that speed's first section point, see
+/// `sim::sweep::carry`). A measurement at such a point can show
 /// the motion on its way to the orbit, and that way can be a chaotic transient of thousands of
 /// periods: at 945 N, 4350-4425 rpm on Munro's stand-in the steady-state search finds a
 /// period-6 orbit while the sweep's own motion stays chaotic for thousands of periods, and

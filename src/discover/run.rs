@@ -1079,9 +1079,16 @@ fn candidate_results(
     cands
 }
 
-/// Whether a candidate's Holm-adjusted p-value is below alpha / 2 (the level per side).
-fn significant(c: &CandidateResult, alpha: f64) -> bool {
+/// Whether a candidate's Holm-adjusted p-value is below alpha / 2 (the level per side): only
+/// such a candidate can be named.
+pub(super) fn significant(c: &CandidateResult, alpha: f64) -> bool {
     c.p_holm.is_some_and(|p| p < alpha / 2.0)
+}
+
+/// Whether a candidate is significant on its own test before Holm's correction but not after:
+/// a rival for the held-out split of a name (see [`Rounds::held_out_rivals`]), never named.
+fn rival(c: &CandidateResult, alpha: f64) -> bool {
+    c.p_value.is_some_and(|p| p < alpha / 2.0) && !significant(c, alpha)
 }
 
 /// The candidates refitted first, and the names of those significant on a set without a
@@ -1203,6 +1210,13 @@ pub fn discover_setup(
         .collect();
     if decision.effect == "unexplained" && !rest.is_empty() {
         rounds.refit(&rest, &mut cands, &mut refits);
+        decision = rounds.decision(&mut cands, &mut refits)?;
+    }
+    let rivals: Vec<usize> = (0..cands.len())
+        .filter(|&c| rival(&cands[c], opts.alpha) && !refits.iter().any(|r| r.cand == c))
+        .collect();
+    if rounds.held_out_rivals(&decision) && !rivals.is_empty() {
+        rounds.refit(&rivals, &mut cands, &mut refits);
         decision = rounds.decision(&mut cands, &mut refits)?;
     }
     progress.advance(1);

@@ -1,0 +1,310 @@
+#!/usr/bin/env python3
+"""Score geardyn's answers on an indep-synth batch against the hidden truth.
+
+Python 3 standard library only.
+
+    python3 score.py BATCH --commands [--geardyn BIN]   # print the geardyn commands to run
+    python3 score.py BATCH [--results DIR] [--json OUT] [--list]
+
+BATCH is a folder written by `indep-synth batch` (BATCH/BATCH.json, BATCH/sets/NAME/,
+BATCH/truth/NAME.json). geardyn's output for set NAME is looked for in RESULTS/NAME/
+(default RESULTS = BATCH/geardyn):
+
+  validate batches: RESULTS/NAME/munro.json    (geardyn validate munro --data BATCH/sets/NAME
+                                                 --fits RESULTS/NAME --reports RESULTS/NAME)
+  discover batches: RESULTS/NAME/discovery.json (geardyn discover --data BATCH/sets/NAME
+                                                 --out RESULTS/NAME)
+
+and, if present, RESULTS/NAME/status (geardyn's exit status, written by the --commands lines):
+a validate fit that fails exits with status 2 and writes nothing; such a set counts as "failed"
+(reported, and counted as a miss in the "all sets" coverage line).
+
+Validate: coverage of the truth zeta and omega_n (and of every load's STE) by geardyn's 95%
+intervals (inverse Fisher "covariance", "sandwich", "profile"), with Wilson 95% intervals on the
+rates, overall and per noise family; the z-scores (estimate - truth) / standard error.
+
+Discover: per set geardyn's answer (`effect`) against the hidden effect: the rate of correct
+answers ("none" on null sets, the effect's name on the others) with Wilson intervals, overall,
+per hidden effect and per noise family; for a correctly named effect whether its `ci95` contains
+the true strength (eps, r2 or F_aT / F_m(design)), and the phase error (the phase of the fitted
+(cos, sin) pair `delta`, assumed to be in the generator's convention, against the truth's).
+"""
+
+import argparse
+import json
+import math
+import os
+import signal
+import sys
+from collections import OrderedDict, defaultdict
+
+Z = 1.959963984540054  # 97.5% normal quantile
+
+
+def wilson(k, n):
+    if n == 0:
+        return (float("nan"), float("nan"))
+    p = k / n
+    den = 1 + Z * Z / n
+    centre = (p + Z * Z / (2 * n)) / den
+    half = Z * math.sqrt(p * (1 - p) / n + Z * Z / (4 * n * n)) / den
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def rate(k, n):
+    if n == 0:
+        return "  -/0"
+    lo, hi = wilson(k, n)
+    return f"{k:3d}/{n:<3d} {100 * k / n:5.1f}%  (Wilson 95% {100 * lo:5.1f}-{100 * hi:5.1f}%)"
+
+
+def covers(ci, x):
+    if ci is None or len(ci) != 2 or ci[0] is None or ci[1] is None:
+        return None
+    return ci[0] <= x <= ci[1]
+
+
+def load_json(path):
+    try:
+        with open(path) as f:
+            return json.load(f)
+    except (OSError, ValueError):
+        return None
+
+
+def read_status(d):
+    try:
+        with open(os.path.join(d, "status")) as f:
+            return int(f.read().strip() or "0")
+    except (OSError, ValueError):
+        return None
+
+
+def set_names(batch):
+    names = sorted(n for n in os.listdir(os.path.join(batch, "sets"))
+                   if os.path.isdir(os.path.join(batch, "sets", n)))
+    return names
+
+
+def commands(batch, kind, results, geardyn):
+    for n in set_names(batch):
+        data = os.path.join(batch, "sets", n)
+        out = os.path.join(results, n)
+        if kind == "validate":
+            cmd = f"{geardyn} validate munro --data {data} --fits {out} --reports {out}"
+        else:
+            cmd = f"{geardyn} discover --data {data} --out {out}"
+        print(f"mkdir -p {out} && {{ {cmd} > {out}/log.txt 2>&1; echo $? > {out}/status; }}")
+
+
+def same_load(a, b):
+    return abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1.0)
+
+
+def score_validate(batch, results, listing):
+    rows = []
+    for n in set_names(batch):
+        truth = load_json(os.path.join(batch, "truth", n + ".json"))
+        if truth is None:
+            print(f"warning: no truth for {n}", file=sys.stderr)
+            continue
+        fam = (truth.get("noise") or {}).get("family", "none")
+        d = os.path.join(results, n)
+        fit = load_json(os.path.join(d, "munro.json"))
+        st = read_status(d)
+        row = {"name": n, "family": fam, "zeta": truth["zeta"], "omega_n_hz": truth["omega_n_hz"],
+               "status": st}
+        if fit is None:
+            row["outcome"] = "failed" if (st is not None and st != 0) else "missing"
+            rows.append(row)
+            continue
+        row["outcome"] = "fit"
+        row["zeta_est"] = fit.get("zeta")
+        row["omega_est"] = fit.get("omega_n_hz")
+        for par, key in (("zeta", "zeta"), ("omega", "omega_n_hz")):
+            cis = fit.get(key + "_ci95") or {}
+            tv = truth[key]
+            for m in ("covariance", "sandwich", "profile"):
+                row[f"{par}_{m}"] = covers(cis.get(m), tv)
+            se = fit.get(key + "_std_error")
+            row[f"{par}_z"] = (fit[key] - tv) / se if se else None
+        # STE: design load (ste_design_um_ci95) and every other load (per_load[].ste_um_ci95).
+        ste_cov = []
+        for tl in truth["loads"]:
+            for pl in fit.get("per_load", []):
+                if same_load(pl["load_n"], tl["load_n"]):
+                    ci = pl.get("ste_um_ci95")
+                    if pl.get("fitted") and fit.get("ste_design_um_ci95"):
+                        ci = fit["ste_design_um_ci95"].get("covariance", ci)
+                    ste_cov.append((tl["load_n"], covers(ci, tl["ste_um"]), pl.get("ste_source")))
+        row["ste"] = ste_cov
+        rows.append(row)
+
+    n_all = len(rows)
+    fitted = [r for r in rows if r["outcome"] == "fit"]
+    print(f"validate batch {batch}: {n_all} sets, {len(fitted)} fitted, "
+          f"{sum(r['outcome'] == 'failed' for r in rows)} failed (non-zero status, no fit written), "
+          f"{sum(r['outcome'] == 'missing' for r in rows)} not run")
+    fams = ["all"] + sorted({r["family"] for r in rows})
+
+    def block(title, key):
+        print(f"\n{title}")
+        for fam in fams:
+            sel = [r for r in fitted if fam == "all" or r["family"] == fam]
+            vals = [r[key] for r in sel if r.get(key) is not None]
+            print(f"  {fam:10s} {rate(sum(vals), len(vals))}")
+        if any(r["outcome"] == "failed" for r in rows):
+            vals = [bool(r.get(key)) for r in rows if r["outcome"] != "missing"]
+            print(f"  {'all, failed fits as misses':10s} {rate(sum(vals), len(vals))}")
+
+    for par, label in (("zeta", "zeta"), ("omega", "omega_n")):
+        for m in ("covariance", "sandwich", "profile"):
+            block(f"{label}: truth inside geardyn's 95% interval ({m})", f"{par}_{m}")
+    print("\nboth zeta and omega_n covered (covariance intervals)")
+    for fam in fams:
+        sel = [r for r in fitted if fam == "all" or r["family"] == fam]
+        vals = [bool(r.get("zeta_covariance")) and bool(r.get("omega_covariance")) for r in sel]
+        print(f"  {fam:10s} {rate(sum(vals), len(vals))}")
+
+    print("\nSTE per load: truth inside geardyn's 95% interval")
+    by_load = defaultdict(list)
+    for r in fitted:
+        for load, c, src in r["ste"]:
+            if c is not None:
+                by_load[load].append(c)
+    for load in sorted(by_load, reverse=True):
+        v = by_load[load]
+        print(f"  {load:8g} N {rate(sum(v), len(v))}")
+
+    print("\nz = (estimate - truth) / standard error (inverse Fisher): mean, SD (1 and 0 if calibrated)")
+    for par in ("zeta", "omega"):
+        zs = [r[f"{par}_z"] for r in fitted if r.get(f"{par}_z") is not None]
+        if len(zs) > 1:
+            m = sum(zs) / len(zs)
+            sd = math.sqrt(sum((z - m) ** 2 for z in zs) / (len(zs) - 1))
+            print(f"  {par:6s} n {len(zs)}, mean {m:+.3f}, SD {sd:.3f}, |z| > 1.96: {sum(abs(z) > Z for z in zs)}")
+    if listing:
+        print("\nper set: name family truth_zeta est_zeta cov | truth_omega est_omega cov")
+        for r in rows:
+            if r["outcome"] != "fit":
+                print(f"  {r['name']} {r['family']:9s} {r['outcome']} (status {r['status']})")
+                continue
+            print(f"  {r['name']} {r['family']:9s} {r['zeta']:.5f} {r['zeta_est']:.5f} {str(r['zeta_covariance']):5s} | "
+                  f"{r['omega_n_hz']:8.2f} {r['omega_est']:8.2f} {r['omega_covariance']}")
+    return rows
+
+
+def ang_diff_deg(a, b):
+    d = (a - b + math.pi) % (2 * math.pi) - math.pi
+    return abs(math.degrees(d))
+
+
+def score_discover(batch, results, listing):
+    rows = []
+    for n in set_names(batch):
+        truth = load_json(os.path.join(batch, "truth", n + ".json"))
+        if truth is None:
+            print(f"warning: no truth for {n}", file=sys.stderr)
+            continue
+        fam = (truth.get("noise") or {}).get("family", "none")
+        eff = truth["effect_name"]
+        d = os.path.join(results, n)
+        disc = load_json(os.path.join(d, "discovery.json"))
+        row = {"name": n, "family": fam, "hidden": eff, "strength": truth.get("effect_strength"),
+               "phase": (truth.get("effect") or {}).get("phase_rad"), "status": read_status(d)}
+        if disc is None:
+            row["answer"] = None
+            rows.append(row)
+            continue
+        ans = disc.get("effect")
+        row["answer"] = ans
+        row["ambiguous_with"] = disc.get("ambiguous_with")
+        row["closest"] = disc.get("closest_candidate")
+        row["correct"] = ans == eff
+        if eff != "none" and ans == eff:
+            cand = next((c for c in disc.get("candidates", []) if c.get("name") == eff), None)
+            if cand is not None:
+                row["estimate"] = cand.get("estimate")
+                row["ci95"] = cand.get("ci95")
+                row["covered"] = covers(cand.get("ci95"), row["strength"])
+                delta = cand.get("delta")
+                if delta and len(delta) >= 2 and row["phase"] is not None:
+                    ph = math.atan2(delta[1], delta[0])
+                    row["phase_est"] = ph
+                    row["phase_err_deg"] = ang_diff_deg(ph, row["phase"])
+        rows.append(row)
+
+    done = [r for r in rows if r["answer"] is not None]
+    print(f"discover batch {batch}: {len(rows)} sets, {len(done)} with a discovery.json, "
+          f"{len(rows) - len(done)} without")
+    print("\ncorrect answers (\"none\" on null sets, the hidden effect's name otherwise)")
+    print(f"  {'all':26s} {rate(sum(r['correct'] for r in done), len(done))}")
+    effects = sorted({r["hidden"] for r in rows})
+    for eff in effects:
+        sel = [r for r in done if r["hidden"] == eff]
+        print(f"  hidden {eff:19s} {rate(sum(r['correct'] for r in sel), len(sel))}")
+        for fam in sorted({r["family"] for r in sel}):
+            s2 = [r for r in sel if r["family"] == fam]
+            print(f"    {fam:24s} {rate(sum(r['correct'] for r in s2), len(s2))}")
+        answers = defaultdict(int)
+        for r in sel:
+            answers[r["answer"]] += 1
+        print(f"    answers: " + ", ".join(f"{a} {k}" for a, k in sorted(answers.items(), key=lambda x: -x[1])))
+    null = [r for r in done if r["hidden"] == "none"]
+    if null:
+        fp = sum(r["answer"] != "none" for r in null)
+        print(f"\nfalse-positive rate on null sets (any answer but \"none\"): {rate(fp, len(null))}")
+        named = sum(r["answer"] not in ("none", "unexplained", "ambiguous") for r in null)
+        print(f"  of which an effect named: {named}")
+    print("\ncorrectly named effect: true strength inside geardyn's ci95")
+    for eff in effects:
+        if eff == "none":
+            continue
+        sel = [r for r in done if r["hidden"] == eff and r["correct"] and r.get("covered") is not None]
+        print(f"  {eff:26s} {rate(sum(r['covered'] for r in sel), len(sel))}")
+        errs = sorted(r["phase_err_deg"] for r in sel if r.get("phase_err_deg") is not None)
+        if errs:
+            print(f"    phase error (deg): median {errs[len(errs) // 2]:.1f}, max {errs[-1]:.1f}")
+    if listing:
+        print("\nper set: name family hidden strength phase(deg) -> answer [estimate ci95 covered phase_err]")
+        for r in rows:
+            ph = f"{math.degrees(r['phase']):6.1f}" if r.get("phase") is not None else "     -"
+            extra = ""
+            if r.get("estimate") is not None:
+                ci = r.get("ci95") or [float("nan")] * 2
+                extra = f" [{r['estimate']:.4f} ({ci[0]:.4f}, {ci[1]:.4f}) {r.get('covered')} {r.get('phase_err_deg', float('nan')):.1f} deg]"
+            if r.get("ambiguous_with"):
+                extra += f" ambiguous_with {r['ambiguous_with']}"
+            if r.get("closest"):
+                extra += f" closest {r['closest']}"
+            print(f"  {r['name']} {r['family']:9s} {r['hidden']:24s} {r['strength'] if r['strength'] is not None else '-'} {ph} -> {r['answer']}{extra}")
+    return rows
+
+
+def main():
+    if hasattr(signal, "SIGPIPE"):
+        signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # quiet under `| head`
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("batch", help="batch folder written by indep-synth batch")
+    ap.add_argument("--results", help="folder with geardyn's output per set (default BATCH/geardyn)")
+    ap.add_argument("--commands", action="store_true", help="print the geardyn commands to run, one per set")
+    ap.add_argument("--geardyn", default="geardyn", help="geardyn binary for --commands")
+    ap.add_argument("--json", help="also write the per-set rows to this JSON file")
+    ap.add_argument("--list", action="store_true", help="print one line per set")
+    a = ap.parse_args()
+    meta = load_json(os.path.join(a.batch, "BATCH.json"))
+    if meta is None:
+        sys.exit(f"{a.batch}: no BATCH.json (not an indep-synth batch)")
+    kind = meta["kind"]
+    results = a.results or os.path.join(a.batch, "geardyn")
+    if a.commands:
+        commands(a.batch, kind, results, a.geardyn)
+        return
+    rows = score_validate(a.batch, results, a.list) if kind == "validate" else score_discover(a.batch, results, a.list)
+    if a.json:
+        with open(a.json, "w") as f:
+            json.dump(rows, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()

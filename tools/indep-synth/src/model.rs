@@ -1,0 +1,107 @@
+//! The dimensionless gear-pair model, written from Kahraman & Singh (1990) eq. 3a-3c and eq. 20
+//! and geardyn's design notes (section 1), not from geardyn's source:
+//!
+//!   q'' + 2 zeta q' + k(t) f(q) = F_m + F_aT sin(W t + psi_T)
+//!                                 + W^2 F_ah sin(W t) + (2W)^2 F_ah2 sin(2 W t + phi_2)
+//!   k(t) = 1 + eps cos(W t + psi_k)
+//!   f(q) = q - 1 (q > 1), 0 (|q| <= 1), q + 1 (q < -1)
+//!
+//! with t = omega_n t_bar, q = q_bar / b (b = half backlash), W = mesh frequency / natural
+//! frequency. The dynamic transmission error is x = q + e/b with
+//! e/b = F_ah sin(W t) + F_ah2 sin(2 W t + phi_2); its peak-to-peak times b is `dte_pp_um`.
+
+/// Everything the right-hand side needs at one speed and one load.
+#[derive(Clone, Debug)]
+pub struct Excitation {
+    pub zeta: f64,
+    /// Mesh frequency over natural frequency, Omega_h.
+    pub omega: f64,
+    /// Mean load F_m = F / (b k_h).
+    pub fm: f64,
+    /// First STE harmonic amplitude over b, F_ah = e_1 / b.
+    pub fah: f64,
+    /// Second STE harmonic amplitude over b (r2 F_ah) and its phase (rad).
+    pub fah2: f64,
+    pub phi2: f64,
+    /// External force at the mesh frequency (torque ripple), F_aT = ratio F_m(design), phase (rad).
+    pub fat: f64,
+    pub psi_t: f64,
+    /// Mesh stiffness variation k = 1 + eps cos(W t + psi_k).
+    pub eps: f64,
+    pub psi_k: f64,
+}
+
+impl Excitation {
+    /// e(t)/b: the static transmission error in half backlashes.
+    #[inline]
+    pub fn ste(&self, t: f64) -> f64 {
+        let wt = self.omega * t;
+        let mut e = self.fah * wt.sin();
+        if self.fah2 != 0.0 {
+            e += self.fah2 * (2.0 * wt + self.phi2).sin();
+        }
+        e
+    }
+
+    /// d(e/b)/dt.
+    #[inline]
+    pub fn ste_dot(&self, t: f64) -> f64 {
+        let wt = self.omega * t;
+        let mut d = self.omega * self.fah * wt.cos();
+        if self.fah2 != 0.0 {
+            d += 2.0 * self.omega * self.fah2 * (2.0 * wt + self.phi2).cos();
+        }
+        d
+    }
+
+    /// Right-hand side force F(t) of eq. 20 (mean load, torque ripple, STE terms).
+    #[inline]
+    pub fn force(&self, t: f64) -> f64 {
+        let wt = self.omega * t;
+        let w2 = self.omega * self.omega;
+        let mut f = self.fm + w2 * self.fah * wt.sin();
+        if self.fah2 != 0.0 {
+            f += 4.0 * w2 * self.fah2 * (2.0 * wt + self.phi2).sin();
+        }
+        if self.fat != 0.0 {
+            f += self.fat * (wt + self.psi_t).sin();
+        }
+        f
+    }
+
+    /// Time-varying mesh stiffness k(t).
+    #[inline]
+    pub fn stiffness(&self, t: f64) -> f64 {
+        if self.eps == 0.0 {
+            1.0
+        } else {
+            1.0 + self.eps * (self.omega * t + self.psi_k).cos()
+        }
+    }
+
+    /// q'' with the dead-zone function of the given region (+1: q > 1 contact, 0: free,
+    /// -1: back contact). Inside one integration segment the region's own (linear) branch of f is
+    /// used, extended smoothly past the boundary, so the integrator sees a smooth right-hand side;
+    /// the segment is stopped at the boundary crossing (event) and the region switched there.
+    #[inline]
+    pub fn accel(&self, t: f64, q: f64, v: f64, region: i8) -> f64 {
+        let fq = match region {
+            1 => q - 1.0,
+            -1 => q + 1.0,
+            _ => 0.0,
+        };
+        let k = if fq == 0.0 { 1.0 } else { self.stiffness(t) };
+        self.force(t) - 2.0 * self.zeta * v - k * fq
+    }
+}
+
+/// The region of eq. 3c a state belongs to.
+pub fn region_of(q: f64, v: f64) -> i8 {
+    if q > 1.0 || (q == 1.0 && v > 0.0) {
+        1
+    } else if q < -1.0 || (q == -1.0 && v < 0.0) {
+        -1
+    } else {
+        0
+    }
+}
