@@ -101,14 +101,19 @@ def same_load(a, b):
     return abs(a - b) <= 1e-9 * max(abs(a), abs(b), 1.0)
 
 
-def score_validate(batch, results, listing):
-    rows = []
+def truths(batch):
+    """(name, truth, noise family) of every set of the batch that has its truth file."""
     for n in set_names(batch):
         truth = load_json(os.path.join(batch, "truth", n + ".json"))
         if truth is None:
             print(f"warning: no truth for {n}", file=sys.stderr)
             continue
-        fam = (truth.get("noise") or {}).get("family", "none")
+        yield n, truth, (truth.get("noise") or {}).get("family", "none")
+
+
+def score_validate(batch, results, listing):
+    rows = []
+    for n, truth, fam in truths(batch):
         d = os.path.join(results, n)
         fit = load_json(os.path.join(d, "munro.json"))
         st = read_status(d)
@@ -201,12 +206,7 @@ def ang_diff_deg(a, b):
 
 def score_discover(batch, results, listing):
     rows = []
-    for n in set_names(batch):
-        truth = load_json(os.path.join(batch, "truth", n + ".json"))
-        if truth is None:
-            print(f"warning: no truth for {n}", file=sys.stderr)
-            continue
-        fam = (truth.get("noise") or {}).get("family", "none")
+    for n, truth, fam in truths(batch):
         eff = truth["effect_name"]
         d = os.path.join(results, n)
         disc = load_json(os.path.join(d, "discovery.json"))
