@@ -266,9 +266,12 @@ impl Rounds<'_> {
     /// variation, never refitted, could not be the rival the split turns to.
     pub fn held_out_rivals(&self, d: &Decision) -> bool {
         let named = d.rests_on.is_some_and(|b| d.effect == LIBRARY[b].name());
-        named
-            && p_value_of(&d.post_fit, CHI_SQUARE_HELD_OUT)
-                .is_some_and(|p| p < self.opts.alpha / 2.0)
+        named && self.fails_held_out(d)
+    }
+
+    /// Whether the refit decision `d` rests on fails the held-out chi-square at alpha / 2.
+    fn fails_held_out(&self, d: &Decision) -> bool {
+        p_value_of(&d.post_fit, CHI_SQUARE_HELD_OUT).is_some_and(|p| p < self.opts.alpha / 2.0)
     }
 
     /// The decision from the refits so far ([`Rounds::decide`]), with what it found kept
@@ -370,7 +373,7 @@ impl Rounds<'_> {
         refits: &[Refitted],
     ) -> Result<()> {
         let half = self.opts.alpha / 2.0;
-        if !p_value_of(&d.post_fit, CHI_SQUARE_HELD_OUT).is_some_and(|p| p < half) {
+        if !self.fails_held_out(d) {
             return Ok(());
         }
         let mut others: Vec<&Refitted> = refits.iter().filter(|r| r.cand != best).collect();

@@ -1212,8 +1212,9 @@ pub fn discover_setup(
         rounds.refit(&rest, &mut cands, &mut refits);
         decision = rounds.decision(&mut cands, &mut refits)?;
     }
+    // A rival is not significant after Holm's correction, so no earlier round refitted it.
     let rivals: Vec<usize> = (0..cands.len())
-        .filter(|&c| rival(&cands[c], opts.alpha) && !refits.iter().any(|r| r.cand == c))
+        .filter(|&c| rival(&cands[c], opts.alpha))
         .collect();
     if rounds.held_out_rivals(&decision) && !rivals.is_empty() {
         rounds.refit(&rivals, &mut cands, &mut refits);
