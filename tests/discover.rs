@@ -83,6 +83,21 @@ fn assert_named_with_truth_inside(d: &Discovery, name: &str, truth: f64) {
     assert_eq!((lo, hi), (wl.min(pl), wh.max(ph)));
 }
 
+/// The named effect's true phase (rad) lies on one of its 95% phase arcs (degrees), and the
+/// arcs are arcs, not the whole circle.
+fn assert_phase_on_arcs(d: &Discovery, truth_rad: f64) {
+    let c = d.candidates.iter().find(|c| c.name == d.effect).unwrap();
+    let t = truth_rad.to_degrees();
+    let on = |&(lo, hi): &(f64, f64)| (t - lo).rem_euclid(360.0) <= hi - lo;
+    assert!(
+        c.phase_ci95_deg.iter().any(on),
+        "true phase {t} deg, estimate {:?} deg, arcs {:?}",
+        c.phase_deg,
+        c.phase_ci95_deg
+    );
+    assert!(c.phase_ci95_deg.iter().all(|(lo, hi)| hi - lo < 180.0));
+}
+
 /// Held-out RMS gap (um) before and after adding the effect.
 fn held_out_rms(d: &Discovery) -> (f64, f64) {
     (
@@ -218,6 +233,7 @@ fn hidden_second_ste_harmonic_is_named_and_sized() {
     };
     let d = discover_hidden(h, 3, MunroTruth::default_munro().ste_um);
     assert_named_with_truth_inside(&d, "ste_harmonics", 0.4);
+    assert_phase_on_arcs(&d, 0.0);
     assert!(
         d.gap_after.training.rms_um < 0.3,
         "{:?}",
@@ -584,6 +600,7 @@ fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
     };
     let d = study_seed_on_100_rpm(hidden, NoiseFamily::StudentT, 13);
     assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.2);
+    assert_phase_on_arcs(&d, 4.428205224803389);
     assert_eq!(
         d.decided_on(),
         ["mesh_stiffness_variation"],

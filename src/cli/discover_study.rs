@@ -148,6 +148,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             "phase not determined by the training loads (interval over both phases) in {u}/{n} correctly named seeds\n"
         ));
     }
+    if let Some((c, n, (lo, hi))) = s.phase_coverage {
+        msg.push_str(&format!(
+            "true phase on the 95% phase arcs in {c}/{n} correctly named seeds (Wilson 95% {:.1}% .. {:.1}%)\n",
+            100.0 * lo,
+            100.0 * hi
+        ));
+    }
     msg.push_str(&format!(
         "warning about excluded points far outside M0's range in {}/{} seeds\n",
         s.warned, s.seeds

@@ -202,6 +202,7 @@ impl Rounds<'_> {
             cands[c].estimate = Some(cand.estimate(delta).0);
             // Two basins within chi2(0.95; 1) of each other: the interval spans both.
             cands[c].ci95 = over_both_basins(wald_ci(cand, &r.fit.lm), &cands[c], delta);
+            cands[c].set_phase(&r.fit.lm, delta);
             cands[c].delta = Some(delta.clone());
             cands[c].refit_zeta = Some(r.fit.globals.zeta);
             cands[c].refit_omega_n_hz = Some(r.fit.globals.omega_n_hz);
@@ -526,6 +527,7 @@ impl Rounds<'_> {
         if let Some(b) = d.better_refit.take() {
             let c = &mut cands[b.cand];
             c.estimate = Some(c.candidate.estimate(&b.fit.effect.delta).0);
+            c.set_phase(&b.fit.lm, &b.fit.effect.delta);
             c.delta = Some(b.fit.effect.delta.clone());
             c.refit_zeta = Some(b.fit.globals.zeta);
             c.refit_omega_n_hz = Some(b.fit.globals.omega_n_hz);

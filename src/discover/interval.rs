@@ -11,17 +11,27 @@ use crate::error::Result;
 use crate::fit::{LmFit, Stop};
 use nalgebra::{DMatrix, DVector};
 
+/// Covariance of `cand`'s delta (the last `cand.dim()` parameters of a fit, see
+/// [`super::fit::ModelFit::lm`]) from the fit's Jacobian: the inverse Fisher information
+/// (J'J)^-1 of residuals in noise-scale units. None when J'J is singular.
+fn delta_covariance(cand: Candidate, lm: &LmFit) -> Option<(usize, DMatrix<f64>)> {
+    let p0 = lm.params.len() - cand.dim();
+    let jt = &lm.jacobian;
+    let cov = (jt.transpose() * jt).try_inverse()?;
+    Some((
+        p0,
+        cov.view((p0, p0), (cand.dim(), cand.dim())).into_owned(),
+    ))
+}
+
 /// 95% Wald interval of `cand`'s estimate from a fit's Jacobian (delta method; delta is the
 /// last `cand.dim()` parameters, see [`super::fit::ModelFit::lm`]): on exp(beta) for the backlash,
 /// symmetric for gamma, clipped at zero for the amplitudes. None when J'J is singular.
 pub(super) fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
-    let p0 = lm.params.len() - cand.dim();
+    let (p0, sub) = delta_covariance(cand, lm)?;
     let delta = &lm.params[p0..];
     let (est, grad) = cand.estimate(delta);
-    let jt = &lm.jacobian;
-    let cov = (jt.transpose() * jt).try_inverse()?;
     let g = DVector::from_vec(grad);
-    let sub: DMatrix<f64> = cov.view((p0, p0), (cand.dim(), cand.dim())).into_owned();
     let var = (g.transpose() * &sub * &g)[(0, 0)].max(0.0);
     Some(match cand {
         Candidate::Backlash => {
@@ -31,6 +41,38 @@ pub(super) fn wald_ci(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
         Candidate::DampingLaw => (est - 1.96 * var.sqrt(), est + 1.96 * var.sqrt()),
         _ => ((est - 1.96 * var.sqrt()).max(0.0), est + 1.96 * var.sqrt()),
     })
+}
+
+/// 95% Wald arc of a phase-carrying candidate's phase psi = atan2(d1, d0) of its first
+/// (A cos psi, A sin psi) pair, degrees (delta method, gradient (-d1, d0) / A^2): (lo, hi)
+/// with psi in [0, 360) between them, so that hi may exceed 360 or lo fall below 0; the
+/// whole circle (0, 360) when the half-width reaches 180 degrees. None for a candidate
+/// without a phase, at zero amplitude or when J'J is singular.
+pub(super) fn wald_phase_arc(cand: Candidate, lm: &LmFit) -> Option<(f64, f64)> {
+    if !cand.has_phase() {
+        return None;
+    }
+    let (p0, sub) = delta_covariance(cand, lm)?;
+    let (x, y) = (lm.params[p0], lm.params[p0 + 1]);
+    let a2 = x * x + y * y;
+    if a2 == 0.0 {
+        return None;
+    }
+    let g = DVector::from_vec(vec![-y / a2, x / a2]);
+    let pair = sub.view((0, 0), (2, 2)).into_owned();
+    let half = (1.96 * (g.transpose() * pair * &g)[(0, 0)].max(0.0).sqrt()).to_degrees();
+    let psi = y.atan2(x).to_degrees().rem_euclid(360.0);
+    Some(if half >= 180.0 {
+        (0.0, 360.0)
+    } else {
+        (psi - half, psi + half)
+    })
+}
+
+/// Whether the phase `deg` (degrees, any turn) lies on the arc `(lo, hi)` of
+/// [`wald_phase_arc`].
+pub(super) fn on_phase_arc(deg: f64, (lo, hi): (f64, f64)) -> bool {
+    (deg - lo).rem_euclid(360.0) <= hi - lo
 }
 
 /// Refits a profile may restart from a better point before its interval is taken.
@@ -142,6 +184,33 @@ impl IntervalFound {
     }
 }
 
+impl CandidateResult {
+    /// Record the phase of a phase-carrying refit `lm` ending at `delta` and its 95% arcs
+    /// ([`phase_arcs`]); nothing for a candidate without a phase.
+    pub(super) fn set_phase(&mut self, lm: &LmFit, delta: &[f64]) {
+        if self.candidate.has_phase() {
+            self.phase_deg = Some(Candidate::first_phase(delta).to_degrees().rem_euclid(360.0));
+            self.phase_ci95_deg = phase_arcs(self, lm, delta);
+        }
+    }
+}
+
+/// The 95% arcs of a refitted candidate's phase (degrees, [`wald_phase_arc`]) from the kept
+/// fit `lm`, and the other phase basin's arc too when the phase is undetermined between it and
+/// the kept fit's `delta` ([`super::run::OtherStart`]): the likelihood-ratio confidence set then
+/// has a piece in each basin. Empty for a candidate without a phase.
+pub(super) fn phase_arcs(c: &CandidateResult, lm: &LmFit, delta: &[f64]) -> Vec<(f64, f64)> {
+    let mut arcs: Vec<(f64, f64)> = wald_phase_arc(c.candidate, lm).into_iter().collect();
+    if let Some(o) = c
+        .other_start
+        .as_ref()
+        .filter(|o| o.phase_undetermined(delta))
+    {
+        arcs.extend(o.phase_ci95_deg);
+    }
+    arcs
+}
+
 /// `ci` widened over the other phase basin's Wald interval when the phase is undetermined
 /// between it and the kept fit's `delta` ([`super::run::OtherStart`]).
 pub(super) fn over_both_basins(
@@ -156,5 +225,58 @@ pub(super) fn over_both_basins(
     {
         Some(o) => ci.zip(o.ci95).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))),
         None => ci,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A fit of a two-parameter delta alone whose Jacobian is diag(1 / sx, 1 / sy): the
+    /// covariance is diag(sx^2, sy^2).
+    fn fit_at(x: f64, y: f64, sx: f64, sy: f64) -> LmFit {
+        LmFit {
+            params: vec![x, y],
+            rss: 0.0,
+            residuals: vec![0.0; 2],
+            jacobian: DMatrix::from_diagonal(&DVector::from_vec(vec![1.0 / sx, 1.0 / sy])),
+            evaluations: 0,
+        }
+    }
+
+    #[test]
+    fn the_phase_arc_is_the_delta_method_on_atan2() {
+        // At (0, 0.2) the phase is 90 deg and only x moves it: se = sx / A = 0.05 rad,
+        // half-width 1.96 x 0.05 rad = 5.615 deg; sy (the amplitude's direction) does not count.
+        let c = Candidate::MeshStiffnessVariation;
+        let (lo, hi) = wald_phase_arc(c, &fit_at(0.0, 0.2, 0.01, 0.5)).unwrap();
+        assert!((lo - (90.0 - 5.6150)).abs() < 1e-3, "{lo}");
+        assert!((hi - (90.0 + 5.6150)).abs() < 1e-3, "{hi}");
+        // The phase is reported in [0, 360): -90 deg is 270.
+        let (lo, hi) = wald_phase_arc(c, &fit_at(0.0, -0.2, 0.01, 0.01)).unwrap();
+        assert!((0.5 * (lo + hi) - 270.0).abs() < 1e-9);
+        // A standard error of twice the amplitude (2 rad, half-width 225 deg): the arc spans
+        // the circle.
+        assert_eq!(
+            wald_phase_arc(c, &fit_at(0.0, 0.2, 0.4, 0.01)),
+            Some((0.0, 360.0))
+        );
+        assert_eq!(wald_phase_arc(c, &fit_at(0.0, 0.0, 0.01, 0.01)), None);
+        assert_eq!(
+            wald_phase_arc(Candidate::DampingLaw, &fit_at(0.0, 0.2, 0.01, 0.01)),
+            None
+        );
+    }
+
+    #[test]
+    fn a_phase_lies_on_an_arc_across_zero_in_any_turn() {
+        let arc = (350.0, 370.0);
+        for deg in [355.0, 5.0, -5.0, 725.0, 350.0, 370.0] {
+            assert!(on_phase_arc(deg, arc), "{deg}");
+        }
+        for deg in [20.0, 340.0, 180.0] {
+            assert!(!on_phase_arc(deg, arc), "{deg}");
+        }
+        assert!(on_phase_arc(123.0, (0.0, 360.0)));
     }
 }

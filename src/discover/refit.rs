@@ -9,7 +9,7 @@ use super::fit::{fit_model, fit_ste, residuals_of, EffectInFit, Mask, ModelFit};
 use super::forward::{
     fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup, MIN_ZETA,
 };
-use super::interval::wald_ci;
+use super::interval::{wald_ci, wald_phase_arc};
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
 use super::run::{make_mask, noise_about, row_scales, OtherStart};
 use crate::error::{GearError, Result};
@@ -277,13 +277,14 @@ impl Refit<'_> {
             }
         }
         let scales3 = refit_scales(setup, self.w, train, &preds, &m2)?;
-        let other = other.map(|o| OtherStart {
-            rss_increase: o.lm.rss - f2.lm.rss,
-            ci95: wald_ci(
-                self.cand,
-                &restandardized(&o.lm, train, self.mask, self.w.scales, &scales3),
-            ),
-            delta: o.effect.delta,
+        let other = other.map(|o| {
+            let lm = restandardized(&o.lm, train, self.mask, self.w.scales, &scales3);
+            OtherStart {
+                rss_increase: o.lm.rss - f2.lm.rss,
+                ci95: wald_ci(self.cand, &lm),
+                phase_ci95_deg: wald_phase_arc(self.cand, &lm),
+                delta: o.effect.delta,
+            }
         });
         let f3 = fit_model(
             setup,

@@ -47,6 +47,8 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "refit_zeta": c.refit_zeta,
             "refit_omega_n_hz": c.refit_omega_n_hz,
             "refit_other_start": c.other_start,
+            "phase_deg": c.phase_deg,
+            "phase_ci95_deg": c.phase_ci95_deg.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
@@ -211,6 +213,30 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
     ))
 }
 
+/// A refitted phase-carrying candidate's phase and its 95% arcs (two when the phase is
+/// undetermined between two basins), e.g. "phase 315 deg [312 .. 318]"; empty otherwise.
+fn phase_text(c: &CandidateResult) -> String {
+    let Some(p) = c.phase_deg else {
+        return String::new();
+    };
+    let arcs: Vec<String> = c
+        .phase_ci95_deg
+        .iter()
+        .map(|(a, b)| {
+            if b - a >= 360.0 {
+                "any".to_string()
+            } else {
+                format!("{a:.0} .. {b:.0}")
+            }
+        })
+        .collect();
+    if arcs.is_empty() {
+        format!("phase {p:.0} deg")
+    } else {
+        format!("phase {p:.0} deg [{}]", arcs.join("] or ["))
+    }
+}
+
 /// The note when M0's zeta sits at the fits' lower bound.
 fn zeta_bound_text(d: &Discovery) -> Option<String> {
     d.m0_zeta_at_lower_bound().then(|| format!(
@@ -250,7 +276,7 @@ pub fn summary_text(d: &Discovery) -> String {
     }
     for c in &d.candidates {
         s.push_str(&format!(
-            "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}{}\n",
+            "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}{}{}\n",
             c.name,
             c.lr,
             opt(c.p_value, 3),
@@ -259,6 +285,9 @@ pub fn summary_text(d: &Discovery) -> String {
             opt(c.ci95.map(|x| x.0), 4),
             opt(c.ci95.map(|x| x.1), 4),
             interval_method_text(c),
+            Some(phase_text(c))
+                .filter(|t| !t.is_empty())
+                .map_or(String::new(), |t| format!(", {t}")),
             c.note
                 .as_ref()
                 .map_or(String::new(), |n| format!("  ({n})"))
@@ -442,6 +471,7 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
                 c.ci95.map_or("-".into(), |(a, b)| {
                     format!("{a:.4} .. {b:.4}{}", interval_method_text(c))
                 }),
+                phase_text(c),
                 c.note.clone().unwrap_or_default(),
             ]
         })
@@ -455,6 +485,7 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
             "p (Holm)",
             "estimate",
             "95% interval",
+            "phase (95%)",
             "note",
         ],
         &rows,

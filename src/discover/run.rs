@@ -107,6 +107,15 @@ pub struct CandidateResult {
     /// A phase-carrying candidate's best refit in another phase basin (more than 90 degrees
     /// from the kept phase), when one ended there.
     pub other_start: Option<OtherStart>,
+    /// A refitted phase-carrying candidate's phase psi of its first (A cos psi, A sin psi)
+    /// pair, degrees in [0, 360): the stiffness variation's against the STE, the 2nd STE
+    /// harmonic's against the first (of the harmonic, on its own time scale), the torque
+    /// ripple's against the mesh.
+    pub phase_deg: Option<f64>,
+    /// Its 95% Wald arcs, degrees, (lo, hi) with the phase between (hi may exceed 360, lo fall
+    /// below 0): one, or two when the phase is undetermined between two basins
+    /// ([`OtherStart::phase_undetermined`]); (0, 360) when the arc spans the circle.
+    pub phase_ci95_deg: Vec<(f64, f64)>,
 }
 
 /// The fit a phase-carrying candidate's refit reached from the other phase basin and did not keep
@@ -123,6 +132,8 @@ pub struct OtherStart {
     pub rss_increase: f64,
     /// Its own 95% Wald interval of the estimate.
     pub ci95: Option<(f64, f64)>,
+    /// Its own 95% Wald arc of the phase, degrees (see [`CandidateResult::phase_ci95_deg`]).
+    pub phase_ci95_deg: Option<(f64, f64)>,
 }
 
 impl OtherStart {
@@ -1068,6 +1079,8 @@ fn candidate_results(
                 refit_zeta: None,
                 refit_omega_n_hz: None,
                 other_start: None,
+                phase_deg: None,
+                phase_ci95_deg: Vec::new(),
             }
         })
         .collect();
@@ -1338,6 +1351,7 @@ mod tests {
             delta: vec![0.1 * deg.to_radians().cos(), 0.1 * deg.to_radians().sin()],
             rss_increase,
             ci95: None,
+            phase_ci95_deg: None,
         };
         let kept = [0.1, 0.0];
         assert!(at(180.0, 1.0).phase_undetermined(&kept));

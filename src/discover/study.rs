@@ -4,6 +4,7 @@
 //! afterwards). Rates come with Wilson 95% intervals.
 
 use super::effects::Candidate;
+use super::interval::on_phase_arc;
 use super::run::{discover, DiscoverOptions, Discovery};
 use super::stats::{clopper_pearson_upper95, ks_from_uniform, wilson95};
 use crate::data::load_munro;
@@ -126,6 +127,13 @@ pub struct SeedOutcome {
     /// refit is a distinct minimum within chi2(0.95; 1); the interval spans both); None when
     /// no phase-carrying candidate was named.
     pub phase_undetermined: Option<bool>,
+    /// The named phase-carrying candidate's phase and its 95% arcs, degrees
+    /// ([`crate::discover::CandidateResult::phase_ci95_deg`]); whether the true phase lies on
+    /// one of them, and how far it is from the estimate (degrees, 0 to 180).
+    pub phase_deg: Option<f64>,
+    pub phase_ci95_deg: Vec<(f64, f64)>,
+    pub phase_covered: Option<bool>,
+    pub phase_error_deg: Option<f64>,
     pub held_out_rms_before_um: Option<f64>,
     pub held_out_rms_after_um: Option<f64>,
     /// Raw (unadjusted) bootstrap p-value of every detection test and every identifiable
@@ -192,6 +200,9 @@ pub struct StudySummary {
     /// Phase not determined (interval over both phases), over the correctly named seeds with
     /// a phase-carrying effect.
     pub phase_undetermined: Option<(usize, usize)>,
+    /// True phase on the 95% phase arcs, over the correctly named seeds with a
+    /// phase-carrying effect, and its Wilson 95% interval.
+    pub phase_coverage: Option<(usize, usize, (f64, f64))>,
     /// Seeds whose run warned about excluded points far outside M0's range.
     pub warned: usize,
     /// Per test (detection and candidates), its raw p-values over the seeds.
@@ -334,7 +345,19 @@ pub fn run_study(
                 .map(|(o, kept)| o.phase_undetermined(kept))
         });
         let ci95 = cand.and_then(|c| c.ci95);
+        let phase_deg = cand.and_then(|c| c.phase_deg);
+        let phase_ci95_deg = cand.map(|c| c.phase_ci95_deg.clone()).unwrap_or_default();
+        let true_deg = true_phase.map(f64::to_degrees);
         let outcome = SeedOutcome {
+            phase_covered: true_deg
+                .filter(|_| phase_deg.is_some())
+                .map(|t| phase_ci95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
+            phase_error_deg: true_deg.zip(phase_deg).map(|(t, e)| {
+                let d = (e - t).rem_euclid(360.0);
+                d.min(360.0 - d)
+            }),
+            phase_deg,
+            phase_ci95_deg,
             seed,
             true_phase,
             correct: d.effect == hidden.expected(),
@@ -388,6 +411,11 @@ pub fn run_study(
     let with_phase: Vec<bool> = good.iter().filter_map(|o| o.phase_undetermined).collect();
     let phase_undetermined = (!with_phase.is_empty())
         .then(|| (with_phase.iter().filter(|u| **u).count(), with_phase.len()));
+    let phase_covered: Vec<bool> = good.iter().filter_map(|o| o.phase_covered).collect();
+    let phase_coverage = (!phase_covered.is_empty()).then(|| {
+        let k = phase_covered.iter().filter(|c| **c).count();
+        (k, phase_covered.len(), wilson95(k, phase_covered.len()))
+    });
     let calibration = calibration(&outcomes);
     Ok(StudySummary {
         hidden,
@@ -418,6 +446,7 @@ pub fn run_study(
         coverage,
         held_out_shrunk,
         phase_undetermined,
+        phase_coverage,
         warned: outcomes
             .iter()
             .filter(|o| o.excluded_far_outside > 0)

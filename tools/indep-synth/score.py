@@ -27,7 +27,8 @@ Discover: per set geardyn's answer (`effect`) against the hidden effect: the rat
 answers ("none" on null sets, the effect's name on the others) with Wilson intervals, overall,
 per hidden effect and per noise family; for a correctly named effect whether its `ci95` contains
 the true strength (eps, r2 or F_aT / F_m(design)), and the phase error (the phase of the fitted
-(cos, sin) pair `delta`, assumed to be in the generator's convention, against the truth's).
+(cos, sin) pair `delta`, assumed to be in the generator's convention, against the truth's), and
+whether the true phase lies on one of geardyn's 95% phase arcs `phase_ci95_deg` where it gives them.
 """
 
 import argparse
@@ -232,6 +233,10 @@ def score_discover(batch, results, listing):
                     ph = math.atan2(delta[1], delta[0])
                     row["phase_est"] = ph
                     row["phase_err_deg"] = ang_diff_deg(ph, row["phase"])
+                arcs = cand.get("phase_ci95_deg")
+                if arcs and row["phase"] is not None:
+                    t = math.degrees(row["phase"])
+                    row["phase_covered"] = any((t - lo) % 360.0 <= hi - lo for lo, hi in arcs)
         rows.append(row)
 
     done = [r for r in rows if r["answer"] is not None]
@@ -265,6 +270,9 @@ def score_discover(batch, results, listing):
         errs = sorted(r["phase_err_deg"] for r in sel if r.get("phase_err_deg") is not None)
         if errs:
             print(f"    phase error (deg): median {errs[len(errs) // 2]:.1f}, max {errs[-1]:.1f}")
+        arcs = [r["phase_covered"] for r in sel if r.get("phase_covered") is not None]
+        if arcs:
+            print(f"    true phase on a phase_ci95_deg arc: {rate(sum(arcs), len(arcs))}")
     if listing:
         print("\nper set: name family hidden strength phase(deg) -> answer [estimate ci95 covered phase_err]")
         for r in rows:
@@ -272,7 +280,10 @@ def score_discover(batch, results, listing):
             extra = ""
             if r.get("estimate") is not None:
                 ci = r.get("ci95") or [float("nan")] * 2
-                extra = f" [{r['estimate']:.4f} ({ci[0]:.4f}, {ci[1]:.4f}) {r.get('covered')} {r.get('phase_err_deg', float('nan')):.1f} deg]"
+                extra = f" [{r['estimate']:.4f} ({ci[0]:.4f}, {ci[1]:.4f}) {r.get('covered')} {r.get('phase_err_deg', float('nan')):.1f} deg"
+                if r.get("phase_covered") is not None:
+                    extra += f" on arc {r['phase_covered']}"
+                extra += "]"
             if r.get("ambiguous_with"):
                 extra += f" ambiguous_with {r['ambiguous_with']}"
             if r.get("closest"):
