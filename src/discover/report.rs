@@ -198,7 +198,7 @@ fn gap_text(g: &Gap) -> String {
 /// Where a phase-carrying candidate's best refit in another phase basin ended, when one did.
 fn other_start_text(c: &CandidateResult) -> Option<String> {
     let (o, kept) = (c.other_start.as_ref()?, c.delta.as_ref()?);
-    let deg = |d: &[f64]| Candidate::first_phase(d).to_degrees();
+    let deg = |d: &[f64]| Candidate::first_phase(d).to_degrees().rem_euclid(360.0);
     Some(format!(
         "{}: the best refit in another phase basin ended at phase {:.0} deg (kept: {:.0} deg) with a training residual sum of squares larger by {:.2} sigma^2{}",
         c.name,
@@ -214,7 +214,7 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
 }
 
 /// A refitted phase-carrying candidate's phase and its 95% arcs (two when the phase is
-/// undetermined between two basins), e.g. "phase 315 deg [312 .. 318]"; empty otherwise.
+/// undetermined between two basins), e.g. "315 deg [312 .. 318]"; empty otherwise.
 fn phase_text(c: &CandidateResult) -> String {
     let Some(p) = c.phase_deg else {
         return String::new();
@@ -231,9 +231,9 @@ fn phase_text(c: &CandidateResult) -> String {
         })
         .collect();
     if arcs.is_empty() {
-        format!("phase {p:.0} deg")
+        format!("{p:.0} deg")
     } else {
-        format!("phase {p:.0} deg [{}]", arcs.join("] or ["))
+        format!("{p:.0} deg [{}]", arcs.join("] or ["))
     }
 }
 
@@ -287,7 +287,7 @@ pub fn summary_text(d: &Discovery) -> String {
             interval_method_text(c),
             Some(phase_text(c))
                 .filter(|t| !t.is_empty())
-                .map_or(String::new(), |t| format!(", {t}")),
+                .map_or(String::new(), |t| format!(", phase {t}")),
             c.note
                 .as_ref()
                 .map_or(String::new(), |n| format!("  ({n})"))
