@@ -76,6 +76,27 @@ impl Candidate {
         )
     }
 
+    /// The delta whose curves equal `delta`'s wherever the teeth stay in contact, when the
+    /// candidate has one: the 2nd STE harmonic turned by half a turn, the 3rd kept. In
+    /// contact the model is linear about its mean deflection, y'' + 2 zeta y' + y = F_h(t); if
+    /// y solves it, -y(t + T/2) (T the mesh period) solves it for -F_h(t + T/2), whose j-th
+    /// harmonic is the j-th of F_h times -(-1)^j: the 1st and 3rd unchanged, the 2nd at
+    /// psi + pi. Both have the same peak-to-peak, so the pp curves tell the two phases apart
+    /// only at points with contact loss, where the backlash breaks the symmetry. The stiffness
+    /// variation and the torque ripple have no such twin (their phase counts against the
+    /// STE's first harmonic, which the half-period shift turns too).
+    pub fn contact_twin(self, delta: &[f64]) -> Option<Vec<f64>> {
+        match self {
+            Candidate::SteHarmonics => {
+                let mut d = delta.to_vec();
+                d[0] = -d[0];
+                d[1] = -d[1];
+                Some(d)
+            }
+            _ => None,
+        }
+    }
+
     /// Phase (rad) of the first (cos, sin) pair of a phase-carrying candidate's delta, which
     /// holds (A cos psi, A sin psi): psi for the stiffness variation and the torque ripple, the
     /// 2nd harmonic's phase for the STE harmonics.
@@ -428,6 +449,47 @@ mod tests {
 
     /// The probes stay inside the models' admissible ranges (eps < 1, zeta > 0, b within a
     /// factor 5 of the stated one).
+    /// The pp DTE of M0 plus a 2nd STE harmonic r2 0.4 at phase `psi` (DOP853 at 1e-10, from
+    /// rest, the paper's dimensionless model), and whether the teeth stayed in contact.
+    fn pp_with_second_harmonic(fm: f64, fah: f64, zeta: f64, omega: f64, psi: f64) -> (f64, bool) {
+        let d = vec![0.4 * psi.cos(), 0.4 * psi.sin(), 0.0, 0.0];
+        let mut m = Effect::of(Candidate::SteHarmonics, d)
+            .model(zeta, fm, fah, 1.0, fm)
+            .unwrap();
+        m.omega = omega;
+        let flow = crate::sim::RkFlow::new(&m, 1e-10).unwrap();
+        let s = crate::sim::steady_state(&flow, [fm, 0.0], &crate::sim::SteadyOptions::default())
+            .unwrap();
+        (s.dte_pp, s.q_min > 1.0)
+    }
+
+    /// [`Candidate::contact_twin`] on the model itself: in contact (F_m 0.5, F_ah 0.05, zeta
+    /// 0.05) the 2nd harmonic at psi and at psi + pi gives the same pp DTE at any Omega, to the
+    /// integrator's tolerance; with contact loss (F_m 0.1, F_ah 0.1, zeta 0.05 at Omega 0.5,
+    /// the 2nd harmonic at resonance) the two differ, which is how the curves can tell them
+    /// apart at all.
+    #[test]
+    fn the_contact_twin_of_a_second_harmonic_has_the_same_pp_only_in_contact() {
+        let d = [0.3, -0.1, 0.02, 0.01];
+        let twin = Candidate::SteHarmonics.contact_twin(&d).unwrap();
+        assert_eq!(twin, [-0.3, 0.1, 0.02, 0.01]);
+        assert_eq!(
+            Candidate::MeshStiffnessVariation.contact_twin(&d[..2]),
+            None
+        );
+        for (omega, psi) in [(0.45, 0.7), (0.8, 2.0), (1.3, 4.0)] {
+            let (a, contact_a) = pp_with_second_harmonic(0.5, 0.05, 0.05, omega, psi);
+            let (b, contact_b) =
+                pp_with_second_harmonic(0.5, 0.05, 0.05, omega, psi + std::f64::consts::PI);
+            assert!(contact_a && contact_b, "Omega {omega}: contact lost");
+            assert!((a / b - 1.0).abs() < 1e-6, "Omega {omega}: pp {a} and {b}");
+        }
+        let (a, contact_a) = pp_with_second_harmonic(0.1, 0.1, 0.05, 0.5, 0.7);
+        let (b, _) = pp_with_second_harmonic(0.1, 0.1, 0.05, 0.5, 0.7 + std::f64::consts::PI);
+        assert!(!contact_a);
+        assert!((a / b - 1.0).abs() > 0.01, "pp {a} and {b}");
+    }
+
     #[test]
     fn probes_build_valid_models() {
         let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();

@@ -4,6 +4,7 @@
 //! phase, one over the probes otherwise); finally once more with the points around the
 //! refitted model's own jumps dropped and the noise estimated about the refit.
 
+use super::ambiguity::CHI2_95_1DF;
 use super::effects::{Candidate, Effect};
 use super::fit::{fit_model, fit_ste, residuals_of, EffectInFit, Mask, ModelFit};
 use super::forward::{
@@ -262,6 +263,30 @@ impl Refit<'_> {
         self.all_loads(&start)
     }
 
+    /// An all-load fit from the contact twin ([`Candidate::contact_twin`]) of the best of
+    /// `converged` (sorted, best first), unless one of them already ended within 45 degrees of
+    /// the twin's phase and within chi2(0.95; 1) of the best, or the fit fails. The twin fits
+    /// the in-contact points as well as the best does, so the training loads may not tell the
+    /// two apart; the polar profile, scored at M0's globals, need not have a basin there, and
+    /// a fit from its start need not reach the twin's minimum. On an r2 0.4 set (Student-t
+    /// noise, study seed 2, truth 191 deg) the refit ended at 33 deg (20.0 sigma^2), the fit
+    /// from the profile's start at 180 deg at r2 0.23 and 117 sigma^2.
+    fn contact_twin_fit(&self, converged: &[ModelFit]) -> Option<ModelFit> {
+        let best = converged.first()?;
+        let twin = self.cand.contact_twin(&best.effect.delta)?;
+        let near = |f: &ModelFit| {
+            Candidate::phase_distance(&f.effect.delta, &twin) < std::f64::consts::FRAC_PI_4
+                && f.lm.rss <= best.lm.rss + CHI2_95_1DF
+        };
+        if converged.iter().any(near) {
+            return None;
+        }
+        let mut start = best.lm.params.clone();
+        let p0 = start.len() - twin.len();
+        start[p0..].copy_from_slice(&twin);
+        self.all_loads(&start).ok()
+    }
+
     /// The last stage: from the better all-load fit `f2`, once more with the points around its
     /// own jumps dropped and the noise estimated about it ([`refit_scales`]). Returns the fit,
     /// its mask, the other start (`other`, with its interval under the new scales) and the
@@ -387,6 +412,10 @@ pub(super) fn refit_candidate(
         return Err(
             first_error.unwrap_or_else(|| GearError::Numerical("a refit needs a start".into()))
         );
+    }
+    if let Some(twin) = r.contact_twin_fit(&converged) {
+        converged.push(twin);
+        converged.sort_by(|a, b| a.lm.rss.total_cmp(&b.lm.rss));
     }
     let f2 = converged.remove(0);
     // The other start reported is the best fit in another phase basin, where one was reached.
