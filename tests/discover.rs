@@ -90,12 +90,12 @@ fn assert_phase_on_arcs(d: &Discovery, truth_rad: f64) {
     let t = truth_rad.to_degrees();
     let on = |&(lo, hi): &(f64, f64)| (t - lo).rem_euclid(360.0) <= hi - lo;
     assert!(
-        c.phase_ci95_deg.iter().any(on),
+        c.phase_wald95_deg.iter().any(on),
         "true phase {t} deg, estimate {:?} deg, arcs {:?}",
         c.phase_deg,
-        c.phase_ci95_deg
+        c.phase_wald95_deg
     );
-    assert!(c.phase_ci95_deg.iter().all(|(lo, hi)| hi - lo < 180.0));
+    assert!(c.phase_wald95_deg.iter().all(|(lo, hi)| hi - lo < 180.0));
 }
 
 /// Held-out RMS gap (um) before and after adding the effect.

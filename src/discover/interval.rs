@@ -190,7 +190,7 @@ impl CandidateResult {
     pub(super) fn set_phase(&mut self, lm: &LmFit, delta: &[f64]) {
         if self.candidate.has_phase() {
             self.phase_deg = Some(Candidate::first_phase(delta).to_degrees().rem_euclid(360.0));
-            self.phase_ci95_deg = phase_arcs(self, lm, delta);
+            self.phase_wald95_deg = phase_arcs(self, lm, delta);
         }
     }
 }
@@ -206,7 +206,7 @@ pub(super) fn phase_arcs(c: &CandidateResult, lm: &LmFit, delta: &[f64]) -> Vec<
         .as_ref()
         .filter(|o| o.phase_undetermined(delta))
     {
-        arcs.extend(o.phase_ci95_deg);
+        arcs.extend(o.phase_wald95_deg);
     }
     arcs
 }

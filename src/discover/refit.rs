@@ -307,7 +307,7 @@ impl Refit<'_> {
             OtherStart {
                 rss_increase: o.lm.rss - f2.lm.rss,
                 ci95: wald_ci(self.cand, &lm),
-                phase_ci95_deg: wald_phase_arc(self.cand, &lm),
+                phase_wald95_deg: wald_phase_arc(self.cand, &lm),
                 delta: o.effect.delta,
             }
         });

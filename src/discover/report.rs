@@ -48,7 +48,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "refit_omega_n_hz": c.refit_omega_n_hz,
             "refit_other_start": c.other_start,
             "phase_deg": c.phase_deg,
-            "phase_ci95_deg": c.phase_ci95_deg.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
+            "phase_wald95_deg": c.phase_wald95_deg.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
@@ -214,13 +214,13 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
 }
 
 /// A refitted phase-carrying candidate's phase and its 95% arcs (two when the phase is
-/// undetermined between two basins), e.g. "315 deg [312 .. 318]"; empty otherwise.
+/// undetermined between two basins), e.g. "315 deg (Wald 95% 312 .. 318)"; empty otherwise.
 fn phase_text(c: &CandidateResult) -> String {
     let Some(p) = c.phase_deg else {
         return String::new();
     };
     let arcs: Vec<String> = c
-        .phase_ci95_deg
+        .phase_wald95_deg
         .iter()
         .map(|(a, b)| {
             if b - a >= 360.0 {
@@ -233,7 +233,7 @@ fn phase_text(c: &CandidateResult) -> String {
     if arcs.is_empty() {
         format!("{p:.0} deg")
     } else {
-        format!("{p:.0} deg [{}]", arcs.join("] or ["))
+        format!("{p:.0} deg (Wald 95% {})", arcs.join(" or "))
     }
 }
 
@@ -485,7 +485,7 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
             "p (Holm)",
             "estimate",
             "95% interval",
-            "phase (95%)",
+            "phase",
             "note",
         ],
         &rows,

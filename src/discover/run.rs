@@ -115,7 +115,7 @@ pub struct CandidateResult {
     /// Its 95% Wald arcs, degrees, (lo, hi) with the phase between (hi may exceed 360, lo fall
     /// below 0): one, or two when the phase is undetermined between two basins
     /// ([`OtherStart::phase_undetermined`]); (0, 360) when the arc spans the circle.
-    pub phase_ci95_deg: Vec<(f64, f64)>,
+    pub phase_wald95_deg: Vec<(f64, f64)>,
 }
 
 /// The fit a phase-carrying candidate's refit reached from the other phase basin and did not keep
@@ -132,8 +132,8 @@ pub struct OtherStart {
     pub rss_increase: f64,
     /// Its own 95% Wald interval of the estimate.
     pub ci95: Option<(f64, f64)>,
-    /// Its own 95% Wald arc of the phase, degrees (see [`CandidateResult::phase_ci95_deg`]).
-    pub phase_ci95_deg: Option<(f64, f64)>,
+    /// Its own 95% Wald arc of the phase, degrees (see [`CandidateResult::phase_wald95_deg`]).
+    pub phase_wald95_deg: Option<(f64, f64)>,
 }
 
 impl OtherStart {
@@ -1080,7 +1080,7 @@ fn candidate_results(
                 refit_omega_n_hz: None,
                 other_start: None,
                 phase_deg: None,
-                phase_ci95_deg: Vec::new(),
+                phase_wald95_deg: Vec::new(),
             }
         })
         .collect();
@@ -1351,7 +1351,7 @@ mod tests {
             delta: vec![0.1 * deg.to_radians().cos(), 0.1 * deg.to_radians().sin()],
             rss_increase,
             ci95: None,
-            phase_ci95_deg: None,
+            phase_wald95_deg: None,
         };
         let kept = [0.1, 0.0];
         assert!(at(180.0, 1.0).phase_undetermined(&kept));

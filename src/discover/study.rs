@@ -128,10 +128,10 @@ pub struct SeedOutcome {
     /// no phase-carrying candidate was named.
     pub phase_undetermined: Option<bool>,
     /// The named phase-carrying candidate's phase and its 95% arcs, degrees
-    /// ([`crate::discover::CandidateResult::phase_ci95_deg`]); whether the true phase lies on
+    /// ([`crate::discover::CandidateResult::phase_wald95_deg`]); whether the true phase lies on
     /// one of them, and how far it is from the estimate (degrees, 0 to 180).
     pub phase_deg: Option<f64>,
-    pub phase_ci95_deg: Vec<(f64, f64)>,
+    pub phase_wald95_deg: Vec<(f64, f64)>,
     pub phase_covered: Option<bool>,
     pub phase_error_deg: Option<f64>,
     pub held_out_rms_before_um: Option<f64>,
@@ -346,18 +346,18 @@ pub fn run_study(
         });
         let ci95 = cand.and_then(|c| c.ci95);
         let phase_deg = cand.and_then(|c| c.phase_deg);
-        let phase_ci95_deg = cand.map(|c| c.phase_ci95_deg.clone()).unwrap_or_default();
+        let phase_wald95_deg = cand.map(|c| c.phase_wald95_deg.clone()).unwrap_or_default();
         let true_deg = true_phase.map(f64::to_degrees);
         let outcome = SeedOutcome {
             phase_covered: true_deg
                 .filter(|_| phase_deg.is_some())
-                .map(|t| phase_ci95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
+                .map(|t| phase_wald95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
             phase_error_deg: true_deg.zip(phase_deg).map(|(t, e)| {
                 let d = (e - t).rem_euclid(360.0);
                 d.min(360.0 - d)
             }),
             phase_deg,
-            phase_ci95_deg,
+            phase_wald95_deg,
             seed,
             true_phase,
             correct: d.effect == hidden.expected(),

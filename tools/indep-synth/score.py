@@ -28,7 +28,7 @@ answers ("none" on null sets, the effect's name on the others) with Wilson inter
 per hidden effect and per noise family; for a correctly named effect whether its `ci95` contains
 the true strength (eps, r2 or F_aT / F_m(design)), and the phase error (the phase of the fitted
 (cos, sin) pair `delta`, assumed to be in the generator's convention, against the truth's), and
-whether the true phase lies on one of geardyn's 95% phase arcs `phase_ci95_deg` where it gives them.
+whether the true phase lies on one of geardyn's 95% phase arcs `phase_wald95_deg` where it gives them.
 """
 
 import argparse
@@ -233,7 +233,7 @@ def score_discover(batch, results, listing):
                     ph = math.atan2(delta[1], delta[0])
                     row["phase_est"] = ph
                     row["phase_err_deg"] = ang_diff_deg(ph, row["phase"])
-                arcs = cand.get("phase_ci95_deg")
+                arcs = cand.get("phase_wald95_deg")
                 if arcs and row["phase"] is not None:
                     t = math.degrees(row["phase"])
                     row["phase_covered"] = any((t - lo) % 360.0 <= hi - lo for lo, hi in arcs)
@@ -272,7 +272,7 @@ def score_discover(batch, results, listing):
             print(f"    phase error (deg): median {errs[len(errs) // 2]:.1f}, max {errs[-1]:.1f}")
         arcs = [r["phase_covered"] for r in sel if r.get("phase_covered") is not None]
         if arcs:
-            print(f"    true phase on a phase_ci95_deg arc: {rate(sum(arcs), len(arcs))}")
+            print(f"    true phase on a phase_wald95_deg arc: {rate(sum(arcs), len(arcs))}")
     if listing:
         print("\nper set: name family hidden strength phase(deg) -> answer [estimate ci95 covered phase_err]")
         for r in rows:
