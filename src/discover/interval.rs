@@ -199,7 +199,7 @@ impl CandidateResult {
 /// fit `lm`, and the other phase basin's arc too when the phase is undetermined between it and
 /// the kept fit's `delta` ([`super::run::OtherStart`]): the likelihood-ratio confidence set then
 /// has a piece in each basin. Empty for a candidate without a phase.
-pub(super) fn phase_arcs(c: &CandidateResult, lm: &LmFit, delta: &[f64]) -> Vec<(f64, f64)> {
+fn phase_arcs(c: &CandidateResult, lm: &LmFit, delta: &[f64]) -> Vec<(f64, f64)> {
     let mut arcs: Vec<(f64, f64)> = wald_phase_arc(c.candidate, lm).into_iter().collect();
     if let Some(o) = c
         .other_start
