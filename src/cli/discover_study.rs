@@ -150,7 +150,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
     if let Some((c, n, (lo, hi))) = s.phase_coverage {
         msg.push_str(&format!(
-            "true phase on the 95% phase arcs in {c}/{n} correctly named seeds (Wilson 95% {:.1}% .. {:.1}%)\n",
+            "true phase on the 95% Wald phase arcs in {c}/{n} correctly named seeds (Wilson 95% {:.1}% .. {:.1}%)\n",
             100.0 * lo,
             100.0 * hi
         ));

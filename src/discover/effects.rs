@@ -107,7 +107,12 @@ impl Candidate {
     /// Angle (rad, 0 to pi) between the first phases of two deltas, wrapped: 170 and -170
     /// degrees are 20 degrees apart.
     pub fn phase_distance(a: &[f64], b: &[f64]) -> f64 {
-        let diff = (Self::first_phase(a) - Self::first_phase(b)).rem_euclid(std::f64::consts::TAU);
+        Self::angle_apart(Self::first_phase(a), Self::first_phase(b))
+    }
+
+    /// Angle (rad, 0 to pi) between two phases (rad, any turn), wrapped.
+    pub fn angle_apart(a: f64, b: f64) -> f64 {
+        let diff = (a - b).rem_euclid(std::f64::consts::TAU);
         diff.min(std::f64::consts::TAU - diff)
     }
 
@@ -447,8 +452,6 @@ mod tests {
         assert_eq!(e.dimensional(&dim).unwrap(), dim);
     }
 
-    /// The probes stay inside the models' admissible ranges (eps < 1, zeta > 0, b within a
-    /// factor 5 of the stated one).
     /// The pp DTE of M0 plus a 2nd STE harmonic r2 0.4 at phase `psi` (DOP853 at 1e-10, from
     /// rest, the paper's dimensionless model), and whether the teeth stayed in contact.
     fn pp_with_second_harmonic(fm: f64, fah: f64, zeta: f64, omega: f64, psi: f64) -> (f64, bool) {
@@ -490,6 +493,8 @@ mod tests {
         assert!((a / b - 1.0).abs() > 0.01, "pp {a} and {b}");
     }
 
+    /// The probes stay inside the models' admissible ranges (eps < 1, zeta > 0, b within a
+    /// factor 5 of the stated one).
     #[test]
     fn probes_build_valid_models() {
         let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();

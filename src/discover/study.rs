@@ -352,10 +352,9 @@ pub fn run_study(
             phase_covered: true_deg
                 .filter(|_| phase_deg.is_some())
                 .map(|t| phase_wald95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
-            phase_error_deg: true_deg.zip(phase_deg).map(|(t, e)| {
-                let d = (e - t).rem_euclid(360.0);
-                d.min(360.0 - d)
-            }),
+            phase_error_deg: true_phase
+                .zip(phase_deg)
+                .map(|(t, e)| Candidate::angle_apart(e.to_radians(), t).to_degrees()),
             phase_deg,
             phase_wald95_deg,
             seed,
