@@ -113,6 +113,47 @@ fn fit_recovers_truth_and_predictions_match_truth_curves() {
     }
 }
 
+/// The predictions' attractor searches on `data/munro`: at 945 N some of the grid's
+/// trajectories end on chaotic sets at 4330 and 4500 rpm (Omega 1.44, 1.5) that all of them
+/// leave within the horizon (chaotic transients): those are not drawn as steady states, so
+/// every all-attractor point holds part of the grid. And the measurement-scale horizon (10,000
+/// periods) finds the same attractors as `geardyn attractors`' 40,000 (the chaotic sets at
+/// 4670-5000 rpm keep every trajectory for both).
+#[test]
+fn munro_predictions_show_only_sets_that_hold_trajectories() {
+    let data = load_munro(std::path::Path::new("data/munro")).unwrap();
+    let short = validate_munro(&data, &MunroOptions::default(), &NoProgress).unwrap();
+    let long_opts = MunroOptions {
+        escape: geardyn::sim::EscapeBudget::default(),
+        ..MunroOptions::default()
+    };
+    assert_eq!(long_opts.escape.horizon, 40_000);
+    let long = validate_munro(&data, &long_opts, &NoProgress).unwrap();
+    let mut chaotic = 0;
+    for (s, l) in short.loads.iter().zip(&long.loads) {
+        assert!(!s.all.is_empty(), "{} N: no attractor", s.load_n);
+        for p in &s.all {
+            assert!(
+                p.basin_fraction.is_some_and(|f| f > 0.0),
+                "{} N, {} rpm: a set no trajectory is on",
+                s.load_n,
+                p.speed_rpm
+            );
+            assert_eq!(p.kind, Some(geardyn::sim::SetKind::Attractor));
+            chaotic += usize::from(p.period.is_none());
+        }
+        let key = |l: &geardyn::validate::LoadResult| {
+            l.all
+                .iter()
+                .map(|p| (p.speed_rpm, p.dte_pp_um, p.period))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(key(s), key(l), "{} N", s.load_n);
+    }
+    // The chaotic attractors at 945 N: the test is about them.
+    assert!(chaotic >= 3, "{chaotic} chaotic attractors");
+}
+
 /// Kubo: zeta and omega_n fitted to the contact part of a synthetic envelope (8 tooth pairs, 4%
 /// scatter) recover the truth inside the 95% profile intervals over fixed seeds, and the
 /// estimates are not biased: the mean zeta over the seeds is within 10% of the truth (its

@@ -8,7 +8,7 @@ use super::geometry_excitation::ExcitationArgs;
 use super::model_args::{Frequency, ModelArgs};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
-use geardyn::sim::{find_attractors, IcGrid};
+use geardyn::sim::{find_attractors, EscapeBudget, IcGrid};
 use serde_json::json;
 
 #[derive(ClapArgs, Debug)]
@@ -37,7 +37,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let (m, omega, model) = a.model.at_frequency_with(&a.frequency, &a.excitation)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
-    opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);
+    opts.escape = a.escape.budget(EscapeBudget::default());
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
     if let Some(u) = map.attractors.iter().find(|at| !at.steady.settled) {
         eprintln!(

@@ -11,7 +11,7 @@ use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::plot::{write_category_map, CategoryMap};
 use geardyn::reproduce::describe_attractor;
-use geardyn::sim::{find_attractors, IcGrid};
+use geardyn::sim::{find_attractors, EscapeBudget, IcGrid};
 use serde_json::json;
 use std::path::PathBuf;
 
@@ -42,7 +42,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let (m, omega, model) = a.model.at_frequency_with(&a.frequency, &a.excitation)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;
-    opts.escape = a.escape.budget(EscapeArgs::SEARCH_EXPOSURE);
+    opts.escape = a.escape.budget(EscapeBudget::default());
     let map = find_attractors(flow.as_ref(), &grid, &opts, &Bar::new())?;
 
     let mut w = csv::Writer::from_writer(Vec::new());

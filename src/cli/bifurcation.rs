@@ -105,7 +105,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     };
     let grid = IcGrid::parse(&a.ic_grid)?;
     let mut steady = a.solver.options()?;
-    steady.escape = a.escape.budget(EscapeArgs::SWEEP_EXPOSURE);
+    steady.escape = a.escape.budget(EscapeArgs::sweep_default());
     let opts = BifurcationOptions {
         fm,
         fah: a.fah,

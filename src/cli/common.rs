@@ -38,13 +38,15 @@ pub struct EscapeArgs {
     /// Age, in forcing periods from the initial conditions, up to which non-periodic sets are
     /// followed to tell a chaotic attractor from a chaotic transient (0: not followed), at most
     /// 1000000. A set stops being followed earlier once --target-escapes left it or
-    /// --max-exposure trajectory-periods were spent on it.
-    #[arg(long, value_name = "N", default_value_t = 40_000, allow_hyphen_values = true,
+    /// --max-exposure trajectory-periods were spent on it. Default 40000 (validate munro:
+    /// 10000, the time scale of a measurement at one speed).
+    #[arg(long, value_name = "N", allow_hyphen_values = true,
           value_parser = whole(0..=geardyn::sim::MAX_HORIZON))]
-    pub horizon: usize,
+    pub horizon: Option<usize>,
     /// Trajectory-periods after which a non-periodic set is no longer followed, in [1000, 5e7]
     /// (about 1 µs each with the exact solver); without escapes the rate's 95% upper bound is
-    /// then 3.69 / this. Default 4e6 (attractors, basins), 1e6 (sweep, bifurcation: per value).
+    /// then 3.69 / this. Default 4e6 (attractors, basins, validate munro), 1e6 (sweep,
+    /// bifurcation: per value).
     #[arg(long, value_name = "E", allow_hyphen_values = true,
           value_parser = real(1e3, geardyn::sim::MAX_EXPOSURE, false))]
     pub max_exposure: Option<f64>,
@@ -56,18 +58,22 @@ pub struct EscapeArgs {
 }
 
 impl EscapeArgs {
-    /// Default exposure of a single attractor search.
-    pub const SEARCH_EXPOSURE: f64 = 4e6;
-    /// Default exposure per frequency of a sweep.
-    pub const SWEEP_EXPOSURE: f64 = 1e6;
-
-    /// The budget, with `default_exposure` unless --max-exposure is given.
-    pub fn budget(&self, default_exposure: f64) -> EscapeBudget {
+    /// Default budget per frequency of a sweep: a single search's, with a quarter of its
+    /// exposure.
+    pub fn sweep_default() -> EscapeBudget {
         EscapeBudget {
-            horizon: self.horizon,
-            target_escapes: self.target_escapes,
-            max_exposure: self.max_exposure.unwrap_or(default_exposure),
+            max_exposure: 1e6,
             ..EscapeBudget::default()
+        }
+    }
+
+    /// The budget: `default` where an option is not given.
+    pub fn budget(&self, default: EscapeBudget) -> EscapeBudget {
+        EscapeBudget {
+            horizon: self.horizon.unwrap_or(default.horizon),
+            target_escapes: self.target_escapes,
+            max_exposure: self.max_exposure.unwrap_or(default.max_exposure),
+            ..default
         }
     }
 }

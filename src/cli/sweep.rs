@@ -95,7 +95,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     m.print_conversion(omegas[0]);
     let model = m.at(omegas[0])?;
     let mut opts = a.solver.options()?;
-    opts.escape = a.escape.budget(EscapeArgs::SWEEP_EXPOSURE);
+    opts.escape = a.escape.budget(EscapeArgs::sweep_default());
     let factory = a.solver.factory();
     let branches: &[Branch] = match a.direction {
         Direction::Up => &[Branch::Up],

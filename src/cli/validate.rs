@@ -1,6 +1,6 @@
 //! `geardyn validate munro|kubo`: fit, predict, compare, and write fits/ and reports/.
 
-use super::common::{check_out_dir, print_text};
+use super::common::{check_out_dir, print_text, EscapeArgs};
 use super::geometry_excitation::{Shape, Stiffness};
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
@@ -80,6 +80,9 @@ struct MunroArgs {
     /// the legend, so a few far attractors do not squeeze the curves.
     #[arg(long)]
     all_attractors_in_range: bool,
+    /// The predictions' attractor searches (25 speeds, 7 x 7 initial conditions each).
+    #[command(flatten)]
+    escape: EscapeArgs,
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -157,9 +160,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Which::Munro(m) => {
             let dir = data_dir(m.dirs.data.as_deref(), "munro")?;
             let data = load_munro(&dir)?;
+            let defaults = MunroOptions::default();
             let opts = MunroOptions {
                 ste: m.ste_mode(&dir.join("rig.toml"))?,
-                ..MunroOptions::default()
+                escape: m.escape.budget(defaults.escape),
+                ..defaults
             };
             let r = validate_munro(&data, &opts, &Bar::new())?;
             let d = m.dirs;

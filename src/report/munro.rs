@@ -7,7 +7,10 @@ use super::{data_kind_banner, interval_digits, measured_label};
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
-use crate::validate::{GeometryValidation, LoadResult, MunroValidation, LOW_SPEED_OMEGA};
+use crate::sim::SetKind;
+use crate::validate::{
+    GeometryValidation, LoadResult, ModelPoint, MunroValidation, LOW_SPEED_OMEGA,
+};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -443,19 +446,31 @@ fn load_figures(
             .with_color(5),
         );
     }
-    if !l.all.is_empty() {
-        series.push({
-            let all = Series::markers(
-                "model, all attractors",
-                l.all.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
-            )
-            .with_color(3)
-            .with_marker(Marker::Cross);
-            if figures.all_attractors_in_range {
-                all
-            } else {
-                all.outside_range()
-            }
+    let (attractors, transients): (Vec<&ModelPoint>, Vec<&ModelPoint>) = l
+        .all
+        .iter()
+        .partition(|p| matches!(p.kind, None | Some(SetKind::Attractor)));
+    for (label, points, marker) in [
+        ("model, all attractors", attractors, Marker::Cross),
+        (
+            "model, transient sets at the search's horizon",
+            transients,
+            Marker::Triangle,
+        ),
+    ] {
+        if points.is_empty() {
+            continue;
+        }
+        let all = Series::markers(
+            label,
+            points.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect(),
+        )
+        .with_color(3)
+        .with_marker(marker);
+        series.push(if figures.all_attractors_in_range {
+            all
+        } else {
+            all.outside_range()
         });
     }
     let plot = XyPlot {
