@@ -609,6 +609,54 @@ fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
     );
 }
 
+/// The phase's profile likelihood (`--phase-profile`) where its Wald arc is too narrow. On
+/// this set (eps 0.15 at 273.6 deg, relative noise, the 100 rpm grid: study seed 14) the refit
+/// ends at 252 deg with a Wald arc of 248 .. 257 deg; the profile's upper side rises to 3.84
+/// only near 300 deg, so its arc holds the truth. The fit's intervals and name are those of
+/// the run without the option.
+#[test]
+#[ignore = "a study seed of about 40 s: cargo test --release --test discover -- --ignored (run by .ci/run)"]
+fn a_phase_profile_widens_a_wald_arc_that_misses_the_truth() {
+    let truth = 4.77585203754918;
+    let tmp = tempfile::tempdir().unwrap();
+    let mut t = MunroTruth::default_munro();
+    t.speeds_rpm = (1000.0, 5000.0, 100.0);
+    t.hidden = HiddenEffects {
+        stiffness_eps: 0.15,
+        stiffness_phase: truth,
+        ..HiddenEffects::default()
+    };
+    t.seed = 14;
+    t.noise = NoiseFamily::Relative.noise(0.15);
+    t.dop853_rtol = Some(1e-9);
+    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
+    let opts = DiscoverOptions {
+        bootstrap: 999,
+        seed: 12_345 + 14,
+        phase_profile: true,
+        ..DiscoverOptions::default()
+    };
+    let d = run_with(tmp.path(), &opts);
+    assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.15);
+    let c = d
+        .candidates
+        .iter()
+        .find(|c| c.name == "mesh_stiffness_variation")
+        .unwrap();
+    let t_deg = truth.to_degrees();
+    let on = |(lo, hi): (f64, f64)| (t_deg - lo).rem_euclid(360.0) <= hi - lo;
+    assert!(
+        !c.phase_wald95_deg.iter().any(|&a| on(a)),
+        "the Wald arcs {:?} hold the truth {t_deg}: the test no longer checks the profile",
+        c.phase_wald95_deg
+    );
+    let arc = c.phase_profile95_deg.expect("the phase was profiled");
+    assert!(on(arc), "profile arc {arc:?}, truth {t_deg} deg");
+    // The profile's arc contains the Wald arc (the hull) and is not the whole circle.
+    let w = c.phase_wald95_deg[0];
+    assert!(arc.0 <= w.0 + 1e-9 && arc.1 >= w.1 - 1e-9 && arc.1 - arc.0 < 180.0);
+}
+
 /// When the training loads prefer one candidate and the held-out loads another, the answer is
 /// "ambiguous" between them, not a name. On this set (a torque ripple of 0.03 at 246 deg,
 /// constant noise, the 100 rpm grid: study seed 38) a damping law fits the training loads best

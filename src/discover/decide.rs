@@ -411,6 +411,7 @@ impl Rounds<'_> {
         let settled_before = cands[best].profile_ci95.map(|profile| IntervalFound {
             ci: cands[best].ci95,
             profile: Some(profile),
+            phase_arc: cands[best].phase_profile95_deg,
             method: cands[best].ci95_method,
         });
         if let Some(found) = settled_before {
@@ -423,6 +424,7 @@ impl Rounds<'_> {
             chosen,
             &cands[best],
             self.opts.refit_iterations,
+            self.opts.phase_profile,
         )?;
         d.named_ci = Some((best, ci));
         d.better_refit = better;
@@ -544,6 +546,7 @@ impl Rounds<'_> {
             cands[c].wald_ci95 = wald;
             cands[c].ci95 = found.ci;
             cands[c].profile_ci95 = found.profile;
+            cands[c].phase_profile95_deg = found.phase_arc;
             cands[c].ci95_method = found.method;
         }
     }

@@ -82,6 +82,22 @@ fn discovery_params(n_curves: usize, effect: EffectInFit, start: &[f64]) -> Vec<
                 p.push(Param::signed(&format!("{}_free_{k}", c.name()), v, step));
             }
         }
+        EffectInFit::PhaseHeld(c, _) => {
+            // The amplitude is kept positive: a negative one would be the opposite phase, and
+            // the profile at psi would take the likelihood of psi + pi.
+            let rest = tail.iter().enumerate().skip(1);
+            p.push(Param::positive(
+                &format!("{}_amplitude", c.name()),
+                tail[0].max(1e-3 * c.scale()),
+            ));
+            for (k, &v) in rest {
+                p.push(Param::signed(
+                    &format!("{}_free_{k}", c.name()),
+                    v,
+                    c.scale(),
+                ));
+            }
+        }
         EffectInFit::None | EffectInFit::Held(_) => {}
     }
     p
@@ -100,6 +116,11 @@ pub enum EffectInFit<'a> {
     /// gamma or beta) held at this value and the rest of its delta fitted (the last
     /// parameters): one point of a profile likelihood.
     Profiled(Candidate, f64),
+    /// M0 + a phase-carrying candidate with its first phase ([`Candidate::first_phase`], rad)
+    /// held at this value and its amplitude (kept positive) and the rest of its delta fitted:
+    /// one point of the phase's profile likelihood. The last parameters are (amplitude, the
+    /// rest of [`Candidate::profiled`]'s free part after the phase).
+    PhaseHeld(Candidate, f64),
 }
 
 fn unpack(p: &[f64], n_curves: usize, effect: EffectInFit) -> (Globals, Vec<f64>, Effect) {
@@ -113,6 +134,12 @@ fn unpack(p: &[f64], n_curves: usize, effect: EffectInFit) -> (Globals, Vec<f64>
         EffectInFit::Fitted(c) => Effect::of(c, p[2 + n_curves..].to_vec()),
         EffectInFit::Held(e) => e.clone(),
         EffectInFit::Profiled(c, u) => Effect::of(c, c.unprofiled(u, &p[2 + n_curves..])),
+        EffectInFit::PhaseHeld(c, psi) => {
+            let tail = &p[2 + n_curves..];
+            let mut free = vec![psi];
+            free.extend_from_slice(&tail[1..]);
+            Effect::of(c, c.unprofiled(tail[0], &free))
+        }
     };
     (g, ste, effect)
 }

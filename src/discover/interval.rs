@@ -5,7 +5,7 @@ use super::decide::Refitted;
 use super::effects::Candidate;
 use super::fit::{fit_model, EffectInFit};
 use super::forward::{predict_many, Setup};
-use super::profile::{Bound, Profile, ProfileProblem};
+use super::profile::{Bound, PhaseProfile, Profile, ProfileProblem};
 use super::run::CandidateResult;
 use crate::error::Result;
 use crate::fit::{LmFit, Stop};
@@ -83,6 +83,9 @@ const PROFILE_RESTARTS: usize = 2;
 /// guesses. Where a profile point fits better than the refit, the refit continues from there
 /// (at most [`PROFILE_RESTARTS`] times) and the better refit is returned too.
 ///
+/// With `phase_profile`, a phase-carrying candidate's phase is profiled too
+/// ([`ProfileProblem::phase_arc`]), and a better point found there restarts the refit as well.
+///
 /// The interval reported is the hull of the profile and Wald intervals: each is too narrow in
 /// its own way. The Wald interval next to a fold (a torque ripple on a null set: Wald
 /// [0.0212, 0.0221], profile [0.0023, 0.0224]); the profile where its fits, warm-started along
@@ -97,6 +100,7 @@ pub(super) fn profiled_refit(
     refit: &Refitted,
     c: &CandidateResult,
     iters: usize,
+    phase_profile: bool,
 ) -> Result<(Option<Refitted>, IntervalFound)> {
     let mut better: Option<Refitted> = None;
     for _ in 0..=PROFILE_RESTARTS {
@@ -113,28 +117,32 @@ pub(super) fn profiled_refit(
         let (lo, hi) = match problem.interval(own_wald) {
             Profile::Interval(lo, hi) => (lo, hi),
             Profile::Better(start) => {
-                let f = fit_model(
-                    setup,
-                    train,
-                    &current.mask,
-                    &current.scales,
-                    EffectInFit::Fitted(c.candidate),
-                    &start,
-                    Stop::converged(iters / 2 + 1),
-                )?;
-                if f.lm.rss >= current.fit.lm.rss {
-                    break;
+                match continued(setup, train, current, c.candidate, &start, iters)? {
+                    Some(b) => better = Some(b),
+                    None => break,
                 }
-                let train_preds = predict_many(setup, train, f.globals, &f.ste_um, &f.effect)?;
-                better = Some(Refitted {
-                    cand: current.cand,
-                    fit: f,
-                    mask: current.mask.clone(),
-                    train_preds,
-                    scales: current.scales.clone(),
-                });
                 continue;
             }
+        };
+        let wald_arc = wald_phase_arc(c.candidate, &current.fit.lm);
+        let phase_arc = if phase_profile && c.candidate.has_phase() {
+            let half = wald_arc.map(|(a, b)| (0.5 * (b - a)).to_radians());
+            match problem.phase_arc(half) {
+                PhaseProfile::Arc(lo, hi) => Some(phase_hull(
+                    Candidate::first_phase(&current.fit.effect.delta),
+                    (lo, hi),
+                    wald_arc,
+                )),
+                PhaseProfile::Better(start) => {
+                    match continued(setup, train, current, c.candidate, &start, iters)? {
+                        Some(b) => better = Some(b),
+                        None => break,
+                    }
+                    continue;
+                }
+            }
+        } else {
+            None
         };
         let side = |b: Bound| match b {
             Bound::At(v) => Some(v),
@@ -152,6 +160,7 @@ pub(super) fn profiled_refit(
         let found = IntervalFound {
             ci: over_both_basins(ci, c, &current.fit.effect.delta),
             profile: Some(profile),
+            phase_arc,
             method: "hull of the profile-likelihood and Wald intervals",
         };
         return Ok((better, found));
@@ -161,9 +170,65 @@ pub(super) fn profiled_refit(
     let found = IntervalFound {
         ci: over_both_basins(ci, c, &current.fit.effect.delta),
         profile: None,
+        phase_arc: None,
         method: "Wald (the profile kept finding better fits)",
     };
     Ok((better, found))
+}
+
+/// The fit of `current`'s candidate continued from `start`, a profile point that fitted
+/// better; None when the continued fit ends no lower than `current`.
+fn continued(
+    setup: &Setup,
+    train: &[usize],
+    current: &Refitted,
+    cand: Candidate,
+    start: &[f64],
+    iters: usize,
+) -> Result<Option<Refitted>> {
+    let f = fit_model(
+        setup,
+        train,
+        &current.mask,
+        &current.scales,
+        EffectInFit::Fitted(cand),
+        start,
+        Stop::converged(iters / 2 + 1),
+    )?;
+    if f.lm.rss >= current.fit.lm.rss {
+        return Ok(None);
+    }
+    let train_preds = predict_many(setup, train, f.globals, &f.ste_um, &f.effect)?;
+    Ok(Some(Refitted {
+        cand: current.cand,
+        fit: f,
+        mask: current.mask.clone(),
+        train_preds,
+        scales: current.scales.clone(),
+    }))
+}
+
+/// The 95% arc of a phase estimated at `psi` (rad) in degrees, in the convention of
+/// [`wald_phase_arc`]: the hull of the profile's sides `(lo, hi)` (rad from psi; None a side
+/// without bound, which then reaches half a turn) and the Wald arc, as the amplitude's interval
+/// is the hull of its profile and Wald intervals; the whole circle when the sides meet.
+fn phase_hull(
+    psi: f64,
+    (lo, hi): (Option<f64>, Option<f64>),
+    wald: Option<(f64, f64)>,
+) -> (f64, f64) {
+    let centre = psi.to_degrees().rem_euclid(360.0);
+    let mut below = lo.map_or(180.0, |l| -l.to_degrees());
+    let mut above = hi.map_or(180.0, |h| h.to_degrees());
+    if let Some((a, b)) = wald {
+        below = below.max(centre - a);
+        above = above.max(b - centre);
+    }
+    if below + above >= 360.0 {
+        (0.0, 360.0)
+    } else {
+        (centre - below, centre + above)
+    }
 }
 
 /// The interval of the estimate a decision rests on, and how it was found.
@@ -173,6 +238,9 @@ pub(super) struct IntervalFound {
     /// The profile-likelihood interval's sides (None: the profile did not rise within its
     /// fits on that side).
     pub profile: Option<(Option<f64>, Option<f64>)>,
+    /// The phase's 95% arc, degrees, the hull of its profile-likelihood and Wald arcs
+    /// ([`phase_hull`]), when the phase was profiled.
+    pub phase_arc: Option<(f64, f64)>,
     pub method: &'static str,
 }
 
@@ -266,6 +334,34 @@ mod tests {
             wald_phase_arc(Candidate::DampingLaw, &fit_at(0.0, 0.2, 0.01, 0.01)),
             None
         );
+    }
+
+    #[test]
+    fn the_phase_arc_is_the_hull_of_profile_and_wald_and_may_close_the_circle() {
+        let psi = 100_f64.to_radians();
+        let r = |deg: f64| Some(deg.to_radians());
+        // Profile 80 .. 130 around 100, Wald 95 .. 105: the profile's sides.
+        let (lo, hi) = phase_hull(psi, (r(-20.0), r(30.0)), Some((95.0, 105.0)));
+        assert!(
+            (lo - 80.0).abs() < 1e-9 && (hi - 130.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
+        // A Wald side wider than the profile's is kept.
+        let (lo, hi) = phase_hull(psi, (r(-20.0), r(3.0)), Some((95.0, 110.0)));
+        assert!(
+            (lo - 80.0).abs() < 1e-9 && (hi - 110.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
+        // A side without bound reaches half a turn; an estimate near 360 keeps hi above it.
+        let near_top = 350_f64.to_radians();
+        let (lo, hi) = phase_hull(near_top, (r(-10.0), None), None);
+        assert!(
+            (lo - 340.0).abs() < 1e-9 && (hi - 530.0).abs() < 1e-9,
+            "{lo} {hi}"
+        );
+        assert!(on_phase_arc(10.0, (lo, hi)) && !on_phase_arc(330.0, (lo, hi)));
+        // Both sides without bound: the whole circle.
+        assert_eq!(phase_hull(psi, (None, None), None), (0.0, 360.0));
     }
 
     #[test]

@@ -49,6 +49,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "refit_other_start": c.other_start,
             "phase_deg": c.phase_deg,
             "phase_wald95_deg": c.phase_wald95_deg.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
+            "phase_profile95_deg": c.phase_profile95_deg.map(|(a, b)| [a, b]),
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
@@ -214,26 +215,31 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
 }
 
 /// A refitted phase-carrying candidate's phase and its 95% arcs (two when the phase is
-/// undetermined between two basins), e.g. "315 deg (Wald 95% 312 .. 318)"; empty otherwise.
+/// undetermined between two basins), e.g. "315 deg (Wald 95% 312 .. 318)", with the profile's
+/// arc when the phase was profiled ("profile 95% 300 .. 320"); empty otherwise.
 fn phase_text(c: &CandidateResult) -> String {
     let Some(p) = c.phase_deg else {
         return String::new();
     };
-    let arcs: Vec<String> = c
-        .phase_wald95_deg
-        .iter()
-        .map(|(a, b)| {
-            if b - a >= 360.0 {
-                "any".to_string()
-            } else {
-                format!("{a:.0} .. {b:.0}")
-            }
-        })
-        .collect();
-    if arcs.is_empty() {
+    let arc = |&(a, b): &(f64, f64)| {
+        if b - a >= 360.0 {
+            "any".to_string()
+        } else {
+            format!("{a:.0} .. {b:.0}")
+        }
+    };
+    let arcs: Vec<String> = c.phase_wald95_deg.iter().map(arc).collect();
+    let mut parts = Vec::new();
+    if !arcs.is_empty() {
+        parts.push(format!("Wald 95% {}", arcs.join(" or ")));
+    }
+    if let Some(profile) = &c.phase_profile95_deg {
+        parts.push(format!("profile 95% {}", arc(profile)));
+    }
+    if parts.is_empty() {
         format!("{p:.0} deg")
     } else {
-        format!("{p:.0} deg (Wald 95% {})", arcs.join(" or "))
+        format!("{p:.0} deg ({})", parts.join("; "))
     }
 }
 

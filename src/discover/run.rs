@@ -49,6 +49,10 @@ pub struct DiscoverOptions {
     pub refit_iterations: usize,
     /// |cos| between two candidates' fitted residual directions above which they are ambiguous.
     pub collinear_cos: f64,
+    /// Profile the phase of the phase-carrying candidate a decision rests on as well
+    /// ([`super::profile::ProfileProblem::phase_arc`]: up to twelve more all-load fits, tens
+    /// of seconds with a stiffness variation); off, its phase has the Wald arc only.
+    pub phase_profile: bool,
 }
 
 impl Default for DiscoverOptions {
@@ -62,6 +66,7 @@ impl Default for DiscoverOptions {
             refit_top: 2,
             refit_iterations: 12,
             collinear_cos: 0.95,
+            phase_profile: false,
         }
     }
 }
@@ -116,6 +121,11 @@ pub struct CandidateResult {
     /// below 0): one, or two when the phase is undetermined between two basins
     /// ([`OtherStart::phase_undetermined`]); (0, 360) when the arc spans the circle.
     pub phase_wald95_deg: Vec<(f64, f64)>,
+    /// With [`DiscoverOptions::phase_profile`], for the candidate a decision rests on: the
+    /// phase's 95% arc from its profile likelihood, the hull with its own Wald arc, in the
+    /// convention of `phase_wald95_deg` (the other basin's Wald arc, when the phase is
+    /// undetermined, stays in `phase_wald95_deg`).
+    pub phase_profile95_deg: Option<(f64, f64)>,
 }
 
 /// The fit a phase-carrying candidate's refit reached from the other phase basin and did not keep
@@ -1081,6 +1091,7 @@ fn candidate_results(
                 other_start: None,
                 phase_deg: None,
                 phase_wald95_deg: Vec::new(),
+                phase_profile95_deg: None,
             }
         })
         .collect();

@@ -133,6 +133,11 @@ pub struct SeedOutcome {
     pub phase_deg: Option<f64>,
     pub phase_wald95_deg: Vec<(f64, f64)>,
     pub phase_covered: Option<bool>,
+    /// With `--phase-profile`: the phase's profile arc (hull with its Wald arc,
+    /// [`crate::discover::CandidateResult::phase_profile95_deg`]) and whether the true phase
+    /// lies on it or on the other basin's Wald arc when the phase is undetermined.
+    pub phase_profile95_deg: Option<(f64, f64)>,
+    pub phase_profile_covered: Option<bool>,
     pub phase_error_deg: Option<f64>,
     pub held_out_rms_before_um: Option<f64>,
     pub held_out_rms_after_um: Option<f64>,
@@ -203,6 +208,8 @@ pub struct StudySummary {
     /// True phase on the 95% phase arcs, over the correctly named seeds with a
     /// phase-carrying effect, and its Wilson 95% interval.
     pub phase_coverage: Option<(usize, usize, (f64, f64))>,
+    /// The same for the phase's profile arcs (`--phase-profile`).
+    pub phase_profile_coverage: Option<(usize, usize, (f64, f64))>,
     /// Seeds whose run warned about excluded points far outside M0's range.
     pub warned: usize,
     /// Per test (detection and candidates), its raw p-values over the seeds.
@@ -347,8 +354,15 @@ pub fn run_study(
         let ci95 = cand.and_then(|c| c.ci95);
         let phase_deg = cand.and_then(|c| c.phase_deg);
         let phase_wald95_deg = cand.map(|c| c.phase_wald95_deg.clone()).unwrap_or_default();
+        let phase_profile95_deg = cand.and_then(|c| c.phase_profile95_deg);
         let true_deg = true_phase.map(f64::to_degrees);
+        // The other basin's Wald arc counts with the profile arc, as with the Wald arcs.
+        let other_arcs = phase_wald95_deg.get(1..).unwrap_or_default();
         let outcome = SeedOutcome {
+            phase_profile_covered: true_deg.zip(phase_profile95_deg).map(|(t, arc)| {
+                on_phase_arc(t, arc) || other_arcs.iter().any(|&o| on_phase_arc(t, o))
+            }),
+            phase_profile95_deg,
             phase_covered: true_deg
                 .filter(|_| phase_deg.is_some())
                 .map(|t| phase_wald95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
@@ -411,10 +425,18 @@ pub fn run_study(
     let phase_undetermined = (!with_phase.is_empty())
         .then(|| (with_phase.iter().filter(|u| **u).count(), with_phase.len()));
     let phase_covered: Vec<bool> = good.iter().filter_map(|o| o.phase_covered).collect();
-    let phase_coverage = (!phase_covered.is_empty()).then(|| {
-        let k = phase_covered.iter().filter(|c| **c).count();
-        (k, phase_covered.len(), wilson95(k, phase_covered.len()))
-    });
+    let rate = |flags: Vec<bool>| {
+        (!flags.is_empty()).then(|| {
+            let k = flags.iter().filter(|c| **c).count();
+            (k, flags.len(), wilson95(k, flags.len()))
+        })
+    };
+    let phase_coverage = rate(phase_covered);
+    let phase_profile_coverage = rate(
+        good.iter()
+            .filter_map(|o| o.phase_profile_covered)
+            .collect(),
+    );
     let calibration = calibration(&outcomes);
     Ok(StudySummary {
         hidden,
@@ -446,6 +468,7 @@ pub fn run_study(
         held_out_shrunk,
         phase_undetermined,
         phase_coverage,
+        phase_profile_coverage,
         warned: outcomes
             .iter()
             .filter(|o| o.excluded_far_outside > 0)
