@@ -221,9 +221,12 @@ fn phase_text(c: &CandidateResult) -> String {
     let Some(p) = c.phase_deg else {
         return String::new();
     };
+    // Degrees to enough digits that a narrow arc is not printed as a point.
     let arc = |&(a, b): &(f64, f64)| {
         if b - a >= 360.0 {
             "any".to_string()
+        } else if b - a < 4.0 {
+            format!("{a:.1} .. {b:.1}")
         } else {
             format!("{a:.0} .. {b:.0}")
         }
