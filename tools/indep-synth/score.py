@@ -28,7 +28,8 @@ answers ("none" on null sets, the effect's name on the others) with Wilson inter
 per hidden effect and per noise family; for a correctly named effect whether its `ci95` contains
 the true strength (eps, r2 or F_aT / F_m(design)), and the phase error (the phase of the fitted
 (cos, sin) pair `delta`, assumed to be in the generator's convention, against the truth's), and
-whether the true phase lies on one of geardyn's 95% phase arcs `phase_wald95_deg` where it gives them.
+whether the true phase lies on one of geardyn's 95% phase arcs `phase_wald95_deg` where it gives them,
+and on the profile arc `phase_profile95_deg` (or the other basin's Wald arc) with `--phase-profile`.
 """
 
 import argparse
@@ -236,7 +237,11 @@ def score_discover(batch, results, listing):
                 arcs = cand.get("phase_wald95_deg")
                 if arcs and row["phase"] is not None:
                     t = math.degrees(row["phase"])
-                    row["phase_covered"] = any((t - lo) % 360.0 <= hi - lo for lo, hi in arcs)
+                    on = lambda arc: (t - arc[0]) % 360.0 <= arc[1] - arc[0]
+                    row["phase_covered"] = any(on(a) for a in arcs)
+                    profile = cand.get("phase_profile95_deg")
+                    if profile:
+                        row["phase_profile_covered"] = on(profile) or any(on(a) for a in arcs[1:])
         rows.append(row)
 
     done = [r for r in rows if r["answer"] is not None]
@@ -273,6 +278,9 @@ def score_discover(batch, results, listing):
         arcs = [r["phase_covered"] for r in sel if r.get("phase_covered") is not None]
         if arcs:
             print(f"    true phase on a phase_wald95_deg arc: {rate(sum(arcs), len(arcs))}")
+        prof = [r["phase_profile_covered"] for r in sel if r.get("phase_profile_covered") is not None]
+        if prof:
+            print(f"    true phase on the phase_profile95_deg arc: {rate(sum(prof), len(prof))}")
     if listing:
         print("\nper set: name family hidden strength phase(deg) -> answer [estimate ci95 covered phase_err]")
         for r in rows:
@@ -283,6 +291,8 @@ def score_discover(batch, results, listing):
                 extra = f" [{r['estimate']:.4f} ({ci[0]:.4f}, {ci[1]:.4f}) {r.get('covered')} {r.get('phase_err_deg', float('nan')):.1f} deg"
                 if r.get("phase_covered") is not None:
                     extra += f" on arc {r['phase_covered']}"
+                if r.get("phase_profile_covered") is not None:
+                    extra += f" on profile arc {r['phase_profile_covered']}"
                 extra += "]"
             if r.get("ambiguous_with"):
                 extra += f" ambiguous_with {r['ambiguous_with']}"
