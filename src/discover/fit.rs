@@ -123,24 +123,31 @@ pub enum EffectInFit<'a> {
     PhaseHeld(Candidate, f64),
 }
 
+impl EffectInFit<'_> {
+    /// The effect that a fit's last parameters `tail` (after zeta, omega_n and the STEs) stand
+    /// for.
+    pub fn effect(&self, tail: &[f64]) -> Effect {
+        match *self {
+            EffectInFit::None => Effect::none(),
+            EffectInFit::Fitted(c) => Effect::of(c, tail.to_vec()),
+            EffectInFit::Held(e) => e.clone(),
+            EffectInFit::Profiled(c, u) => Effect::of(c, c.unprofiled(u, tail)),
+            EffectInFit::PhaseHeld(c, psi) => {
+                let mut free = vec![psi];
+                free.extend_from_slice(&tail[1..]);
+                Effect::of(c, c.unprofiled(tail[0], &free))
+            }
+        }
+    }
+}
+
 fn unpack(p: &[f64], n_curves: usize, effect: EffectInFit) -> (Globals, Vec<f64>, Effect) {
     let g = Globals {
         zeta: p[0],
         omega_n_hz: p[1],
     };
     let ste = p[2..2 + n_curves].to_vec();
-    let effect = match effect {
-        EffectInFit::None => Effect::none(),
-        EffectInFit::Fitted(c) => Effect::of(c, p[2 + n_curves..].to_vec()),
-        EffectInFit::Held(e) => e.clone(),
-        EffectInFit::Profiled(c, u) => Effect::of(c, c.unprofiled(u, &p[2 + n_curves..])),
-        EffectInFit::PhaseHeld(c, psi) => {
-            let tail = &p[2 + n_curves..];
-            let mut free = vec![psi];
-            free.extend_from_slice(&tail[1..]);
-            Effect::of(c, c.unprofiled(tail[0], &free))
-        }
-    };
+    let effect = effect.effect(&p[2 + n_curves..]);
     (g, ste, effect)
 }
 

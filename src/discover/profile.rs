@@ -138,7 +138,9 @@ impl ProfileProblem<'_> {
             || self.side(&centre, 1.0, hi_h.unwrap_or(fallback)),
         );
         match (lo, hi) {
-            (Side::Better(p), _) | (_, Side::Better(p)) => Profile::Better(self.fitted_layout(&p)),
+            (Side::Better(p), _) | (_, Side::Better(p)) => {
+                Profile::Better(self.fitted_layout(EffectInFit::Profiled(self.cand, p.u), &p))
+            }
             (Side::Ends(lo), Side::Ends(hi)) => Profile::Interval(lo, hi),
         }
     }
@@ -183,26 +185,19 @@ impl ProfileProblem<'_> {
             Crossing::Better(p) => Err(p),
         };
         match (end(lo), end(hi)) {
-            (Err(p), _) | (_, Err(p)) => PhaseProfile::Better(self.phase_layout(&p)),
+            (Err(p), _) | (_, Err(p)) => {
+                PhaseProfile::Better(self.fitted_layout(EffectInFit::PhaseHeld(self.cand, p.u), &p))
+            }
             (Ok(lo), Ok(hi)) => PhaseProfile::Arc(lo, hi),
         }
     }
 
-    /// A phase profile point's parameters in the layout of a fit of the candidate.
-    fn phase_layout(&self, p: &Point) -> Vec<f64> {
+    /// The parameters of a profile point fitted as `held` (at the point's coordinate) in the
+    /// layout of a fit of the candidate.
+    fn fitted_layout(&self, held: EffectInFit, p: &Point) -> Vec<f64> {
         let n = 2 + self.train.len();
         let mut params = p.params[..n].to_vec();
-        let mut free = vec![p.u];
-        free.extend_from_slice(&p.params[n + 1..]);
-        params.extend(self.cand.unprofiled(p.params[n], &free));
-        params
-    }
-
-    /// A profile point's parameters in the layout of a fit of the candidate.
-    fn fitted_layout(&self, p: &Point) -> Vec<f64> {
-        let n = 2 + self.train.len();
-        let mut params = p.params[..n].to_vec();
-        params.extend(self.cand.unprofiled(p.u, &p.params[n..]));
+        params.extend(held.effect(&p.params[n..]).delta);
         params
     }
 
