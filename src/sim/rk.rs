@@ -351,11 +351,18 @@ fn stages<const N: usize, S: OdeSystem<N> + ?Sized>(
     k: &mut [[f64; N]; 16],
 ) -> [f64; N] {
     k[0] = *f;
-    for s in 1..12 {
-        let ys = combine(y, h, &A[s], &k[..s]);
-        k[s] = sys.rhs(t + C[s] * h, &ys);
-    }
-    combine(y, h, &A[12], &k[..12])
+    stage::<N, 1, S>(sys, t, y, h, k);
+    stage::<N, 2, S>(sys, t, y, h, k);
+    stage::<N, 3, S>(sys, t, y, h, k);
+    stage::<N, 4, S>(sys, t, y, h, k);
+    stage::<N, 5, S>(sys, t, y, h, k);
+    stage::<N, 6, S>(sys, t, y, h, k);
+    stage::<N, 7, S>(sys, t, y, h, k);
+    stage::<N, 8, S>(sys, t, y, h, k);
+    stage::<N, 9, S>(sys, t, y, h, k);
+    stage::<N, 10, S>(sys, t, y, h, k);
+    stage::<N, 11, S>(sys, t, y, h, k);
+    combine::<N, 12>(y, h, k)
 }
 
 /// The 3 extra stages of the dense output (k[13..16]); needs k[12] = f(t + h, y_new).
@@ -367,17 +374,32 @@ fn extra_stages<const N: usize, S: OdeSystem<N> + ?Sized>(
     h: f64,
     k: &mut [[f64; N]; 16],
 ) {
-    for s in 13..16 {
-        let ys = combine(y, h, &A[s], &k[..s]);
-        k[s] = sys.rhs(t + C[s] * h, &ys);
-    }
+    stage::<N, 13, S>(sys, t, y, h, k);
+    stage::<N, 14, S>(sys, t, y, h, k);
+    stage::<N, 15, S>(sys, t, y, h, k);
 }
 
-/// y + h sum_j a_j k_j over the given stages.
-#[inline]
-fn combine<const N: usize>(y: &[f64; N], h: f64, a: &[f64; 16], k: &[[f64; N]]) -> [f64; N] {
+/// Stage `R`: k[R] = f(t + c_R h, y + h sum_j a_Rj k_j).
+#[inline(always)]
+fn stage<const N: usize, const R: usize, S: OdeSystem<N> + ?Sized>(
+    sys: &S,
+    t: f64,
+    y: &[f64; N],
+    h: f64,
+    k: &mut [[f64; N]; 16],
+) {
+    let ys = combine::<N, R>(y, h, k);
+    k[R] = sys.rhs(t + C[R] * h, &ys);
+}
+
+/// y + h sum_j a_Rj k_j over the stages j < R. The row is a compile-time constant, so the
+/// compiler drops its zero coefficients (half of the tableau) instead of testing each one at
+/// every step (13% of a DOP853 sweep's instructions, callgrind); the sum keeps its order, and
+/// with it its bits.
+#[inline(always)]
+fn combine<const N: usize, const R: usize>(y: &[f64; N], h: f64, k: &[[f64; N]; 16]) -> [f64; N] {
     let mut acc = [0.0; N];
-    for (aj, kj) in a.iter().zip(k) {
+    for (aj, kj) in A[R].iter().zip(k).take(R) {
         if *aj != 0.0 {
             for (s, v) in acc.iter_mut().zip(kj) {
                 *s += aj * v;
