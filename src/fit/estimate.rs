@@ -29,8 +29,8 @@ pub enum NoiseSetting {
     Stated(NoiseModel),
     /// A stated standard deviation of each point (a per-point column).
     PerPoint(Vec<f64>),
-    /// Known relative scales c_i: sigma_i = s c_i with s estimated (e.g. the half-width of an
-    /// envelope of tooth pairs, whose scatter grows with the level).
+    /// Known relative scales c_i: sigma_i = s c_i with s estimated (e.g. the level of an
+    /// envelope of tooth pairs, whose scatter grows with it).
     Proportional(Vec<f64>),
 }
 
