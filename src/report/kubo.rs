@@ -220,4 +220,14 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             ],
         ],
     );
+    if let Some(fit) = &r.fit {
+        page.paragraph(&format!(
+            "Noise of the fit: each point's standard deviation is s times its level (the \
+             envelope's midline: the scatter between tooth pairs grows with D_L), s = {:.2}% \
+             estimated from the residuals ({} points, {} residual degrees of freedom).",
+            100.0 * fit.noise.model.floor,
+            fit.n,
+            fit.residual_dof
+        ));
+    }
 }
