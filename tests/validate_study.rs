@@ -72,9 +72,11 @@ fn kubo_intervals_cover_the_truth() {
     use geardyn::data::load_kubo;
     use geardyn::validate::{synth_kubo, validate_kubo, KuboOptions, KuboTruth};
     use rayon::prelude::*;
+    const ZETA: f64 = 0.15;
+    const OMEGA_N_HZ: f64 = 2800.0;
     let truth = |seed: u64| KuboTruth {
-        zeta: 0.15,
-        omega_n_hz: 2800.0,
+        zeta: ZETA,
+        omega_n_hz: OMEGA_N_HZ,
         seed,
         ..KuboTruth::default_kubo()
     };
@@ -94,8 +96,8 @@ fn kubo_intervals_cover_the_truth() {
             let fit = v.fit.expect("zeta and omega_n fitted");
             Some(Fitted {
                 z: [
-                    (fit.params[0] - 0.15) / fit.std_errors[0],
-                    (fit.params[1] - 2800.0) / fit.std_errors[1],
+                    (fit.params[0] - ZETA) / fit.std_errors[0],
+                    (fit.params[1] - OMEGA_N_HZ) / fit.std_errors[1],
                 ],
                 ci: [fit.ci95[0], fit.ci95[1]],
             })
@@ -107,13 +109,13 @@ fn kubo_intervals_cover_the_truth() {
         let m = z.iter().sum::<f64>() / z.len() as f64;
         (z.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (z.len() - 1) as f64).sqrt()
     };
-    for (i, (name, truth)) in [("zeta", 0.15), ("omega_n", 2800.0)]
+    for (i, (name, value)) in [("zeta", ZETA), ("omega_n", OMEGA_N_HZ)]
         .into_iter()
         .enumerate()
     {
         let k = fits
             .iter()
-            .filter(|f| f.ci[i].0 <= truth && truth <= f.ci[i].1)
+            .filter(|f| f.ci[i].0 <= value && value <= f.ci[i].1)
             .count();
         let rate = k as f64 / n as f64;
         assert!((0.90..=0.98).contains(&rate), "{name}: {k}/{n}");

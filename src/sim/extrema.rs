@@ -79,7 +79,7 @@ impl Extremes {
         let cells = Cells { a, b, h };
         let (qmin, qmax) = cells.extreme_pair(&q, &q_samples, self.q);
         let (xmin, xmax) = cells.extreme_pair(&x, &x_samples, self.dte);
-        let fmax = cells.refine_max(&force, &force_samples, self.mesh_force_max);
+        let fmax = cells.refine_max(&force, &force_samples, 1.0, self.mesh_force_max);
         self.q = (self.q.0.min(qmin), self.q.1.max(qmax));
         self.dte = (self.dte.0.min(xmin), self.dte.1.max(xmax));
         self.mesh_force_max = self.mesh_force_max.max(fmax);
@@ -105,27 +105,26 @@ impl Cells {
         samples: &[f64],
         running: (f64, f64),
     ) -> (f64, f64) {
-        let neg = |s: f64| -f(s);
-        let negated: Vec<f64> = samples.iter().map(|v| -v).collect();
         (
-            -self.refine_max(&neg, &negated, -running.0),
-            self.refine_max(f, samples, running.1),
+            -self.refine_max(f, samples, -1.0, -running.0),
+            self.refine_max(f, samples, 1.0, running.1),
         )
     }
 
-    /// Maximum of f on [a, b]: best of the samples, refined by golden section on the cells
-    /// either side of the best one, unless even the refinement could not reach `floor` (the
-    /// running maximum of the pieces before): then the best sample, which leaves the running
-    /// maximum as it is. Most pieces of a period hold no extremum of the period, and their
-    /// golden sections (some 55 evaluations of the closed form or dense output each, five a
-    /// piece) were a quarter of a `discover` run.
-    fn refine_max(&self, f: &dyn Fn(f64) -> f64, samples: &[f64], floor: f64) -> f64 {
+    /// Maximum of `sign` f on [a, b] (`sign` +-1, exact in floating point, so the minimum
+    /// needs no negated copy of the samples): best of the samples, refined by golden section
+    /// on the cells either side of the best one, unless even the refinement could not reach
+    /// `floor` (the running maximum of the pieces before): then the best sample, which leaves
+    /// the running maximum as it is. Most pieces of a period hold no extremum of the period,
+    /// and their golden sections (some 55 evaluations of the closed form or dense output each,
+    /// five a piece) were a quarter of a `discover` run.
+    fn refine_max(&self, f: &dyn Fn(f64) -> f64, samples: &[f64], sign: f64, floor: f64) -> f64 {
         let (a, b, h) = (self.a, self.b, self.h);
         let mut best_i = 0;
         let mut best = f64::NEG_INFINITY;
         for (i, &v) in samples.iter().enumerate() {
-            if v > best {
-                best = v;
+            if sign * v > best {
+                best = sign * v;
                 best_i = i;
             }
         }
@@ -136,11 +135,11 @@ impl Cells {
         // the true maximum may lie just inside (golden section then converges to the end if not).
         let lo = (a + (best_i as f64 - 1.0) * h).max(a);
         let hi = (a + (best_i as f64 + 1.0) * h).min(b);
-        best.max(golden_max(f, lo, hi))
+        best.max(golden_max(&|s| sign * f(s), lo, hi))
     }
 }
 
-/// Bound on what refining can add to the best sample `samples[i]`. A maximum at m within one
+/// Bound on what refining can add to the best sample `samples[i]` (of f or -f alike). A maximum at m within one
 /// cell h of the sample exceeds it by f''(xi) (m - x_i)^2 / 2 <= max|f''| h^2 / 2 (f'(m) = 0;
 /// at an end of the piece the sample is the maximum itself). A piece lies in one region of
 /// eq. 3c, so f is smooth on it and |f''| h^2 is estimated by the second differences around

@@ -131,16 +131,6 @@ impl ContactFit<'_> {
             .collect()
     }
 
-    /// Each point's relative noise scale: its level, the envelope's midline. The scatter
-    /// between tooth pairs grows with D_L, and the fit estimates the common factor. The
-    /// envelope's half-width is that scale's noisiest estimate (the range of eight pairs
-    /// varies by about 30% from speed to speed), and weighting by it left the standard errors
-    /// 10-20% small: on 200 synthetic sets omega_n's 95% interval covered the truth on
-    /// 86.5-90.9%, against 94.5-96.5% with the level (docs/calibrated-inference.md).
-    fn levels(&self) -> Vec<f64> {
-        self.midline()
-    }
-
     fn params(&self) -> Vec<Param> {
         let mut p = vec![
             Param::positive("zeta", 0.1),
@@ -154,12 +144,19 @@ impl ContactFit<'_> {
 
     fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {
         let model = |p: &[f64]| self.curve(p);
+        let midline = self.midline();
         estimate(
             &model,
-            &self.midline(),
+            &midline,
             &self.params(),
             &EstimateOptions {
-                noise: NoiseSetting::Proportional(self.levels()),
+                // Each point's noise scale is its level, the midline: the scatter between tooth
+                // pairs grows with D_L, and the fit estimates the common factor. The envelope's
+                // half-width is that scale's noisiest estimate (the range of eight pairs varies
+                // by about 30% from speed to speed); weighting by it left the standard errors
+                // 10-20% small: on 200 synthetic sets omega_n's 95% interval covered the truth
+                // on 86.5-90.9%, against 94.5-96.5% with the level (docs/validation.md).
+                noise: NoiseSetting::Proportional(midline.clone()),
                 robust: Robust::Off,
                 stop: Stop::converged(100).central(),
                 starts: starts.to_vec(),
