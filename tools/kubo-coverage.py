@@ -6,9 +6,12 @@ arguments such as `--zeta 0.15 --omega-n-hz 2800` go to synth), fitted by `geard
 kubo`; the script counts how often the covariance (Fisher) and profile intervals of zeta and
 omega_n hold the truth, with Wilson 95% intervals, and the standard deviation of the
 standardized errors (estimate - truth) / standard error, which is 1 when the standard errors
-are right. Sets whose fit is refused are counted and their reasons listed.
+are right. Sets whose fit is refused are counted and their reasons listed. The counts are
+given over all fitted sets and for each path that fitted them (the contact part of the curve,
+or the whole curve when the contact part does not determine zeta).
 
     python3 tools/kubo-coverage.py 200 --zeta 0.15 --omega-n-hz 2800
+    python3 tools/kubo-coverage.py 200 --zeta 0.06 --omega-n-hz 2200 --dop853-rtol 1e-9
     GEARDYN=target/release/geardyn python3 tools/kubo-coverage.py 200
 """
 import collections
@@ -40,6 +43,7 @@ def main():
     omega = float(options.get("--omega-n-hz", 2500.0))
     inside = collections.Counter()
     refused = collections.Counter()
+    paths = collections.Counter()
     z_zeta, z_omega = [], []
     with tempfile.TemporaryDirectory() as tmp:
         for seed in range(1, seeds + 1):
@@ -53,19 +57,24 @@ def main():
                 refused[re.sub(r"\d[\d.e+-]*", "#", reason)] += 1
                 continue
             fit = json.load(open(os.path.join(d, "f", "kubo.json")))
+            path = "whole curve" if "whole curve" in fit["parameter_source"] else "contact part"
+            paths[path] += 1
             for name, truth in (("zeta", zeta), ("omega_n_hz", omega)):
                 for kind in ("covariance", "profile"):
                     lo, hi = fit[name + "_ci95"][kind]
-                    inside[(name, kind)] += lo <= truth <= hi
+                    for group in ("all", path):
+                        inside[(group, name, kind)] += lo <= truth <= hi
             z_zeta.append((fit["zeta"] - zeta) / fit["zeta_std_error"])
             z_omega.append((fit["omega_n_hz"] - omega) / fit["omega_n_hz_std_error"])
     n = len(z_zeta)
     print(f"truth zeta {zeta}, omega_n {omega} Hz: {n} of {seeds} sets fitted")
     for reason, count in refused.items():
         print(f"  refused {count}: {reason}")
-    for (name, kind), k in sorted(inside.items()):
-        lo, hi = wilson(k, n)
-        print(f"  {name} {kind}: {k}/{n} = {100 * k / n:.1f}% (Wilson {100 * lo:.0f}-{100 * hi:.0f}%)")
+    for (group, name, kind), k in sorted(inside.items()):
+        m = n if group == "all" else paths[group]
+        lo, hi = wilson(k, m)
+        print(f"  {group}: {name} {kind}: {k}/{m} = {100 * k / m:.1f}% "
+              f"(Wilson {100 * lo:.0f}-{100 * hi:.0f}%)")
     print(f"  standardized errors: sd {statistics.stdev(z_zeta):.2f} (zeta), "
           f"{statistics.stdev(z_omega):.2f} (omega_n)")
 

@@ -134,6 +134,17 @@ struct KuboArgs {
     /// Noise seed (an integer).
     #[arg(long, default_value_t = 2)]
     seed: u64,
+    /// Tooth pairs whose dynamic factors make the envelope, in [2, 100].
+    #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u16).range(2..=100))]
+    tooth_pairs: u16,
+    /// Relative scatter (standard deviation) of a tooth pair's dynamic factor about the
+    /// model's, dimensionless, in [0, 0.3].
+    #[arg(long, default_value_t = 0.04, allow_hyphen_values = true, value_parser = real(0.0, 0.3, false))]
+    pair_scatter: f64,
+    /// Make the curve with DOP853 at this relative tolerance (dimensionless) instead of the
+    /// exact solver the fit uses, in [1e-14, 0.01].
+    #[arg(long, allow_hyphen_values = true, value_parser = real(1e-14, 1e-2, false))]
+    dop853_rtol: Option<f64>,
     #[command(flatten)]
     hidden: Hidden,
 }
@@ -187,6 +198,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.zeta = k.zeta;
             t.omega_n_hz = k.omega_n_hz;
             t.seed = k.seed;
+            t.tooth_pairs = usize::from(k.tooth_pairs);
+            t.pair_scatter = k.pair_scatter;
+            t.dop853_rtol = k.dop853_rtol;
             t.hidden = k.hidden.effects();
             check_out_dir("--out", &k.out)?;
             let stage = stage("--out", &k.out)?;

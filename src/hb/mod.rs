@@ -35,6 +35,7 @@ pub use describing::{g_exact, g_truncated, h_exact, h_truncated, mean_force, n_a
 pub use df_solve::{df_response, df_response_forced, df_solutions, DfForcing, DfSolution};
 pub use resample::{branch_at, branch_from_start, branches_covering};
 pub use response_ranges::{response_ranges, ResponseRanges};
+pub(crate) use roots::brent;
 pub use transitions::{
     forced_transition_frequencies, linear_peak, transition_frequencies, LinearPeak,
 };

@@ -73,11 +73,12 @@ fn covered(a: &[(i32, i32, f64)], b: &HashSet<(i32, i32)>, r: i32) -> (f64, Opti
 /// Notes on the pairs of series (lines or markers) that coincide on the canvas: "A and B
 /// coincide", or "A and B coincide except at x lo–hi" when one lies on the other for at least
 /// three quarters of its length; at most [`MAX_NOTES`], the most shared first.
-/// `fmt` formats x values.
+/// `fmt` formats x values; `unit`, when the x axis has one, follows them ("4375–4748 rpm").
 pub(crate) fn coincidence_notes(
     drawn: &[Drawn<'_>],
     view: &View,
     fmt: impl Fn(f64) -> String,
+    unit: Option<&str>,
 ) -> Vec<String> {
     let sampled: Vec<_> = drawn.iter().map(|d| samples(d, view, 2.0)).collect();
     let cells: Vec<HashSet<(i32, i32)>> = drawn
@@ -115,6 +116,10 @@ pub(crate) fn coincidence_notes(
                 Some((lo, hi)) if share >= PARTLY => {
                     let (lo, hi) = (fmt(lo), fmt(hi));
                     let at = if lo == hi { lo } else { format!("{lo}–{hi}") };
+                    let at = match unit {
+                        Some(u) => format!("{at} {u}"),
+                        None => at,
+                    };
                     notes.push((share, format!("{a} and {b} coincide except at {at}")));
                 }
                 _ => {}
@@ -142,6 +147,14 @@ mod tests {
     }
 
     fn notes(a: &[Vec<(f64, f64)>], b: &[Vec<(f64, f64)>]) -> Vec<String> {
+        notes_with_unit(a, b, None)
+    }
+
+    fn notes_with_unit(
+        a: &[Vec<(f64, f64)>],
+        b: &[Vec<(f64, f64)>],
+        unit: Option<&str>,
+    ) -> Vec<String> {
         let d = [
             Drawn {
                 label: "up",
@@ -154,7 +167,20 @@ mod tests {
                 dots: &[],
             },
         ];
-        coincidence_notes(&d, &V, |x| format!("{x:.1}"))
+        coincidence_notes(&d, &V, |x| format!("{x:.1}"), unit)
+    }
+
+    /// The two sweeps of a hysteresis loop: apart between x = 4 and 6.
+    fn hysteresis() -> (Vec<Vec<(f64, f64)>>, Vec<Vec<(f64, f64)>>) {
+        let up = line(|x| x.min(5.0));
+        let down = line(|x| {
+            if (4.0..6.0).contains(&x) {
+                8.0
+            } else {
+                x.min(5.0)
+            }
+        });
+        (up, down)
     }
 
     #[test]
@@ -170,15 +196,7 @@ mod tests {
 
     #[test]
     fn lines_that_part_say_where() {
-        // A jump between x = 4 and 6, like the two sweeps of a hysteresis loop.
-        let up = line(|x| x.min(5.0));
-        let down = line(|x| {
-            if (4.0..6.0).contains(&x) {
-                8.0
-            } else {
-                x.min(5.0)
-            }
-        });
+        let (up, down) = hysteresis();
         let n = notes(&up, &down);
         assert_eq!(n.len(), 1, "{n:?}");
         let range = n[0]
@@ -207,8 +225,20 @@ mod tests {
                 dots: &pts,
             },
         ];
-        let n = coincidence_notes(&d, &V, |x| format!("{x:.1}"));
+        let n = coincidence_notes(&d, &V, |x| format!("{x:.1}"), None);
         assert_eq!(n, ["sweep and attractors coincide"]);
+    }
+
+    /// The axis unit follows the range once, not each end.
+    #[test]
+    fn a_range_states_the_axis_unit_once() {
+        let (up, down) = hysteresis();
+        let n = notes_with_unit(&up, &down, Some("rpm"));
+        assert_eq!(n.len(), 1, "{n:?}");
+        assert!(
+            n[0].ends_with(" rpm") && n[0].matches("rpm").count() == 1,
+            "{n:?}"
+        );
     }
 
     #[test]

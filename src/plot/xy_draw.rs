@@ -314,7 +314,12 @@ fn build_legend<DB: DrawingBackend>(
             dots: &v.dots,
         })
         .collect();
-    let mut notes = coincidence_notes(&drawn, view, |x| ax.format_between(x));
+    let mut notes = coincidence_notes(
+        &drawn,
+        view,
+        |x| ax.format_between(x),
+        label_unit(&plot.x_label),
+    );
     for (i, pts) in beyond(plot, view) {
         let above = pts.iter().filter(|p| p.1 > view.y.1).count();
         let below = pts.len() - above;
@@ -458,4 +463,26 @@ fn draw_vlines<DB: DrawingBackend>(
         chart.draw_series(std::iter::once(text)).map_err(msg)?;
     }
     Ok(())
+}
+
+/// The unit an axis label states in its closing parentheses ("speed (rpm)" gives "rpm"), for
+/// the values a note quotes from that axis.
+fn label_unit(label: &str) -> Option<&str> {
+    let inner = label.trim_end().strip_suffix(')')?;
+    let (_, unit) = inner.rsplit_once('(')?;
+    let unit = unit.trim();
+    (!unit.is_empty() && unit != "dimensionless").then_some(unit)
+}
+
+#[cfg(test)]
+mod unit_tests {
+    use super::label_unit;
+
+    #[test]
+    fn a_label_states_its_unit_in_parentheses() {
+        assert_eq!(label_unit("speed (rpm)"), Some("rpm"));
+        assert_eq!(label_unit("pp DTE (µm) "), Some("µm"));
+        assert_eq!(label_unit("Ω"), None);
+        assert_eq!(label_unit("()"), None);
+    }
 }

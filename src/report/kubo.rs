@@ -163,12 +163,17 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
         }
         None => "-".into(),
     };
-    let source = format!(
-        "{} ({} points with D_L < {})",
-        r.parameter_source,
-        r.points_used_in_fit,
-        crate::validate::KUBO_CONTACT_LIMIT
-    );
+    let source = match (&r.fit, r.points_used_in_fit) {
+        (None, _) => r.parameter_source.clone(),
+        (Some(_), n) if n == r.envelope.len() => {
+            format!("{} (all {n} measured speeds)", r.parameter_source)
+        }
+        (Some(_), n) => format!(
+            "{} ({n} points with D_L < {})",
+            r.parameter_source,
+            crate::validate::KUBO_CONTACT_LIMIT
+        ),
+    };
     let digits =
         |i: usize, min: usize| fisher(i).map_or(min, |(lo, hi)| interval_digits(lo, hi, min));
     let (dz, dw) = (digits(0, 4), digits(1, 1));

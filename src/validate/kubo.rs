@@ -12,13 +12,13 @@
 //! state; refit until the selection repeats.
 
 use super::curve_metrics::{rms, transition_location};
-use super::fit_check::{fit_failed, fit_failure};
+use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
+use super::kubo_midline::{midline, MidlineFit};
+use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
 use crate::data::{rig_key_error, KuboData, KuboPoint};
-use crate::error::Result;
-use crate::fit::{
-    estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
-};
+use crate::error::{GearError, Result};
+use crate::fit::{Estimate, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan};
@@ -31,7 +31,7 @@ pub const CONTACT_LIMIT: f64 = 1.8;
 const SELECTION_ROUNDS: usize = 6;
 
 /// STE amplitude (um): the one given in rig.toml, else the third fitted parameter.
-fn ste_of(given: Option<f64>, params: &[f64]) -> f64 {
+pub(super) fn ste_of(given: Option<f64>, params: &[f64]) -> f64 {
     given.unwrap_or_else(|| params.get(2).copied().unwrap_or(f64::NAN))
 }
 
@@ -124,66 +124,34 @@ impl ContactFit<'_> {
             .collect())
     }
 
-    fn midline(&self) -> Vec<f64> {
-        self.points
-            .iter()
-            .map(|k| 0.5 * (k.dynamic_factor_min + k.dynamic_factor_max))
-            .collect()
-    }
-
-    fn params(&self) -> Vec<Param> {
-        let mut p = vec![
-            Param::positive("zeta", 0.1),
-            Param::positive("omega_n_hz", 1000.0),
-        ];
-        if self.ste_um.is_none() {
-            p.push(Param::positive("ste_um", 1.0));
-        }
-        p
-    }
-
-    fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {
-        let model = |p: &[f64]| self.curve(p);
-        let midline = self.midline();
-        estimate(
-            &model,
-            &midline,
-            &self.params(),
-            &EstimateOptions {
-                // Each point's noise scale is its level, the midline: the scatter between tooth
-                // pairs grows with D_L, and the fit estimates the common factor. The envelope's
-                // half-width is that scale's noisiest estimate (the range of eight pairs varies
-                // by about 30% from speed to speed); weighting by it left the standard errors
-                // 10-20% small: on 200 synthetic sets omega_n's 95% interval covered the truth
-                // on 86.5-90.9%, against 94.5-96.5% with the level (docs/validation.md).
-                noise: NoiseSetting::Proportional(midline.clone()),
-                robust: Robust::Off,
-                stop: Stop::converged(100).central(),
-                starts: starts.to_vec(),
-            },
+    fn problem(&self) -> MidlineFit {
+        MidlineFit::new(
+            midline(self.points.iter().copied()),
+            self.ste_um,
+            Stop::converged(100).central(),
         )
     }
 
+    fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {
+        self.problem().fit(&|p: &[f64]| self.curve(p), starts)
+    }
+
     fn profile(&self, est: &Estimate) -> Result<Vec<(Option<f64>, Option<f64>)>> {
-        let model = |p: &[f64]| self.curve(p);
-        let y = self.midline();
-        (0..est.params.len())
-            .map(|i| profile_interval(&model, &y, est, i, Stop::converged(100).central()))
-            .collect()
+        self.problem().profile(&|p: &[f64]| self.curve(p), est)
     }
 }
 
 /// zeta, omega_n and the STE amplitude the model curves are drawn with, and where they came
 /// from.
-struct ModelParameters {
+pub(super) struct ModelParameters {
     /// The fit, when zeta and omega_n were not given in rig.toml.
-    fit: Option<Estimate>,
-    profile: Vec<(Option<f64>, Option<f64>)>,
-    zeta: f64,
-    omega_n_hz: f64,
-    ste_um: f64,
-    source: &'static str,
-    points_used: usize,
+    pub fit: Option<Estimate>,
+    pub profile: Vec<(Option<f64>, Option<f64>)>,
+    pub zeta: f64,
+    pub omega_n_hz: f64,
+    pub ste_um: f64,
+    pub source: &'static str,
+    pub points_used: usize,
 }
 
 /// Run the Kubo validation on a loaded data set.
@@ -199,7 +167,7 @@ pub fn validate_kubo(
     let ste_given = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
     let par = match (rig.zeta, rig.omega_n_hz) {
         (Some(z), Some(w)) => given_parameters(data, z, w, ste_given)?,
-        (None, None) => fit_contact_part(data, &dim, fm, ste_given)?,
+        (None, None) => fit_contact_part(data, &dim, fm, ste_given, progress)?,
         (Some(_), None) | (None, Some(_)) => {
             let key = if rig.zeta.is_some() {
                 "zeta"
@@ -306,6 +274,7 @@ fn fit_contact_part(
     dim: &Dimensional,
     fm: f64,
     ste_given: Option<f64>,
+    progress: &dyn Progress,
 ) -> Result<ModelParameters> {
     let contact: Vec<&KuboPoint> = data
         .points
@@ -349,6 +318,11 @@ fn fit_contact_part(
     let mut selected: Vec<f64> = Vec::new();
     let mut problem = None;
     for _ in 0..SELECTION_ROUNDS {
+        // A fit that ran zeta out of what the model admits selects nothing (the describing
+        // function refuses it); it is refused below and the whole curve fitted instead.
+        if !(FITTED_ZETA.0..=FITTED_ZETA.1).contains(&r.params[0]) {
+            break;
+        }
         let e = ste_of(ste_given, &r.params);
         let used = contact_points(
             &all,
@@ -371,7 +345,8 @@ fn fit_contact_part(
     let problem = problem.unwrap_or_else(|| problem_on(below));
     let profile = problem.profile(&r)?;
     if let Some(reason) = fit_failure(&r, &profile) {
-        return Err(fit_failed(&data.dir, "fit to the contact part", reason));
+        return fit_whole_curve(data, dim, fm, ste_given, &r.params, progress)
+            .map_err(|e| whole_curve_failed(data, reason, e));
     }
     Ok(ModelParameters {
         ste_um: ste_of(ste_given, &r.params),
@@ -382,6 +357,20 @@ fn fit_contact_part(
         source: "fitted to the contact part of the curve",
         points_used: problem.points.len(),
     })
+}
+
+/// The error when neither the contact part (`contact`, why it could not be used) nor the whole
+/// curve (`whole`) gave a usable fit.
+fn whole_curve_failed(data: &KuboData, contact: String, whole: GearError) -> GearError {
+    let whole = match whole {
+        GearError::FitFailed { reason, .. } => reason,
+        e => e.to_string(),
+    };
+    fit_failed(
+        &data.dir,
+        "fit to the contact part",
+        format!("{contact}; and the {whole}"),
+    )
 }
 
 /// Starts of the first contact fit: zeta over a decade, omega_n about the mesh frequency of
@@ -416,7 +405,7 @@ fn drawing_speeds(points: &[KuboPoint], dense_points: usize) -> Vec<f64> {
 }
 
 /// (speed, D_L, impact case) along a sweep with the state carried in `branch`'s direction.
-fn carried_branch(
+pub(super) fn carried_branch(
     dim: &Dimensional,
     model: &GearPair,
     fm: f64,

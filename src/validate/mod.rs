@@ -6,6 +6,8 @@ mod design_fit;
 mod fit_check;
 mod geometry_ste;
 mod kubo;
+mod kubo_midline;
+mod kubo_swept;
 mod linear;
 mod munro;
 mod noise;

@@ -358,6 +358,25 @@ pub(crate) fn flow_with_rtol(m: &GearPair, rtol: f64) -> Result<Box<dyn PeriodFl
     }
 }
 
+/// The flow a synthetic set is made with: DOP853 at `dop853_rtol` throughout when given (another
+/// solver than the exact one the fits use, so chaotic points are another window of the
+/// attractor, as in data the fitting solver did not make), else [`flow_with_rtol`] at
+/// [`RK_RTOL`].
+fn synth_flow(m: &GearPair, dop853_rtol: Option<f64>) -> Result<Box<dyn PeriodFlow>> {
+    match dop853_rtol {
+        None => flow_with_rtol(m, RK_RTOL),
+        Some(rtol) => Ok(Box::new(RkFlow::new(m, rtol)?)),
+    }
+}
+
+/// What rig.toml's truth says of the solver a set was made with ([`synth_flow`]).
+fn integrator_note(dop853_rtol: Option<f64>) -> String {
+    match dop853_rtol {
+        None => format!("exact for k = 1, DOP853 (rtol {RK_RTOL:e}) when k(t) varies"),
+        Some(rtol) => format!("DOP853 (rtol {rtol:e}) throughout"),
+    }
+}
+
 /// Simulated up-sweep (speed increasing, state carried from one speed to the next, as a test
 /// run) at the given pinion speeds: the full steady state at each (pp DTE, period, impact).
 /// `rk_rtol` is the DOP853 tolerance used when k(t) varies (the exact solver otherwise);
@@ -553,12 +572,7 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
         let model = truth
             .hidden
             .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
-        let factory = |m: &GearPair| -> Result<Box<dyn PeriodFlow>> {
-            match truth.dop853_rtol {
-                None => flow_with_rtol(m, RK_RTOL),
-                Some(rtol) => Ok(Box::new(RkFlow::new(m, rtol)?)),
-            }
-        };
+        let factory = |m: &GearPair| synth_flow(m, truth.dop853_rtol);
         let clean: Vec<f64> = up_sweep(
             &true_dim,
             &model,
@@ -623,10 +637,7 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
     t.insert("seed".into(), (truth.seed as i64).into());
     t.insert(
         "integrator".into(),
-        match truth.dop853_rtol {
-            None => format!("exact for k = 1, DOP853 (rtol {RK_RTOL:e}) when k(t) varies").into(),
-            Some(rtol) => format!("DOP853 (rtol {rtol:e}) throughout").into(),
-        },
+        integrator_note(truth.dop853_rtol).into(),
     );
     if truth.speed_list.is_some() {
         t.insert("speed_grid".into(), "non-uniform list (see dte.csv)".into());
@@ -718,6 +729,9 @@ pub struct KuboTruth {
     pub publish_ste: bool,
     /// Effects hidden in the data.
     pub hidden: HiddenEffects,
+    /// Make the curve with DOP853 at this relative tolerance instead of the exact solver
+    /// ([`MunroTruth::dop853_rtol`]).
+    pub dop853_rtol: Option<f64>,
 }
 
 impl KuboTruth {
@@ -750,6 +764,7 @@ impl KuboTruth {
             seed: 2,
             publish_ste: true,
             hidden: HiddenEffects::default(),
+            dop853_rtol: None,
         }
     }
 }
@@ -766,14 +781,13 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         1.0,
     )?;
     let model = truth.hidden.apply(model)?;
-    let opts = SteadyOptions::default();
-    let pts = simulate_up_sweep(
+    let pts = up_sweep(
         &dim,
         &model,
         truth.omega_n_hz,
         &speeds,
-        RK_RTOL,
-        &opts,
+        &|m| synth_flow(m, truth.dop853_rtol),
+        &SteadyOptions::default(),
         progress,
     )?;
     let mut rng = Rng::new(truth.seed);
@@ -799,6 +813,10 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
     t.insert("tooth_pairs".into(), (truth.tooth_pairs as i64).into());
     t.insert("pair_scatter".into(), truth.pair_scatter.into());
     t.insert("seed".into(), (truth.seed as i64).into());
+    t.insert(
+        "integrator".into(),
+        integrator_note(truth.dop853_rtol).into(),
+    );
     t.insert(
         "branch".into(),
         "up (speed increasing, state carried)".into(),
