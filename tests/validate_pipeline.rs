@@ -216,6 +216,45 @@ fn kubo_fit_takes_the_whole_curve_when_the_teeth_separate() {
     assert!(whole >= 1, "no seed needed the whole curve");
 }
 
+/// A rig whose teeth separate at nearly every measured speed (zeta 0.05, an STE of 8 um at
+/// 2000 N, speeds from Omega 0.76 up): too few points have D_L < 1.8 for the contact part to be fitted at all, which
+/// ended the run before the whole-curve fit existed ("only N points ... give zeta"); now the
+/// whole curve is fitted, within 4 standard errors of the truth.
+#[test]
+fn kubo_curve_without_a_contact_part_is_fitted_whole() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = KuboTruth {
+        zeta: 0.05,
+        omega_n_hz: 2200.0,
+        ste_um: 8.0,
+        speeds_rpm: (4000.0, 10000.0, 100.0),
+        seed: 5,
+        ..KuboTruth::default_kubo()
+    };
+    synth_kubo(&truth, dir.path(), &NoProgress).unwrap();
+    let data = load_kubo(dir.path()).unwrap();
+    let contact = data
+        .points
+        .iter()
+        .filter(|p| p.dynamic_factor_max < geardyn::validate::KUBO_CONTACT_LIMIT)
+        .count();
+    assert!(
+        contact < 5,
+        "the set must leave too few contact points: {contact}"
+    );
+    let r = validate_kubo(&data, &KuboOptions::default(), &NoProgress).unwrap();
+    assert!(
+        r.parameter_source.contains("whole curve"),
+        "{}",
+        r.parameter_source
+    );
+    let fit = r.fit.as_ref().unwrap();
+    for (i, t) in [truth.zeta, truth.omega_n_hz].into_iter().enumerate() {
+        let z = (fit.params[i] - t) / fit.std_errors[i];
+        assert!(z.abs() < 4.0, "{}: z = {z}", fit.names[i]);
+    }
+}
+
 /// An envelope of 4 tooth pairs with 8% scatter (seed 140) on which the first contact fit runs
 /// zeta to about 3e60: the point selection that follows asked the describing function for that
 /// zeta and the run ended on "invalid parameter zeta". Such a fit selects nothing; the whole

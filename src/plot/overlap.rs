@@ -170,8 +170,10 @@ mod tests {
         coincidence_notes(&d, &V, |x| format!("{x:.1}"), unit)
     }
 
+    type Lines = Vec<Vec<(f64, f64)>>;
+
     /// The two sweeps of a hysteresis loop: apart between x = 4 and 6.
-    fn hysteresis() -> (Vec<Vec<(f64, f64)>>, Vec<Vec<(f64, f64)>>) {
+    fn hysteresis() -> (Lines, Lines) {
         let up = line(|x| x.min(5.0));
         let down = line(|x| {
             if (4.0..6.0).contains(&x) {

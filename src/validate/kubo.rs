@@ -167,7 +167,7 @@ pub fn validate_kubo(
     let ste_given = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
     let par = match (rig.zeta, rig.omega_n_hz) {
         (Some(z), Some(w)) => given_parameters(data, z, w, ste_given)?,
-        (None, None) => fit_contact_part(data, &dim, fm, ste_given, progress)?,
+        (None, None) => fit_parameters(data, &dim, fm, ste_given, progress)?,
         (Some(_), None) | (None, Some(_)) => {
             let key = if rig.zeta.is_some() {
                 "zeta"
@@ -265,6 +265,32 @@ fn given_parameters(
     })
 }
 
+/// What the contact-part fit gave: usable parameters, or why not with the values it reached
+/// (empty when it could not be fitted at all).
+enum ContactOutcome {
+    Usable(Box<ModelParameters>),
+    Undetermined { reason: String, reached: Vec<f64> },
+}
+
+/// zeta, omega_n (and the STE amplitude when rig.toml does not give it) fitted to the
+/// contact part of the envelope ([`fit_contact_part`]), or to the whole curve
+/// ([`fit_whole_curve`]) when the contact part does not determine them.
+fn fit_parameters(
+    data: &KuboData,
+    dim: &Dimensional,
+    fm: f64,
+    ste_given: Option<f64>,
+    progress: &dyn Progress,
+) -> Result<ModelParameters> {
+    match fit_contact_part(data, dim, fm, ste_given)? {
+        ContactOutcome::Usable(p) => Ok(*p),
+        ContactOutcome::Undetermined { reason, reached } => {
+            fit_whole_curve(data, dim, fm, ste_given, &reached, progress)
+                .map_err(|e| whole_curve_failed(data, reason, e))
+        }
+    }
+}
+
 /// zeta, omega_n (and the STE amplitude when rig.toml does not give it) fitted to the envelope
 /// midline where the model keeps the teeth in contact (see the module's doc): a first fit to
 /// the points below the resonance whose measured D_L is under [`CONTACT_LIMIT`], then refits
@@ -274,8 +300,7 @@ fn fit_contact_part(
     dim: &Dimensional,
     fm: f64,
     ste_given: Option<f64>,
-    progress: &dyn Progress,
-) -> Result<ModelParameters> {
+) -> Result<ContactOutcome> {
     let contact: Vec<&KuboPoint> = data
         .points
         .iter()
@@ -283,15 +308,13 @@ fn fit_contact_part(
         .collect();
     let k = 2 + usize::from(ste_given.is_none());
     if contact.len() < k + 3 {
-        return Err(rig_key_error(
-            &data.dir,
-            "rig",
-            "zeta",
-            format!(
-                "only {} points have D_L < {CONTACT_LIMIT} (teeth in contact); give zeta and omega_n_hz in rig.toml",
+        return Ok(ContactOutcome::Undetermined {
+            reason: format!(
+                "only {} points have D_L < {CONTACT_LIMIT} (teeth in contact)",
                 contact.len()
             ),
-        ));
+            reached: Vec::new(),
+        });
     }
     // Below the resonance the up-sweep is on the contact branch while D_L < limit; above
     // it the separated branch can persist, so those points join only where the
@@ -313,7 +336,15 @@ fn fit_contact_part(
         points,
         ste_um: ste_given,
     };
-    let mut r = problem_on(below.clone()).fit(&starts)?;
+    let mut r = match problem_on(below.clone()).fit(&starts) {
+        Ok(r) => r,
+        Err(e) => {
+            return Ok(ContactOutcome::Undetermined {
+                reason: e.to_string(),
+                reached: Vec::new(),
+            })
+        }
+    };
     let all: Vec<&KuboPoint> = data.points.iter().collect();
     let mut selected: Vec<f64> = Vec::new();
     let mut problem = None;
@@ -339,16 +370,26 @@ fn fit_contact_part(
         selected = speeds;
         let pr = problem_on(used);
         starts.push(r.params.clone());
-        r = pr.fit(&starts)?;
+        r = match pr.fit(&starts) {
+            Ok(refit) => refit,
+            Err(e) => {
+                return Ok(ContactOutcome::Undetermined {
+                    reason: e.to_string(),
+                    reached: r.params,
+                })
+            }
+        };
         problem = Some(pr);
     }
     let problem = problem.unwrap_or_else(|| problem_on(below));
     let profile = problem.profile(&r)?;
     if let Some(reason) = fit_failure(&r, &profile) {
-        return fit_whole_curve(data, dim, fm, ste_given, &r.params, progress)
-            .map_err(|e| whole_curve_failed(data, reason, e));
+        return Ok(ContactOutcome::Undetermined {
+            reason,
+            reached: r.params,
+        });
     }
-    Ok(ModelParameters {
+    Ok(ContactOutcome::Usable(Box::new(ModelParameters {
         ste_um: ste_of(ste_given, &r.params),
         zeta: r.params[0],
         omega_n_hz: r.params[1],
@@ -356,7 +397,7 @@ fn fit_contact_part(
         profile,
         source: "fitted to the contact part of the curve",
         points_used: problem.points.len(),
-    })
+    })))
 }
 
 /// The error when neither the contact part (`contact`, why it could not be used) nor the whole
@@ -369,7 +410,10 @@ fn whole_curve_failed(data: &KuboData, contact: String, whole: GearError) -> Gea
     fit_failed(
         &data.dir,
         "fit to the contact part",
-        format!("{contact}; and the {whole}"),
+        format!(
+            "{contact}; and the {whole}; give zeta and omega_n_hz (and the STE) in rig.toml \
+             to draw the model without a fit"
+        ),
     )
 }
 

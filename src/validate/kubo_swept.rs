@@ -27,8 +27,8 @@ const SWEPT_JACOBIANS: usize = 60;
 const START_ZETAS: [f64; 3] = [0.03, 0.06, 0.12];
 
 /// zeta, omega_n (and the STE amplitude when `ste_given` is None) fitted to the whole curve of
-/// `data`, at load `fm`, started about `near` (the contact-part fit's values) and about the
-/// measured peak.
+/// `data`, at load `fm`, started about `near` (the values the contact-part fit reached, empty
+/// when it reached none) and about the measured peak.
 pub(super) fn fit_whole_curve(
     data: &KuboData,
     dim: &Dimensional,
@@ -44,7 +44,7 @@ pub(super) fn fit_whole_curve(
         ste_um: ste_given,
     };
     progress.start(2, "whole-curve fit (simulated up-sweeps)");
-    let fit = problem.fit(&starts(data, dim, near))?;
+    let fit = problem.fit(&starts(data, dim, near, ste_given))?;
     progress.advance(1);
     let profile = problem.profile(&fit)?;
     progress.advance(1);
@@ -65,22 +65,29 @@ pub(super) fn fit_whole_curve(
 }
 
 /// Starts of the whole-curve fit: each of [`START_ZETAS`] at the contact fit's natural
-/// frequency and at 1.05 times the mesh frequency of the measured peak (backlash softens the
-/// resonance, so the peak lies below omega_n); the STE amplitude, when fitted, at the contact
-/// fit's (1 um if that is not finite and positive).
-fn starts(data: &KuboData, dim: &Dimensional, near: &[f64]) -> Vec<Vec<f64>> {
+/// frequency (when it reached one) and at 1.05 times the mesh frequency of the measured peak
+/// (backlash softens the resonance, so the peak lies below omega_n); the STE amplitude, when
+/// fitted, at the contact fit's (1 um when it reached none that is finite and positive).
+fn starts(
+    data: &KuboData,
+    dim: &Dimensional,
+    near: &[f64],
+    ste_given: Option<f64>,
+) -> Vec<Vec<f64>> {
     let peak_hz = data
         .points
         .iter()
         .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
         .map(|p| dim.mesh_frequency_hz(p.speed_rpm));
-    let plausible = |v: f64| v.is_finite() && v > 0.0;
+    let plausible = |v: &f64| v.is_finite() && *v > 0.0;
     let omegas: Vec<f64> = [near.get(1).copied(), peak_hz.map(|f| 1.05 * f)]
         .into_iter()
         .flatten()
-        .filter(|w| plausible(*w))
+        .filter(plausible)
         .collect();
-    let ste = near.get(2).map(|&e| if plausible(e) { e } else { 1.0 });
+    let ste = ste_given
+        .is_none()
+        .then(|| near.get(2).copied().filter(plausible).unwrap_or(1.0));
     let mut out = Vec::new();
     for z in START_ZETAS {
         debug_assert!((FITTED_ZETA.0..FITTED_ZETA.1).contains(&z));
