@@ -403,9 +403,10 @@ fn fit_contact_part(
 /// The error when neither the contact part (`contact`, why it could not be used) nor the whole
 /// curve (`whole`) gave a usable fit.
 fn whole_curve_failed(data: &KuboData, contact: String, whole: GearError) -> GearError {
+    // A failed fit's reason already names the whole-curve fit; another error does not.
     let whole = match whole {
         GearError::FitFailed { reason, .. } => reason,
-        e => e.to_string(),
+        e => format!("fit to the whole curve: {e}"),
     };
     fit_failed(
         &data.dir,
