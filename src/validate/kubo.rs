@@ -13,7 +13,7 @@
 
 use super::curve_metrics::{rms, transition_location};
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo_midline::{midline, MidlineFit};
+use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
 use crate::data::{rig_key_error, KuboData, KuboPoint};
@@ -319,11 +319,7 @@ fn fit_contact_part(
     // Below the resonance the up-sweep is on the contact branch while D_L < limit; above
     // it the separated branch can persist, so those points join only where the
     // describing-function solution says contact is the unique steady state.
-    let peak_speed = data
-        .points
-        .iter()
-        .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
-        .map_or(f64::INFINITY, |p| p.speed_rpm);
+    let peak_speed = measured_peak_rpm(&data.points).unwrap_or(f64::INFINITY);
     let below: Vec<&KuboPoint> = contact
         .iter()
         .copied()

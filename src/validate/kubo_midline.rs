@@ -17,6 +17,15 @@ pub(super) fn midline<'a>(points: impl IntoIterator<Item = &'a KuboPoint>) -> Ve
         .collect()
 }
 
+/// The speed of the measured envelope's highest point (None for no points): where both fits
+/// place the resonance before they fit it.
+pub(super) fn measured_peak_rpm(points: &[KuboPoint]) -> Option<f64> {
+    points
+        .iter()
+        .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
+        .map(|p| p.speed_rpm)
+}
+
 /// A fit of some model curve to a midline.
 pub(super) struct MidlineFit {
     y: Vec<f64>,

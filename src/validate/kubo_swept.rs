@@ -11,7 +11,7 @@
 
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo::{carried_branch, ste_of, ModelParameters};
-use super::kubo_midline::{midline, MidlineFit};
+use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use crate::data::{KuboData, KuboPoint};
 use crate::error::Result;
 use crate::fit::{Estimate, Stop};
@@ -41,6 +41,7 @@ pub(super) fn fit_whole_curve(
         dim,
         fm,
         points: &data.points,
+        speeds: data.points.iter().map(|k| k.speed_rpm).collect(),
         ste_um: ste_given,
     };
     progress.start(2, "whole-curve fit (simulated up-sweeps)");
@@ -74,11 +75,7 @@ fn starts(
     near: &[f64],
     ste_given: Option<f64>,
 ) -> Vec<Vec<f64>> {
-    let peak_hz = data
-        .points
-        .iter()
-        .max_by(|a, b| a.dynamic_factor_max.total_cmp(&b.dynamic_factor_max))
-        .map(|p| dim.mesh_frequency_hz(p.speed_rpm));
+    let peak_hz = measured_peak_rpm(&data.points).map(|rpm| dim.mesh_frequency_hz(rpm));
     let plausible = |v: &f64| v.is_finite() && *v > 0.0;
     let omegas: Vec<f64> = [near.get(1).copied(), peak_hz.map(|f| 1.05 * f)]
         .into_iter()
@@ -105,6 +102,8 @@ struct SweptFit<'a> {
     dim: &'a Dimensional,
     fm: f64,
     points: &'a [KuboPoint],
+    /// The measured speeds, rpm: the sweep's grid at every evaluation.
+    speeds: Vec<f64>,
     ste_um: Option<f64>,
 }
 
@@ -115,8 +114,7 @@ impl SweptFit<'_> {
             .ste_um
             .unwrap_or_else(|| p.get(2).copied().unwrap_or(f64::NAN));
         let model = GearPair::paper(self.fm, self.dim.ste_amplitude(ste), p[0], 1.0)?;
-        let speeds: Vec<f64> = self.points.iter().map(|k| k.speed_rpm).collect();
-        let up = carried_branch(self.dim, &model, self.fm, &speeds, p[1], Branch::Up)?;
+        let up = carried_branch(self.dim, &model, self.fm, &self.speeds, p[1], Branch::Up)?;
         Ok(up.iter().map(|u| u.1).collect())
     }
 
