@@ -14,10 +14,20 @@ BATCH/truth/NAME.json). geardyn's output for set NAME is looked for in RESULTS/N
                                                  --fits RESULTS/NAME --reports RESULTS/NAME)
   discover batches: RESULTS/NAME/discovery.json (geardyn discover --data BATCH/sets/NAME
                                                  --out RESULTS/NAME)
+  kubo batches:     RESULTS/NAME/kubo.json      (geardyn validate kubo --data BATCH/sets/NAME
+                                                 --fits RESULTS/NAME --reports RESULTS/NAME/r
+                                                 [--validate-args, e.g. "--fit whole"])
 
 and, if present, RESULTS/NAME/status (geardyn's exit status, written by the --commands lines):
 a validate fit that fails exits with status 2 and writes nothing; such a set counts as "failed"
 (reported, and counted as a miss in the "all sets" coverage line).
+
+Kubo: coverage of the true zeta and omega_n by `zeta_ci95` / `omega_n_hz_ci95` (covariance,
+profile), z = (estimate - truth) / `*_std_error`, overall and split by the fit's path
+(`parameter_source`: contact part / whole curve), by tooth pairs and by reading-error family; fits
+refused (non-zero status, nothing written) counted apart with the reason from log.txt.
+`--results` may be given several times (e.g. the default run and a `--fit whole` run): each is
+scored, then a side-by-side summary is printed.
 
 Validate: coverage of the truth zeta and omega_n (and of every load's STE) by geardyn's 95%
 intervals (inverse Fisher "covariance", "sandwich", "profile"), with Wilson 95% intervals on the
@@ -88,15 +98,19 @@ def set_names(batch):
     return names
 
 
-def commands(batch, kind, results, geardyn):
+def commands(batch, kind, results, geardyn, extra=""):
+    extra = (" " + extra.strip()) if extra and extra.strip() else ""
     for n in set_names(batch):
         data = os.path.join(batch, "sets", n)
         out = os.path.join(results, n)
         if kind == "validate":
-            cmd = f"{geardyn} validate munro --data {data} --fits {out} --reports {out}"
+            cmd = f"{geardyn} validate munro --data {data} --fits {out} --reports {out}{extra}"
+        elif kind == "kubo":
+            cmd = f"{geardyn} validate kubo --data {data} --fits {out} --reports {out}/r{extra}"
         else:
-            cmd = f"{geardyn} discover --data {data} --out {out}"
-        print(f"mkdir -p {out} && {{ {cmd} > {out}/log.txt 2>&1; echo $? > {out}/status; }}")
+            cmd = f"{geardyn} discover --data {data} --out {out}{extra}"
+        print(f"mkdir -p {out} && {{ date +%s.%N > {out}/t0; {cmd} > {out}/log.txt 2>&1; "
+              f"echo $? > {out}/status; date +%s.%N > {out}/t1; }}")
 
 
 def same_load(a, b):
@@ -199,6 +213,186 @@ def score_validate(batch, results, listing):
             print(f"  {r['name']} {r['family']:9s} {r['zeta']:.5f} {r['zeta_est']:.5f} {str(r['zeta_covariance']):5s} | "
                   f"{r['omega_n_hz']:8.2f} {r['omega_est']:8.2f} {r['omega_covariance']}")
     return rows
+
+
+def read_seconds(d):
+    try:
+        with open(os.path.join(d, "t0")) as f0, open(os.path.join(d, "t1")) as f1:
+            return float(f1.read()) - float(f0.read())
+    except (OSError, ValueError):
+        return None
+
+
+def refusal_reason(d):
+    """The error line of a refused fit's log (the first line naming the failure)."""
+    try:
+        with open(os.path.join(d, "log.txt")) as f:
+            lines = [l.strip() for l in f if l.strip()]
+    except OSError:
+        return "no log"
+    for l in lines:
+        if "error" in l.lower() or "failed" in l.lower():
+            return l
+    return lines[-1] if lines else "empty log"
+
+
+def kubo_path(src):
+    if not src:
+        return "?"
+    if "whole curve" in src:
+        return "whole"
+    if "contact part" in src:
+        return "contact"
+    if "rig.toml" in src:
+        return "rig.toml"
+    return src
+
+
+def kubo_rows(batch, results):
+    rows = []
+    for n, truth, fam in truths(batch):
+        d = os.path.join(results, n)
+        fit = load_json(os.path.join(d, "kubo.json"))
+        st = read_status(d)
+        row = {"name": n, "family": truth.get("noise_family", fam), "pairs": truth["tooth_pairs"],
+               "zeta": truth["zeta"], "omega_n_hz": truth["omega_n_hz"], "ste_um": truth["ste_um"],
+               "status": st, "seconds": read_seconds(d)}
+        if fit is None:
+            row["outcome"] = "refused" if (st is not None and st != 0) else "missing"
+            if row["outcome"] == "refused":
+                row["reason"] = refusal_reason(d)
+            rows.append(row)
+            continue
+        row["outcome"] = "fit"
+        row["path"] = kubo_path(fit.get("parameter_source"))
+        row["zeta_est"] = fit.get("zeta")
+        row["omega_est"] = fit.get("omega_n_hz")
+        for par, key in (("zeta", "zeta"), ("omega", "omega_n_hz")):
+            cis = fit.get(key + "_ci95") or {}
+            tv = truth[key]
+            for m in ("covariance", "profile"):
+                row[f"{par}_{m}"] = covers(cis.get(m), tv)
+                ci = cis.get(m)
+                row[f"{par}_{m}_ci"] = ci
+            se = fit.get(key + "_std_error")
+            row[f"{par}_z"] = (fit[key] - tv) / se if se else None
+            row[f"{par}_rel_err"] = (fit[key] - tv) / tv
+        rows.append(row)
+    return rows
+
+
+def zstats(vals):
+    vals = [v for v in vals if v is not None]
+    if len(vals) < 2:
+        return "n %d" % len(vals)
+    m = sum(vals) / len(vals)
+    sd = math.sqrt(sum((v - m) ** 2 for v in vals) / (len(vals) - 1))
+    return f"n {len(vals):3d} mean {m:+.2f} SD {sd:.2f}"
+
+
+def score_kubo(batch, results, listing):
+    rows = kubo_rows(batch, results)
+    fitted = [r for r in rows if r["outcome"] == "fit"]
+    refused = [r for r in rows if r["outcome"] == "refused"]
+    missing = [r for r in rows if r["outcome"] == "missing"]
+    secs = sorted(r["seconds"] for r in rows if r.get("seconds") is not None)
+    print(f"kubo batch {batch}, results {results}: {len(rows)} sets, {len(fitted)} fitted, "
+          f"{len(refused)} refused (non-zero status, nothing written), {len(missing)} not run")
+    if secs:
+        print(f"  wall time per set: median {secs[len(secs) // 2]:.2f} s, max {secs[-1]:.2f} s, total {sum(secs):.0f} s")
+    if refused:
+        reasons = defaultdict(list)
+        for r in refused:
+            reasons[r["reason"]].append(r["name"])
+        print("  refusals:")
+        for k, v in sorted(reasons.items(), key=lambda x: -len(x[1])):
+            print(f"    {len(v):3d} x {k[:200]}  ({', '.join(v[:6])}{' ...' if len(v) > 6 else ''})")
+    paths = defaultdict(int)
+    for r in fitted:
+        paths[r["path"]] += 1
+    print("  path: " + ", ".join(f"{k} {v}" for k, v in sorted(paths.items())))
+
+    groups = [("all", fitted)]
+    for p in sorted({r["path"] for r in fitted}):
+        groups.append((f"path {p}", [r for r in fitted if r["path"] == p]))
+    for k in sorted({r["pairs"] for r in rows}):
+        groups.append((f"{k} pairs", [r for r in fitted if r["pairs"] == k]))
+    for f in sorted({r["family"] for r in rows}):
+        groups.append((f"{f}", [r for r in fitted if r["family"] == f]))
+
+    def cov(sel, key):
+        v = [r[key] for r in sel if r.get(key) is not None]
+        return rate(sum(v), len(v))
+
+    for par, label in (("zeta", "zeta"), ("omega", "omega_n")):
+        print(f"\n{label}: truth inside geardyn's 95% interval; z = (estimate - truth) / std_error")
+        print(f"  {'group':16s} {'covariance':44s} {'profile':44s} z")
+        for g, sel in groups:
+            print(f"  {g:16s} {cov(sel, par + '_covariance'):44s} {cov(sel, par + '_profile'):44s} "
+                  f"{zstats([r[par + '_z'] for r in sel])}")
+        if refused:
+            allr = [r for r in rows if r["outcome"] != "missing"]
+            for m in ("covariance", "profile"):
+                v = [bool(r.get(f"{par}_{m}")) for r in allr]
+                print(f"  all, refused as misses ({m}): {rate(sum(v), len(v))}")
+        rel = [r[par + "_rel_err"] for r in fitted]
+        if rel:
+            rel_s = sorted(rel)
+            print(f"  relative error (estimate - truth) / truth: mean {sum(rel) / len(rel):+.4f}, "
+                  f"median {rel_s[len(rel_s) // 2]:+.4f}")
+    print("\nboth zeta and omega_n covered")
+    for g, sel in groups:
+        for m in ("covariance", "profile"):
+            v = [bool(r.get(f"zeta_{m}")) and bool(r.get(f"omega_{m}")) for r in sel]
+            print(f"  {g:16s} {m:10s} {rate(sum(v), len(v))}")
+    if listing:
+        print("\nper set: name pairs family path | zeta truth est cov prof z | omega truth est cov prof z")
+        for r in rows:
+            if r["outcome"] != "fit":
+                print(f"  {r['name']} {r['pairs']:2d} {r['family']:9s} {r['outcome']} (status {r['status']}) "
+                      f"zeta {r['zeta']:.4f} omega {r['omega_n_hz']:.0f}: {r.get('reason', '')[:120]}")
+                continue
+            zz = r["zeta_z"] if r["zeta_z"] is not None else float("nan")
+            oz = r["omega_z"] if r["omega_z"] is not None else float("nan")
+            print(f"  {r['name']} {r['pairs']:2d} {r['family']:9s} {r['path']:7s} | {r['zeta']:.4f} {r['zeta_est']:.4f} "
+                  f"{str(r['zeta_covariance']):5s} {str(r['zeta_profile']):5s} {zz:+6.2f} | {r['omega_n_hz']:7.1f} "
+                  f"{r['omega_est']:7.1f} {str(r['omega_covariance']):5s} {str(r['omega_profile']):5s} {oz:+6.2f}")
+    return rows
+
+
+def kubo_side_by_side(batch, all_rows):
+    print("\n==== side by side ====")
+    hdr = "  " + f"{'':34s}" + "".join(f"{os.path.basename(os.path.normpath(r))[:28]:>30s}" for r, _ in all_rows)
+    print(hdr)
+
+    def line(label, fn):
+        print("  " + f"{label:34s}" + "".join(f"{fn(rows):>30s}" for _, rows in all_rows))
+
+    def c(key, sel=lambda r: True):
+        def f(rows):
+            v = [r[key] for r in rows if r["outcome"] == "fit" and sel(r) and r.get(key) is not None]
+            if not v:
+                return "-"
+            lo, hi = wilson(sum(v), len(v))
+            return f"{sum(v)}/{len(v)} {100 * sum(v) / len(v):.1f}% [{100 * lo:.0f}-{100 * hi:.0f}]"
+        return f
+
+    def zf(key):
+        def f(rows):
+            v = [r[key] for r in rows if r["outcome"] == "fit" and r.get(key) is not None]
+            if len(v) < 2:
+                return "-"
+            m = sum(v) / len(v)
+            sd = math.sqrt(sum((x - m) ** 2 for x in v) / (len(v) - 1))
+            return f"{m:+.2f} / {sd:.2f}"
+        return f
+
+    line("fitted / refused", lambda rows: f"{sum(r['outcome'] == 'fit' for r in rows)} / {sum(r['outcome'] == 'refused' for r in rows)}")
+    line("path contact / whole", lambda rows: f"{sum(r.get('path') == 'contact' for r in rows)} / {sum(r.get('path') == 'whole' for r in rows)}")
+    for par, label in (("zeta", "zeta"), ("omega", "omega_n")):
+        line(f"{label} covariance", c(f"{par}_covariance"))
+        line(f"{label} profile", c(f"{par}_profile"))
+        line(f"{label} z mean / SD", zf(f"{par}_z"))
 
 
 def ang_diff_deg(a, b):
@@ -307,7 +501,10 @@ def main():
         signal.signal(signal.SIGPIPE, signal.SIG_DFL)  # quiet under `| head`
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("batch", help="batch folder written by indep-synth batch")
-    ap.add_argument("--results", help="folder with geardyn's output per set (default BATCH/geardyn)")
+    ap.add_argument("--results", action="append",
+                    help="folder with geardyn's output per set (default BATCH/geardyn); kubo: may be given more than once")
+    ap.add_argument("--validate-args", default="",
+                    help="with --commands: extra arguments for each geardyn command (e.g. \"--fit whole\")")
     ap.add_argument("--commands", action="store_true", help="print the geardyn commands to run, one per set")
     ap.add_argument("--geardyn", default="geardyn", help="geardyn binary for --commands")
     ap.add_argument("--json", help="also write the per-set rows to this JSON file")
@@ -317,9 +514,21 @@ def main():
     if meta is None:
         sys.exit(f"{a.batch}: no BATCH.json (not an indep-synth batch)")
     kind = meta["kind"]
-    results = a.results or os.path.join(a.batch, "geardyn")
+    results_list = a.results or [os.path.join(a.batch, "geardyn")]
+    results = results_list[0]
     if a.commands:
-        commands(a.batch, kind, results, a.geardyn)
+        commands(a.batch, kind, results, a.geardyn, a.validate_args)
+        return
+    if kind == "kubo":
+        all_rows = []
+        for res in results_list:
+            all_rows.append((res, score_kubo(a.batch, res, a.list)))
+            print()
+        if len(all_rows) > 1:
+            kubo_side_by_side(a.batch, all_rows)
+        if a.json:
+            with open(a.json, "w") as f:
+                json.dump({res: rows for res, rows in all_rows}, f, indent=1)
         return
     rows = score_validate(a.batch, results, a.list) if kind == "validate" else score_discover(a.batch, results, a.list)
     if a.json:

@@ -2,6 +2,7 @@
 //! did not make. See README.md.
 
 mod gen;
+mod kubo;
 mod model;
 mod noise;
 mod rig;
@@ -41,6 +42,8 @@ struct Cli {
 enum Kind {
     Validate,
     Discover,
+    /// Kubo-layout dynamic-factor envelopes (for geardyn validate kubo)
+    Kubo,
 }
 
 #[derive(Clone, Copy, ValueEnum, PartialEq, Eq, Debug)]
@@ -53,6 +56,9 @@ enum GridKind {
 enum Cmd {
     /// Write one set: OUT/rig.toml + OUT/dte.csv, and the truth JSON outside OUT.
     Set(SetArgs),
+    /// Write one Kubo-layout set: OUT/rig.toml + OUT/dynamic_factor.csv (envelope of the dynamic
+    /// factor over tooth pairs), and the truth JSON outside OUT.
+    KuboSet(KuboSetArgs),
     /// Write a batch: OUT/sets/NAME/ and OUT/truth/NAME.json (+ truth/INDEX.json, BATCH.json).
     Batch(BatchArgs),
 }
@@ -65,9 +71,10 @@ struct Common {
     /// Noise floor (um): SD of the constant family, level-independent part of the others
     #[arg(long, default_value_t = 0.15)]
     noise_um: f64,
-    /// Relative part of the level-dependent families (fraction of the level)
-    #[arg(long, default_value_t = 0.03)]
-    noise_relative: f64,
+    /// Relative part of the level-dependent families (fraction of the level; default 0.03, kubo
+    /// batches 0.02)
+    #[arg(long)]
+    noise_relative: Option<f64>,
     /// Degrees of freedom of the student-t family
     #[arg(long, default_value_t = 3.0)]
     noise_dof: f64,
@@ -84,9 +91,10 @@ struct Common {
     /// (0: the end of a 64-period window; see README)
     #[arg(long, default_value_t = 0)]
     carry_shift: usize,
-    /// Speed range of the non-uniform grid, LO:HI rpm
-    #[arg(long, default_value = "1000:5000")]
-    speed_range: String,
+    /// Speed range LO:HI rpm (of the non-uniform grid; of batches) (default 1000:5000, kubo
+    /// batches 2000:10000)
+    #[arg(long)]
+    speed_range: Option<String>,
     /// Number of speeds of the non-uniform grid
     #[arg(long, default_value_t = 81)]
     n_speeds: usize,
@@ -158,15 +166,38 @@ struct BatchArgs {
     /// Step of the uniform grid, rpm (default 50 for validate, 100 for discover)
     #[arg(long)]
     speed_step: Option<f64>,
-    /// validate: truth zeta drawn uniformly in LO:HI
-    #[arg(long, default_value = "0.012:0.035")]
-    zeta_range: String,
-    /// validate: truth omega_n drawn uniformly in LO:HI Hz
-    #[arg(long, default_value = "1450:1750")]
-    omega_n_range: String,
-    /// validate: each load's STE = Munro's times a factor drawn uniformly in LO:HI
+    /// validate, kubo: truth zeta drawn uniformly in LO:HI (default 0.012:0.035; kubo 0.06:0.16)
+    #[arg(long)]
+    zeta_range: Option<String>,
+    /// validate, kubo: truth omega_n drawn uniformly in LO:HI Hz (default 1450:1750; kubo 2200:2900)
+    #[arg(long)]
+    omega_n_range: Option<String>,
+    /// validate: each load's STE = Munro's times a factor drawn uniformly in LO:HI; kubo: the
+    /// nominal STE = --ste-um times such a factor
     #[arg(long, default_value = "0.8:1.2")]
     ste_factor_range: String,
+    /// kubo: nominal STE (um) before the factor
+    #[arg(long, default_value_t = 3.0)]
+    ste_um: f64,
+    /// kubo: tooth pairs per set, rotating over this list (set i: entry i mod len)
+    #[arg(long, default_value = "4,8,12")]
+    tooth_pairs_cycle: String,
+    /// kubo: reading-error families, rotating (set i: entry (i / len(pairs)) mod len, so every
+    /// pair count meets every family)
+    #[arg(long, default_value = "gaussian,student-t,quantized")]
+    families: String,
+    /// kubo: relative SD of each pair's STE amplitude
+    #[arg(long, default_value_t = 0.05)]
+    pair_ste_scatter: f64,
+    /// kubo: floor of the reading error (D_L units)
+    #[arg(long, default_value_t = 0.01)]
+    noise_floor: f64,
+    /// kubo: reading grid of the quantized family (D_L units)
+    #[arg(long, default_value_t = 0.02)]
+    noise_quantum: f64,
+    /// kubo: do not write [ste] into rig.toml (geardyn then fits the STE)
+    #[arg(long)]
+    omit_ste: bool,
     /// discover: truth zeta
     #[arg(long, default_value_t = 0.0175)]
     zeta: f64,
@@ -196,6 +227,65 @@ struct BatchArgs {
     jobs: usize,
     #[command(flatten)]
     common: Common,
+}
+
+#[derive(clap::Args)]
+struct KuboSetArgs {
+    /// Output folder of the set
+    #[arg(long)]
+    out: PathBuf,
+    /// Truth JSON (default: OUT.truth.json beside the folder, never inside it)
+    #[arg(long)]
+    truth: Option<PathBuf>,
+    /// Template rig.toml whose [rig] table is used (default: the [rig] of geardyn's data/kubo)
+    #[arg(long)]
+    rig: Option<PathBuf>,
+    #[arg(long, default_value_t = 0.1)]
+    zeta: f64,
+    #[arg(long, default_value_t = 2500.0)]
+    omega_n_hz: f64,
+    /// Nominal first-harmonic STE amplitude (um) at the test load
+    #[arg(long, default_value_t = 3.0)]
+    ste_um: f64,
+    /// Uniform speed grid START:STOP:STEP rpm
+    #[arg(long, default_value = "2000:10000:100")]
+    speeds: String,
+    /// Tooth pairs whose readings make the envelope
+    #[arg(long, default_value_t = 8)]
+    tooth_pairs: usize,
+    /// Relative SD of each pair's STE amplitude, drawn once per set
+    #[arg(long, default_value_t = 0.05)]
+    pair_ste_scatter: f64,
+    /// Reading error family: gaussian, student-t, quantized, or none
+    #[arg(long, default_value = "gaussian")]
+    noise: String,
+    /// Relative part of the reading error's SD (times the pair's D_L)
+    #[arg(long, default_value_t = 0.02)]
+    noise_relative: f64,
+    /// Floor of the reading error's SD (D_L units; added in quadrature)
+    #[arg(long, default_value_t = 0.01)]
+    noise_floor: f64,
+    /// Degrees of freedom of the student-t family
+    #[arg(long, default_value_t = 3.0)]
+    noise_dof: f64,
+    /// Reading grid of the quantized family (D_L units)
+    #[arg(long, default_value_t = 0.02)]
+    noise_quantum: f64,
+    /// Seed (pair STE draws: splitmix64(seed, 4); reading errors: splitmix64(seed, 2))
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Do not write [ste] into rig.toml (geardyn then fits the STE)
+    #[arg(long)]
+    omit_ste: bool,
+    /// Dopri5 relative tolerance (absolute: rtol / 100)
+    #[arg(long, default_value_t = 1e-10)]
+    rtol: f64,
+    /// Decimals in the CSV
+    #[arg(long, default_value_t = 5)]
+    digits: usize,
+    /// Threads over the tooth pairs' sweeps
+    #[arg(long, default_value_t = 1)]
+    threads: usize,
 }
 
 fn parse_pair(s: &str, what: &str) -> Result<(f64, f64), String> {
@@ -257,7 +347,7 @@ fn noise_spec(c: &Common, family: Family, seed: u64) -> NoiseSpec {
     NoiseSpec {
         family,
         floor_um: c.noise_um,
-        relative: c.noise_relative,
+        relative: c.noise_relative.unwrap_or(0.03),
         dof: c.noise_dof,
         quantum_um: c.noise_quantum_um,
         seed,
@@ -302,7 +392,10 @@ fn run_set(a: SetArgs) -> Result<(), String> {
         Effect::None
     };
     let grid = if a.nonuniform {
-        let (lo, hi) = parse_pair(&a.common.speed_range, "--speed-range")?;
+        let (lo, hi) = parse_pair(
+            a.common.speed_range.as_deref().unwrap_or("1000:5000"),
+            "--speed-range",
+        )?;
         Grid::Nonuniform {
             n: a.common.n_speeds,
             lo_rpm: lo,
@@ -371,7 +464,213 @@ fn run_set(a: SetArgs) -> Result<(), String> {
     Ok(())
 }
 
+fn run_kubo_set(a: KuboSetArgs) -> Result<(), String> {
+    let rig = match &a.rig {
+        Some(p) => Rig::from_file(p)?,
+        None => Rig::from_toml_str(kubo::KUBO_RIG_TOML)?,
+    };
+    let noise = if a.noise == "none" {
+        None
+    } else {
+        Some(kubo::KNoise {
+            family: kubo::KFamily::parse(&a.noise)?,
+            relative: a.noise_relative,
+            floor: a.noise_floor,
+            dof: a.noise_dof,
+            quantum: a.noise_quantum,
+        })
+    };
+    let name = a
+        .out
+        .file_name()
+        .map(|s| s.to_string_lossy().to_string())
+        .unwrap_or("set".into());
+    let truth = a.truth.clone().unwrap_or_else(|| {
+        let mut p = a.out.clone().into_os_string();
+        p.push(".truth.json");
+        PathBuf::from(p)
+    });
+    if truth.starts_with(&a.out) {
+        return Err("--truth must be outside the set folder (geardyn must be blind)".into());
+    }
+    let spec = kubo::KuboSpec {
+        name,
+        rig,
+        zeta: a.zeta,
+        omega_n_hz: a.omega_n_hz,
+        ste_um: a.ste_um,
+        tooth_pairs: a.tooth_pairs,
+        pair_ste_scatter: a.pair_ste_scatter,
+        grid: parse_grid(&a.speeds)?,
+        noise,
+        pair_seed: mix(a.seed, 4),
+        noise_seed: mix(a.seed, 2),
+        ste_in_rig: !a.omit_ste,
+        sim: kubo::kubo_sim(a.rtol),
+        threads: a.threads,
+        extra: json!({"command": std::env::args().collect::<Vec<_>>().join(" "), "seed": a.seed}),
+    };
+    let w = kubo::write_kubo_set(&spec, &a.out, &truth, a.digits)?;
+    eprintln!(
+        "SYNTHETIC (indep-synth) Kubo set written to {} in {:.1} s ({} pairs, F_m {:.5}, {} pair/nominal points not period-1); truth in {}",
+        a.out.display(),
+        w.seconds,
+        spec.tooth_pairs,
+        w.nominal.fm,
+        w.not_period1,
+        truth.display()
+    );
+    Ok(())
+}
+
+fn run_kubo_batch(a: BatchArgs) -> Result<(), String> {
+    let rig = match &a.common.rig {
+        Some(p) => Rig::from_file(p)?,
+        None => Rig::from_toml_str(kubo::KUBO_RIG_TOML)?,
+    };
+    let step = a.speed_step.unwrap_or(100.0);
+    let (lo_rpm, hi_rpm) = parse_pair(
+        a.common.speed_range.as_deref().unwrap_or("2000:10000"),
+        "--speed-range",
+    )?;
+    let (zl, zh) = parse_pair(a.zeta_range.as_deref().unwrap_or("0.06:0.16"), "--zeta-range")?;
+    let (wl, wh) = parse_pair(
+        a.omega_n_range.as_deref().unwrap_or("2200:2900"),
+        "--omega-n-range",
+    )?;
+    let (fl, fh) = parse_pair(&a.ste_factor_range, "--ste-factor-range")?;
+    let pairs_cycle: Vec<usize> = a
+        .tooth_pairs_cycle
+        .split(',')
+        .map(|x| x.trim().parse::<usize>().map_err(|e| format!("--tooth-pairs-cycle: {e}")))
+        .collect::<Result<_, _>>()?;
+    let fams: Vec<kubo::KFamily> = a
+        .families
+        .split(',')
+        .map(|x| kubo::KFamily::parse(x.trim()))
+        .collect::<Result<_, _>>()?;
+    let relative = a.common.noise_relative.unwrap_or(0.02);
+    let sim = kubo::kubo_sim(a.common.rtol);
+    let width = a.seeds.to_string().len().max(3);
+    let mut specs = Vec::new();
+    for i in 0..a.seeds {
+        let seed = a.base_seed * 10000 + i as u64;
+        let name = format!("set-{:0width$}", i + 1, width = width);
+        let mut rng = ChaCha20Rng::seed_from_u64(mix(seed, 1));
+        let zeta = rng.random_range(zl..=zh);
+        let omega_n = rng.random_range(wl..=wh);
+        let factor = rng.random_range(fl..=fh);
+        let n_pairs = pairs_cycle[i % pairs_cycle.len()];
+        let family = fams[(i / pairs_cycle.len()) % fams.len()];
+        specs.push(kubo::KuboSpec {
+            name,
+            rig: rig.clone(),
+            zeta,
+            omega_n_hz: omega_n,
+            ste_um: a.ste_um * factor,
+            tooth_pairs: n_pairs,
+            pair_ste_scatter: a.pair_ste_scatter,
+            grid: Grid::Uniform {
+                start_rpm: lo_rpm,
+                stop_rpm: hi_rpm,
+                step_rpm: step,
+            },
+            noise: Some(kubo::KNoise {
+                family,
+                relative,
+                floor: a.noise_floor,
+                dof: a.common.noise_dof,
+                quantum: a.noise_quantum,
+            }),
+            pair_seed: mix(seed, 4),
+            noise_seed: mix(seed, 2),
+            ste_in_rig: !a.omit_ste,
+            sim: sim.clone(),
+            threads: 1,
+            extra: json!({
+                "batch_kind": "kubo",
+                "set_seed": seed,
+                "base_seed": a.base_seed,
+                "seed_streams": "ChaCha20 (rand_chacha) seeded with splitmix64(set_seed, stream): 1 = truth draws (zeta, omega_n, STE factor), 2 = reading errors, 4 = pair STE factors",
+                "ste_factor": factor,
+            }),
+        });
+    }
+    std::fs::create_dir_all(a.out.join("sets")).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(a.out.join("truth")).map_err(|e| e.to_string())?;
+    let batch = json!({
+        "generator": gen::GENERATOR,
+        "command": std::env::args().collect::<Vec<_>>().join(" "),
+        "kind": "kubo",
+        "n_sets": specs.len(),
+        "note": "truth/ holds the generating parameters; geardyn must be run on sets/NAME only",
+    });
+    std::fs::write(
+        a.out.join("BATCH.json"),
+        serde_json::to_string_pretty(&batch).unwrap(),
+    )
+    .map_err(|e| e.to_string())?;
+    let next = AtomicUsize::new(0);
+    let errors = Mutex::new(Vec::<String>::new());
+    let out = &a.out;
+    let digits = a.common.digits;
+    std::thread::scope(|s| {
+        for _ in 0..a.jobs.max(1) {
+            s.spawn(|| loop {
+                let i = next.fetch_add(1, Ordering::SeqCst);
+                if i >= specs.len() {
+                    break;
+                }
+                let sp = &specs[i];
+                let dir = out.join("sets").join(&sp.name);
+                let truth = out.join("truth").join(format!("{}.json", sp.name));
+                match kubo::write_kubo_set(sp, &dir, &truth, digits) {
+                    Ok(w) => eprintln!(
+                        "{} (zeta {:.4}, {:.0} Hz, {} pairs, {}) written in {:.1} s, {} points not period-1",
+                        sp.name,
+                        sp.zeta,
+                        sp.omega_n_hz,
+                        sp.tooth_pairs,
+                        sp.noise.as_ref().map(|n| n.family.name()).unwrap_or("none"),
+                        w.seconds,
+                        w.not_period1
+                    ),
+                    Err(e) => errors.lock().unwrap().push(e),
+                }
+            });
+        }
+    });
+    let index: Vec<_> = specs
+        .iter()
+        .map(|sp| {
+            json!({
+                "name": sp.name,
+                "zeta": sp.zeta,
+                "omega_n_hz": sp.omega_n_hz,
+                "ste_um": sp.ste_um,
+                "tooth_pairs": sp.tooth_pairs,
+                "noise_family": sp.noise.as_ref().map(|n| n.family.name()),
+                "seed": sp.extra["set_seed"],
+            })
+        })
+        .collect();
+    std::fs::write(
+        a.out.join("truth").join("INDEX.json"),
+        serde_json::to_string_pretty(&index).unwrap(),
+    )
+    .map_err(|e| e.to_string())?;
+    let errs = errors.into_inner().unwrap();
+    if !errs.is_empty() {
+        return Err(errs.join("\n"));
+    }
+    eprintln!("batch of {} SYNTHETIC Kubo sets in {}", specs.len(), out.display());
+    Ok(())
+}
+
 fn run_batch(a: BatchArgs) -> Result<(), String> {
+    if a.kind == Kind::Kubo {
+        return run_kubo_batch(a);
+    }
     let rig = load_rig(&a.common.rig)?;
     let base_loads = parse_loads(&a.loads)?;
     let step = a.speed_step.unwrap_or(if a.kind == Kind::Validate {
@@ -379,7 +678,10 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
     } else {
         100.0
     });
-    let (lo_rpm, hi_rpm) = parse_pair(&a.common.speed_range, "--speed-range")?;
+    let (lo_rpm, hi_rpm) = parse_pair(
+        a.common.speed_range.as_deref().unwrap_or("1000:5000"),
+        "--speed-range",
+    )?;
     let sim = sim_config(&a.common);
 
     // The list of sets, in generation order (each: effect kind, family).
@@ -390,6 +692,7 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
                 plan.push(("none", Family::ALL[i % 4]));
             }
         }
+        Kind::Kubo => unreachable!("kubo batches are made by run_kubo_batch"),
         Kind::Discover => {
             for (kind, n) in [
                 ("none", a.seeds),
@@ -413,8 +716,14 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
         let mut rng = ChaCha20Rng::seed_from_u64(mix(seed, 1));
         let (zeta, omega_n, loads, factors) = match a.kind {
             Kind::Validate => {
-                let (zl, zh) = parse_pair(&a.zeta_range, "--zeta-range")?;
-                let (wl, wh) = parse_pair(&a.omega_n_range, "--omega-n-range")?;
+                let (zl, zh) = parse_pair(
+                    a.zeta_range.as_deref().unwrap_or("0.012:0.035"),
+                    "--zeta-range",
+                )?;
+                let (wl, wh) = parse_pair(
+                    a.omega_n_range.as_deref().unwrap_or("1450:1750"),
+                    "--omega-n-range",
+                )?;
                 let (fl, fh) = parse_pair(&a.ste_factor_range, "--ste-factor-range")?;
                 let zeta = rng.random_range(zl..=zh);
                 let omega_n = rng.random_range(wl..=wh);
@@ -429,7 +738,7 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
                     .collect();
                 (zeta, omega_n, loads, Some(factors))
             }
-            Kind::Discover => (a.zeta, a.omega_n_hz, base_loads.clone(), None),
+            Kind::Discover | Kind::Kubo => (a.zeta, a.omega_n_hz, base_loads.clone(), None),
         };
         let phase = rng.random_range(0.0..2.0 * PI);
         let effect = match kind {
@@ -560,6 +869,7 @@ fn main() {
     let cli = Cli::parse();
     let r = match cli.cmd {
         Cmd::Set(a) => run_set(a),
+        Cmd::KuboSet(a) => run_kubo_set(a),
         Cmd::Batch(a) => run_batch(a),
     };
     if let Err(e) = r {

@@ -95,6 +95,41 @@ impl Excitation {
     }
 }
 
+impl Excitation {
+    /// Mesh force 2 zeta q' + k(t) f(q) (units of b k_h) with the region's branch of f; the
+    /// dynamic factor is its largest value over the steady state divided by F_m (paper Sec. 7:
+    /// D_L = (2 zeta q' + f(q)) / F_m).
+    #[inline]
+    pub fn mesh_force(&self, t: f64, q: f64, v: f64, region: i8) -> f64 {
+        let fq = match region {
+            1 => q - 1.0,
+            -1 => q + 1.0,
+            _ => 0.0,
+        };
+        let k = if fq == 0.0 { 1.0 } else { self.stiffness(t) };
+        2.0 * self.zeta * v + k * fq
+    }
+
+    /// d/dt of the mesh force along a trajectory of the region: 2 zeta q'' + k f'(q) q' + k' f(q).
+    #[inline]
+    pub fn mesh_force_dot(&self, t: f64, q: f64, v: f64, region: i8) -> f64 {
+        let a = self.accel(t, q, v, region);
+        let (fq, dfq) = match region {
+            1 => (q - 1.0, 1.0),
+            -1 => (q + 1.0, 1.0),
+            _ => (0.0, 0.0),
+        };
+        let mut d = 2.0 * self.zeta * a;
+        if dfq != 0.0 {
+            d += self.stiffness(t) * v;
+            if self.eps != 0.0 {
+                d -= self.eps * self.omega * (self.omega * t + self.psi_k).sin() * fq;
+            }
+        }
+        d
+    }
+}
+
 /// The region of eq. 3c a state belongs to.
 pub fn region_of(q: f64, v: f64) -> i8 {
     if q > 1.0 || (q == 1.0 && v > 0.0) {

@@ -167,6 +167,8 @@ struct Tracker {
     event: Option<Event>,
     measure: bool,
     ext: Extremes,
+    /// Largest mesh force 2 zeta q' + k f(q) over the measured periods.
+    fmax: f64,
     steps: u64,
 }
 
@@ -256,6 +258,26 @@ impl System<f64, State> for Segment<'_> {
                 self.tr.ext.add(her.q(s) + ex.ste(her.t(s)));
             }
             self.tr.ext.add(y[0] + ex.ste(t));
+            // Mesh force: its value at the step's end, and an interior maximum where its
+            // derivative changes sign from + to - (root on the Hermite interpolant).
+            let r = self.region;
+            let g1 = ex.mesh_force(t, y[0], y[1], r);
+            if g1 > self.tr.fmax {
+                self.tr.fmax = g1;
+            }
+            let gd0 = ex.mesh_force_dot(self.tr.prev_t, self.tr.prev_y[0], self.tr.prev_y[1], r);
+            let gd1 = ex.mesh_force_dot(t, y[0], y[1], r);
+            if gd0 > 0.0 && gd1 <= 0.0 {
+                let s = bisect(
+                    |s| ex.mesh_force_dot(her.t(s), her.q(s), her.v(s), r),
+                    0.0,
+                    1.0,
+                );
+                let g = ex.mesh_force(her.t(s), her.q(s), her.v(s), r);
+                if g > self.tr.fmax {
+                    self.tr.fmax = g;
+                }
+            }
         }
         self.tr.prev_t = t;
         self.tr.prev_y = *y;
@@ -322,6 +344,7 @@ fn one_period(
     cfg: &SimConfig,
     measure: bool,
     ext: &mut Extremes,
+    fmax: &mut f64,
     steps: &mut u64,
 ) -> Result<(), IntegrationError> {
     let mut t = 0.0;
@@ -333,10 +356,12 @@ fn one_period(
         event: None,
         measure,
         ext: *ext,
+        fmax: *fmax,
         steps: 0,
     };
     if measure {
         tr.ext.add(c.y[0] + ex.ste(0.0));
+        tr.fmax = tr.fmax.max(ex.mesh_force(0.0, c.y[0], c.y[1], c.region));
     }
     let mut guard = 0;
     loop {
@@ -410,12 +435,14 @@ fn one_period(
                 t = ev.t;
                 if measure {
                     tr.ext.add(c.y[0] + ex.ste(t));
+                    tr.fmax = tr.fmax.max(ex.mesh_force(t, c.y[0], c.y[1], c.region));
                 }
             }
         }
     }
     c.h = tr.last_h;
     *ext = tr.ext;
+    *fmax = tr.fmax;
     *steps += tr.steps;
     Ok(())
 }
@@ -425,6 +452,9 @@ fn one_period(
 pub struct SteadyPoint {
     /// Peak-to-peak of x = q + e/b (dimensionless; times b gives um).
     pub x_pp: f64,
+    /// Largest mesh force 2 zeta q' + k f(q) over the same periods (units of b k_h; D_L =
+    /// force_max / F_m).
+    pub force_max: f64,
     /// Least period found (in forcing periods), or None when the section did not repeat within
     /// the transient budget (chaotic, or still converging).
     pub period: Option<usize>,
@@ -455,6 +485,7 @@ pub fn steady_state(
     let mut dist = f64::INFINITY;
     let mut steps = 0u64;
     let mut dummy = Extremes::new();
+    let mut dummy_f = f64::NEG_INFINITY;
     let mut k = 0usize;
     let mut limit = budget;
     let mut min_dist = f64::INFINITY;
@@ -469,7 +500,7 @@ pub fn steady_state(
                 break;
             }
         }
-        one_period(ex, c, period, cfg, false, &mut dummy, &mut steps)?;
+        one_period(ex, c, period, cfg, false, &mut dummy, &mut dummy_f, &mut steps)?;
         k += 1;
         hist.push_back(c.y);
         if hist.len() > cfg.max_period + 1 {
@@ -513,6 +544,7 @@ pub fn steady_state(
         }
     }
     let mut ext = Extremes::new();
+    let mut fmax = f64::NEG_INFINITY;
     let (mut qmin, mut qmax) = (f64::INFINITY, f64::NEG_INFINITY);
     let measure_periods = match found {
         Some(p) => p,
@@ -520,7 +552,7 @@ pub fn steady_state(
     };
     // q range: sample the section only (diagnostic).
     for _ in 0..measure_periods {
-        one_period(ex, c, period, cfg, true, &mut ext, &mut steps)?;
+        one_period(ex, c, period, cfg, true, &mut ext, &mut fmax, &mut steps)?;
         qmin = qmin.min(c.y[0]);
         qmax = qmax.max(c.y[0]);
     }
@@ -530,11 +562,12 @@ pub fn steady_state(
         // converged period-p orbit is (64 mod p) periods.
         let extra = (cfg.window_periods.saturating_sub(p) + cfg.carry_shift) % p;
         for _ in 0..extra {
-            one_period(ex, c, period, cfg, false, &mut dummy, &mut steps)?;
+            one_period(ex, c, period, cfg, false, &mut dummy, &mut dummy_f, &mut steps)?;
         }
     }
     Ok(SteadyPoint {
         x_pp: ext.max - ext.min,
+        force_max: fmax,
         period: found,
         transient_periods: k,
         section_distance: dist,

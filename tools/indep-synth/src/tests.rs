@@ -244,3 +244,125 @@ fn brief_contact_after_an_event_does_not_stall_the_integration() {
         .iter()
         .all(|p| p.dte_pp_um.is_finite() && p.dte_pp_um > 0.0));
 }
+
+// ---- Kubo mode ----
+
+/// D_L of the linear model in contact (k = 1): q = 1 + F_m + y, y'' + 2 zeta y' + y =
+/// W^2 F_ah sin(W t), so y = Im(Y e^{i W t}), Y = W^2 F_ah / (1 - W^2 + 2 i zeta W); the mesh
+/// force 2 zeta q' + (q - 1) = F_m + Im((1 + 2 i zeta W) Y e^{i W t}), whose maximum over a period
+/// is F_m + |1 + 2 i zeta W| |Y|:
+///   D_L = 1 + W^2 F_ah sqrt(1 + 4 zeta^2 W^2) / (F_m sqrt((1 - W^2)^2 + 4 zeta^2 W^2)),
+/// valid while q stays above 1 (F_m > |Y|).
+fn linear_dl(zeta: f64, w: f64, fm: f64, fah: f64) -> (f64, bool) {
+    let den = ((1.0 - w * w).powi(2) + 4.0 * zeta * zeta * w * w).sqrt();
+    let y = w * w * fah / den;
+    (
+        1.0 + y * (1.0 + 4.0 * zeta * zeta * w * w).sqrt() / fm,
+        fm > y,
+    )
+}
+
+#[test]
+fn kubo_dynamic_factor_in_contact_matches_closed_form() {
+    use crate::kubo::{dl_curve, KUBO_RIG_TOML};
+    let rig = Rig::from_toml_str(KUBO_RIG_TOML).unwrap();
+    let b = rig.b_um();
+    let (kh, _) = rig.mesh_stiffness();
+    let fm = 2000.0 / (b * kh);
+    let fah = 3.0 / b;
+    for &(zeta, fn_hz) in &[(0.1, 2500.0), (0.15, 2800.0)] {
+        // Speeds where the linear solution keeps contact (below and above the resonance).
+        let speeds = [2000.0, 3500.0, 4500.0, 8000.0, 10000.0];
+        let c = dl_curve(&rig, zeta, fn_hz, 2000.0, 3.0, &speeds, &SimConfig::default()).unwrap();
+        for p in &c.points {
+            let (exact, contact) = linear_dl(zeta, p.omega, fm, fah);
+            assert!(contact, "W {} not in contact", p.omega);
+            assert_eq!(p.period, Some(1));
+            assert!(
+                (p.dynamic_factor - exact).abs() < 1e-6,
+                "zeta {zeta} W {}: {} vs {}",
+                p.omega,
+                p.dynamic_factor,
+                exact
+            );
+        }
+    }
+    // Single point with a stiffer sweep start (fresh state), at a larger F_m / F_ah.
+    let mut e = ex(0.8);
+    e.zeta = 0.1;
+    let mut c = Carried::new(1.0 + e.fm, 0.0);
+    let sp = steady_state(&e, &mut c, &SimConfig::default()).unwrap();
+    let (exact, contact) = linear_dl(0.1, 0.8, e.fm, e.fah);
+    assert!(contact);
+    assert!((sp.force_max / e.fm - exact).abs() < 1e-6);
+}
+
+#[test]
+fn kubo_dynamic_factor_with_separation_converges_with_the_tolerance() {
+    use crate::kubo::{dl_curve, KUBO_RIG_TOML};
+    let rig = Rig::from_toml_str(KUBO_RIG_TOML).unwrap();
+    // zeta 0.06, 2200 Hz: the teeth separate over the resonance and the up-sweep jumps.
+    let speeds: Vec<f64> = (0..=12).map(|i| 4200.0 + 100.0 * i as f64).collect();
+    let run = |rtol: f64| {
+        let cfg = SimConfig {
+            rtol,
+            atol: rtol / 100.0,
+            ..SimConfig::default()
+        };
+        dl_curve(&rig, 0.06, 2200.0, 2000.0, 3.0, &speeds, &cfg).unwrap()
+    };
+    let a = run(1e-10);
+    let b = run(1e-12);
+    let fm = a.fm;
+    let fah = a.fah;
+    let mut separated = 0;
+    for (p, q) in a.points.iter().zip(&b.points) {
+        assert!((p.dynamic_factor - q.dynamic_factor).abs() < 1e-7);
+        if !linear_dl(0.06, p.omega, fm, fah).1 {
+            separated += 1;
+        }
+    }
+    assert!(separated > 3, "expected separation in the sweep");
+}
+
+#[test]
+fn kubo_reading_errors_have_the_stated_sd() {
+    use crate::kubo::{KFamily, KNoise};
+    use rand_chacha::rand_core::SeedableRng;
+    let n = 200_000;
+    let level = 1.6;
+    for fam in [KFamily::Gaussian, KFamily::StudentT, KFamily::Quantized] {
+        let spec = KNoise {
+            family: fam,
+            relative: 0.02,
+            floor: 0.01,
+            dof: 3.0,
+            quantum: 0.02,
+        };
+        let t = rand_distr::StudentT::new(3.0).unwrap();
+        let mut rng = rand_chacha::ChaCha20Rng::seed_from_u64(11);
+        let y: Vec<f64> = (0..n).map(|_| spec.draw(level, &mut rng, &t).0).collect();
+        let m = y.iter().sum::<f64>() / n as f64;
+        let sd = (y.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt();
+        let mut want = spec.sd(level);
+        if fam == KFamily::Quantized {
+            // Sheppard: rounding to a grid q adds q^2 / 12 to the variance.
+            want = (want * want + 0.02f64.powi(2) / 12.0).sqrt();
+            assert!(y.iter().all(|v| ((v / 0.02) - (v / 0.02).round()).abs() < 1e-9));
+        }
+        let tol = if fam == KFamily::StudentT { 0.08 } else { 0.01 };
+        assert!((sd / want - 1.0).abs() < tol, "{fam:?}: sd {sd} vs {want}");
+        assert!((m - level).abs() < 5e-4, "{fam:?}: mean {m}");
+    }
+}
+
+#[test]
+fn kubo_pair_ste_factors_have_the_stated_scatter() {
+    let f = crate::kubo::pair_factors(100_000, 0.05, 5);
+    let n = f.len() as f64;
+    let m = f.iter().sum::<f64>() / n;
+    let sd = (f.iter().map(|v| (v - m).powi(2)).sum::<f64>() / (n - 1.0)).sqrt();
+    assert!((m - 1.0).abs() < 1e-3, "{m}");
+    assert!((sd / 0.05 - 1.0).abs() < 0.01, "{sd}");
+    assert_eq!(crate::kubo::pair_factors(8, 0.05, 5), f[..8].to_vec());
+}
