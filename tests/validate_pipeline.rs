@@ -8,8 +8,8 @@ use geardyn::data::{load_kubo, load_munro};
 use geardyn::model::{Dimensional, GearPair};
 use geardyn::progress::NoProgress;
 use geardyn::validate::{
-    simulate_dte_curve, synth_kubo, synth_munro, validate_kubo, validate_munro, KuboOptions,
-    KuboTruth, MunroOptions, MunroTruth,
+    simulate_dte_curve, synth_kubo, synth_munro, validate_kubo, validate_munro, KuboFitPath,
+    KuboOptions, KuboTruth, MunroOptions, MunroTruth,
 };
 
 fn within(v: f64, ci: (Option<f64>, Option<f64>)) -> bool {
@@ -219,8 +219,14 @@ fn kubo_fit_takes_the_whole_curve_when_the_teeth_separate() {
 /// A rig whose teeth separate at nearly every measured speed (zeta 0.05, an STE of 8 um at
 /// 2000 N, speeds from Omega 0.76 up): too few points have D_L < 1.8 for the contact part to be fitted at all, which
 /// ended the run before the whole-curve fit existed ("only N points ... give zeta"); now the
-/// whole curve is fitted, within 4 standard errors of the truth.
+/// whole curve is fitted, within 4 standard errors of the truth, the model inside the
+/// envelope at over 90% of the speeds. Every start about the measured peak (the separated
+/// branch grows to 8700 rpm) ended at zeta 0.33-0.36, 1180-1320 Hz, inside at 13-18% (with
+/// standard errors wide enough to pass the first check); the starts screened on a coarse grid
+/// reach the truth (0.061 [0.048, 0.062], 2199 Hz, inside at 98%). About 4 minutes on 2
+/// cores (the impact-heavy sweeps near the truth), so it runs in `.ci/run`.
 #[test]
+#[ignore = "about 4 minutes; run by .ci/run"]
 fn kubo_curve_without_a_contact_part_is_fitted_whole() {
     let dir = tempfile::tempdir().unwrap();
     let truth = KuboTruth {
@@ -249,6 +255,7 @@ fn kubo_curve_without_a_contact_part_is_fitted_whole() {
         r.parameter_source
     );
     let fit = r.fit.as_ref().unwrap();
+    assert!(r.inside_fraction > 0.9, "inside {}", r.inside_fraction);
     for (i, t) in [truth.zeta, truth.omega_n_hz].into_iter().enumerate() {
         let z = (fit.params[i] - t) / fit.std_errors[i];
         assert!(z.abs() < 4.0, "{}: z = {z}", fit.names[i]);
@@ -283,6 +290,108 @@ fn kubo_contact_fit_that_runs_away_falls_back_to_the_whole_curve() {
         "zeta {} [{lo:?}, {hi:?}]",
         r.zeta
     );
+}
+
+/// An envelope of 4 tooth pairs with 8% scatter (seed 15) whose first contact fit, on the
+/// points with measured D_L < 1.8, runs zeta towards 0 (1e-12): the model's own point
+/// selection at that zeta, refitted, recovers (zeta 0.115, truth 0.1 inside its interval). A
+/// guard that stopped the selection at any zeta outside the plausible range sent 17 such sets
+/// of 200 to the whole curve, which this test fails.
+#[test]
+fn kubo_first_contact_fit_towards_zero_damping_recovers_by_the_selection() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = KuboTruth {
+        seed: 15,
+        tooth_pairs: 4,
+        pair_scatter: 0.08,
+        dop853_rtol: Some(1e-7),
+        ..KuboTruth::default_kubo()
+    };
+    synth_kubo(&truth, dir.path(), &NoProgress).unwrap();
+    let data = load_kubo(dir.path()).unwrap();
+    let opts = KuboOptions {
+        fit_path: KuboFitPath::ContactPart,
+        ..KuboOptions::default()
+    };
+    let r = validate_kubo(&data, &opts, &NoProgress).unwrap();
+    let (lo, hi) = r.ci95_profile[0];
+    assert!(
+        lo.unwrap() < truth.zeta && truth.zeta < hi.unwrap(),
+        "zeta {} [{lo:?}, {hi:?}]",
+        r.zeta
+    );
+}
+
+/// `--fit whole` fits the whole curve where the contact part alone would do (the default
+/// envelope, 8 pairs, 4%, seed 2): the peak it adds determines zeta several times better (the
+/// standard error 0.0017 against 0.013 here; asserted: at least 3x) and omega_n better (4.6
+/// against 11.2 Hz; asserted: 1.5x), the two estimates agree
+/// within their contact-fit standard errors, and the truth is within 4 standard errors of the
+/// whole-curve fit. `--fit contact` on a lightly damped set whose contact part does not
+/// determine zeta with the STE held (`--hold-ste`) is refused with a hint to fit the whole
+/// curve, not silently switched.
+#[test]
+fn kubo_fit_path_is_the_one_asked_for() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = KuboTruth {
+        seed: 2,
+        ..KuboTruth::default_kubo()
+    };
+    synth_kubo(&truth, dir.path(), &NoProgress).unwrap();
+    let data = load_kubo(dir.path()).unwrap();
+    let run = |fit_path| {
+        let opts = KuboOptions {
+            fit_path,
+            ..KuboOptions::default()
+        };
+        validate_kubo(&data, &opts, &NoProgress)
+    };
+    let contact = run(KuboFitPath::ContactPart).unwrap();
+    let whole = run(KuboFitPath::WholeCurve).unwrap();
+    assert!(contact.parameter_source.contains("contact part"));
+    assert_eq!(
+        whole.parameter_source,
+        "fitted to the whole curve by simulated up-sweeps"
+    );
+    let (c, w) = (contact.fit.unwrap(), whole.fit.unwrap());
+    for (i, gain) in [(0, 3.0), (1, 1.5)] {
+        assert!(
+            w.std_errors[i] * gain < c.std_errors[i],
+            "{}: whole SE {} vs contact {}",
+            c.names[i],
+            w.std_errors[i],
+            c.std_errors[i]
+        );
+        assert!(
+            (w.params[i] - c.params[i]).abs() < c.std_errors[i],
+            "{}: whole {} vs contact {} +- {}",
+            c.names[i],
+            w.params[i],
+            c.params[i],
+            c.std_errors[i]
+        );
+        let t = [truth.zeta, truth.omega_n_hz][i];
+        let z = (w.params[i] - t) / w.std_errors[i];
+        assert!(z.abs() < 4.0, "{}: z = {z}", w.names[i]);
+    }
+
+    let light = tempfile::tempdir().unwrap();
+    let truth = KuboTruth {
+        zeta: 0.06,
+        omega_n_hz: 2200.0,
+        seed: 3,
+        dop853_rtol: Some(1e-9),
+        ..KuboTruth::default_kubo()
+    };
+    synth_kubo(&truth, light.path(), &NoProgress).unwrap();
+    let data = load_kubo(light.path()).unwrap();
+    let opts = KuboOptions {
+        fit_path: KuboFitPath::ContactPart,
+        hold_ste: true,
+        ..KuboOptions::default()
+    };
+    let e = validate_kubo(&data, &opts, &NoProgress).unwrap_err();
+    assert!(e.to_string().contains("--fit whole"), "{e}");
 }
 
 /// The shipped data set runs end to end through the CLI and writes the artifacts; every image

@@ -9,8 +9,8 @@ use geardyn::report::{
     data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
 };
 use geardyn::validate::{
-    validate_kubo, validate_munro, GeometryOptions, KuboOptions, LoadResult, MunroOptions,
-    ReliefRule, SteMode,
+    validate_kubo, validate_munro, GeometryOptions, KuboFitPath, KuboOptions, LoadResult,
+    MunroOptions, ReliefRule, SteMode,
 };
 use std::path::PathBuf;
 
@@ -28,7 +28,7 @@ enum Which {
     Munro(MunroArgs),
     /// Dynamic-factor envelope at one load (Kubo layout, Fig. 23).
     #[command(after_help = super::examples::VALIDATE)]
-    Kubo(Dirs),
+    Kubo(KuboArgs),
 }
 
 #[derive(ClapArgs, Debug)]
@@ -43,6 +43,40 @@ struct Dirs {
     /// Parent folder of the report folder (reports/munro or reports/kubo).
     #[arg(long, default_value = "reports")]
     reports: PathBuf,
+}
+
+#[derive(ClapArgs, Debug)]
+struct KuboArgs {
+    #[command(flatten)]
+    dirs: Dirs,
+    /// What zeta and omega_n are fitted to (when rig.toml does not give them). auto: the part
+    /// of the envelope where the teeth stay in contact (closed form, hundredths of a second),
+    /// the whole curve when that part does not determine zeta; contact: that part only; whole:
+    /// the whole curve through simulated up-sweeps, the peak and jump included (narrower
+    /// intervals, about 4 s).
+    #[arg(long, value_enum, default_value_t = KuboFit::Auto)]
+    fit: KuboFit,
+    /// Hold the STE amplitude at rig.toml's value. By default a stated STE is where the fit
+    /// starts it: a nominal STE held as exact biases zeta and narrows its interval.
+    #[arg(long)]
+    hold_ste: bool,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum KuboFit {
+    Auto,
+    Contact,
+    Whole,
+}
+
+impl KuboFit {
+    fn path(self) -> KuboFitPath {
+        match self {
+            KuboFit::Auto => KuboFitPath::Auto,
+            KuboFit::Contact => KuboFitPath::ContactPart,
+            KuboFit::Whole => KuboFitPath::WholeCurve,
+        }
+    }
 }
 
 #[derive(ClapArgs, Debug)]
@@ -152,7 +186,7 @@ fn load_line(l: &LoadResult) -> String {
 pub fn run(a: Args) -> anyhow::Result<()> {
     let d = match &a.which {
         Which::Munro(m) => &m.dirs,
-        Which::Kubo(d) => d,
+        Which::Kubo(k) => &k.dirs,
     };
     check_out_dir("--fits", &d.fits)?;
     check_out_dir("--reports", &d.reports)?;
@@ -219,9 +253,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             }
             (written, data_kind_banner(&data.rig), s)
         }
-        Which::Kubo(d) => {
+        Which::Kubo(k) => {
+            let d = &k.dirs;
             let data = load_kubo(&data_dir(d.data.as_deref(), "kubo")?)?;
-            let r = validate_kubo(&data, &KuboOptions::default(), &Bar::new())?;
+            let opts = KuboOptions {
+                fit_path: k.fit.path(),
+                hold_ste: k.hold_ste,
+                ..KuboOptions::default()
+            };
+            let r = validate_kubo(&data, &opts, &Bar::new())?;
             let written = write_kubo_report(&data, &r, &d.fits, &d.reports.join("kubo"))?;
             let s = format!(
                 "zeta {:.4}, omega_n {:.1} Hz ({}), model inside the envelope at {:.0}% of speeds, jump error {}\n",

@@ -29,9 +29,11 @@ pub enum NoiseSetting {
     Stated(NoiseModel),
     /// A stated standard deviation of each point (a per-point column).
     PerPoint(Vec<f64>),
-    /// Known relative scales c_i: sigma_i = s c_i with s estimated (e.g. the level of an
-    /// envelope of tooth pairs, whose scatter grows with it).
-    Proportional(Vec<f64>),
+    /// sigma_i = s |mu_i|, proportional to the model's level with s estimated (an envelope of
+    /// tooth pairs, whose scatter grows with it); held as the noise model with no floor and
+    /// relative part s. The level is the model's, as for [`NoiseSetting::Estimate`]: weighting
+    /// by the measured value would favour the points that happen to read low.
+    ProportionalToLevel,
 }
 
 /// Whether the Student-t likelihood is used.
@@ -63,7 +65,7 @@ impl NoiseSetting {
     fn estimated_parameters(&self) -> usize {
         match self {
             NoiseSetting::Estimate(f) => 1 + usize::from(f.relative),
-            NoiseSetting::Proportional(_) => 1,
+            NoiseSetting::ProportionalToLevel => 1,
             NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_) => 0,
         }
     }
@@ -83,8 +85,9 @@ pub enum NoiseSource {
 #[derive(Clone, Debug, Serialize)]
 pub struct NoiseFit {
     pub source: NoiseSource,
-    /// The fitted (or stated) model; for per-point and proportional noise, its floor is the
-    /// common scale s (1 for per-point) and its relative part 0.
+    /// The fitted (or stated) model; for per-point noise its floor is 1 (the stated scales are
+    /// the sigma_i), for noise proportional to the level its floor is 0 and its relative part
+    /// the common factor s.
     pub model: NoiseModel,
     /// 95% intervals of the floor and the relative part (estimated models only).
     pub floor_ci95: Option<(f64, f64)>,
@@ -230,31 +233,40 @@ fn noise_at(
                 let scales: Vec<f64> = data.levels.iter().map(|l| m.scale(*l)).collect();
                 Ok((m, -log_likelihood(dist, data.residuals, &scales)))
             }
-            NoiseSetting::PerPoint(sd) | NoiseSetting::Proportional(sd) => {
-                // Residuals in units of the stated scales: a floor-only model of them is the
-                // common factor s (held at 1 for per-point noise).
+            NoiseSetting::PerPoint(sd) => {
+                let m = NoiseModel {
+                    distribution: dist,
+                    ..NoiseModel::constant(1.0)
+                };
+                let ones = vec![1.0; sd.len()];
                 let r: Vec<f64> = data.residuals.iter().zip(sd).map(|(r, c)| r / c).collect();
+                let ll = log_likelihood(dist, &r, &ones) - sd.iter().map(|c| c.ln()).sum::<f64>();
+                Ok((m, -ll))
+            }
+            NoiseSetting::ProportionalToLevel => {
+                // Residuals in units of the level: a floor-only model of them is the common
+                // factor s.
+                let c = proportional_levels(data.levels);
+                let r: Vec<f64> = data.residuals.iter().zip(&c).map(|(r, c)| r / c).collect();
                 let zero = vec![0.0; r.len()];
                 let scaled = NoiseData {
                     residuals: &r,
                     levels: &zero,
                     leverages: data.leverages,
                 };
-                let s = if matches!(setting, NoiseSetting::PerPoint(_)) {
-                    NoiseModel {
-                        distribution: dist,
-                        ..NoiseModel::constant(1.0)
-                    }
-                } else {
-                    let freedom = NoiseFreedom {
-                        floor_min: 0.0,
-                        relative: false,
-                    };
-                    estimate_noise(&scaled, freedom, dist)?.0
+                let freedom = NoiseFreedom {
+                    floor_min: 0.0,
+                    relative: false,
                 };
+                let s = estimate_noise(&scaled, freedom, dist)?.0;
                 let ones = vec![s.floor; r.len()];
-                let ll = log_likelihood(dist, &r, &ones) - sd.iter().map(|c| c.ln()).sum::<f64>();
-                Ok((s, -ll))
+                let ll = log_likelihood(dist, &r, &ones) - c.iter().map(|c| c.ln()).sum::<f64>();
+                let m = NoiseModel {
+                    floor: 0.0,
+                    relative: s.floor,
+                    distribution: dist,
+                };
+                Ok((m, -ll))
             }
         }
     };
@@ -277,11 +289,21 @@ fn noise_at(
 
 fn scales_of(setting: &NoiseSetting, m: &NoiseModel, levels: &[f64]) -> Vec<f64> {
     match setting {
-        NoiseSetting::PerPoint(sd) | NoiseSetting::Proportional(sd) => {
-            sd.iter().map(|c| m.floor * c).collect()
-        }
+        NoiseSetting::PerPoint(sd) => sd.iter().map(|c| m.floor * c).collect(),
+        NoiseSetting::ProportionalToLevel => proportional_levels(levels)
+            .iter()
+            .map(|c| m.relative * c)
+            .collect(),
         _ => levels.iter().map(|l| m.scale(*l)).collect(),
     }
+}
+
+/// |mu_i| as the relative scales of noise proportional to the level, kept above a millionth of
+/// the largest so that a point at a zero of the curve does not take all the weight.
+fn proportional_levels(levels: &[f64]) -> Vec<f64> {
+    let top = levels.iter().map(|l| l.abs()).fold(0.0, f64::max);
+    let least = (1e-6 * top).max(f64::MIN_POSITIVE);
+    levels.iter().map(|l| l.abs().max(least)).collect()
 }
 
 /// A converged fit under one error distribution.
@@ -359,8 +381,10 @@ fn initial_weights(setting: &NoiseSetting, y: &[f64]) -> Vec<f64> {
     match setting {
         NoiseSetting::Estimate(_) => vec![1.0; y.len()],
         NoiseSetting::Stated(m) => y.iter().map(|v| m.scale(*v).powi(-2)).collect(),
-        NoiseSetting::PerPoint(sd) | NoiseSetting::Proportional(sd) => {
-            sd.iter().map(|c| c.powi(-2)).collect()
+        NoiseSetting::PerPoint(sd) => sd.iter().map(|c| c.powi(-2)).collect(),
+        // The first fit has no model level yet: the data's own.
+        NoiseSetting::ProportionalToLevel => {
+            proportional_levels(y).iter().map(|c| c.powi(-2)).collect()
         }
     }
 }
@@ -451,7 +475,7 @@ fn satterthwaite_dof(
     let p = cov.nrows();
     let freedom = match setting {
         NoiseSetting::Estimate(f) => at_boundary(*f, &c.noise),
-        NoiseSetting::Proportional(_) => return vec![residual_dof as f64; p],
+        NoiseSetting::ProportionalToLevel => return vec![residual_dof as f64; p],
         NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_) => return vec![f64::INFINITY; p],
     };
     let data = NoiseData {
@@ -625,7 +649,7 @@ fn summarise(
         NoiseSetting::Estimate(_) => NoiseSource::Estimated,
         NoiseSetting::Stated(_) => NoiseSource::Stated,
         NoiseSetting::PerPoint(_) => NoiseSource::PerPoint,
-        NoiseSetting::Proportional(_) => NoiseSource::Proportional,
+        NoiseSetting::ProportionalToLevel => NoiseSource::Proportional,
     };
     Ok(Estimate {
         names: params.iter().map(|d| d.name.clone()).collect(),
@@ -658,4 +682,47 @@ fn summarise(
         model_jacobian: jf,
         param_defs: params.to_vec(),
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::validate::Rng;
+
+    /// A constant level a = 2 measured 400 times with errors of 20% of it: noise proportional
+    /// to the model's level recovers a without bias (the IRLS estimate is the plain mean here,
+    /// standard error a s / sqrt(n) = 0.02) and s within 15% (its standard error is about
+    /// s / sqrt(2 n), 3.5%). Weighting each point by its own measured value instead biases a
+    /// low by about 2 s^2 = 8% (16 standard errors), which this fails.
+    #[test]
+    fn noise_proportional_to_the_level_is_weighted_by_the_models_level() {
+        let (a, s, n) = (2.0, 0.2, 400);
+        let mut rng = Rng::new(7);
+        let y: Vec<f64> = (0..n).map(|_| a * (1.0 + s * rng.normal())).collect();
+        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
+        let opts = EstimateOptions {
+            noise: NoiseSetting::ProportionalToLevel,
+            robust: Robust::Off,
+            stop: Stop::converged(50),
+            starts: Vec::new(),
+        };
+        let e = estimate(&model, &y, &[Param::positive("a", 1.0)], &opts).unwrap();
+        let se = a * s / (n as f64).sqrt();
+        assert!(
+            (e.params[0] - a).abs() < 4.0 * se,
+            "a {} +- {se}",
+            e.params[0]
+        );
+        assert!(
+            (e.noise.model.relative / s - 1.0).abs() < 0.15,
+            "s {}",
+            e.noise.model.relative
+        );
+        assert_eq!(e.noise.model.floor, 0.0);
+        assert!(
+            (e.std_errors[0] / se - 1.0).abs() < 0.15,
+            "SE {}",
+            e.std_errors[0]
+        );
+    }
 }

@@ -31,6 +31,8 @@ pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
         "omega_n_hz_std_error": r.fit.as_ref().map(|f| f.std_errors[1]),
         "omega_n_hz_ci95": ci(1),
         "ste_um": r.ste_um,
+        "ste_um_std_error": r.fit.as_ref().and_then(|f| f.std_errors.get(2).copied()),
+        "ste_um_ci95": ci(2),
         "ste_source": r.ste_source,
         "load_n": r.load_n,
         "mean_force": r.mean_force,
@@ -206,9 +208,9 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             ],
             vec![
                 "STE amplitude".into(),
-                format!("{:.2}", r.ste_um),
-                "-".into(),
-                "-".into(),
+                format!("{:.3}", r.ste_um),
+                interval(fisher(2), 3),
+                profile(2, 3),
                 "µm".into(),
                 r.ste_source.clone(),
             ],
@@ -228,9 +230,9 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
     if let Some(fit) = &r.fit {
         page.paragraph(&format!(
             "Noise of the fit: each point's standard deviation is s times its level (the \
-             envelope's midline: the scatter between tooth pairs grows with D_L), s = {:.2}% \
+             model's D_L there: the scatter between tooth pairs grows with D_L), s = {:.2}% \
              estimated from the residuals ({} points, {} residual degrees of freedom).",
-            100.0 * fit.noise.model.floor,
+            100.0 * fit.noise.model.relative,
             fit.n,
             fit.residual_dof
         ));

@@ -617,7 +617,7 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         crate::fit::NoiseSource::Estimated => "estimated jointly with the fit",
         crate::fit::NoiseSource::Stated => "stated in rig.toml",
         crate::fit::NoiseSource::PerPoint => "stated per point (dte_pp_sd_um column)",
-        crate::fit::NoiseSource::Proportional => "proportional to stated scales",
+        crate::fit::NoiseSource::Proportional => "proportional to the level",
     };
     page.paragraph(&format!(
         "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom. Points beyond the Bonferroni bound: {}. The design load's teeth {} in contact at every measured speed under the fit. Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",

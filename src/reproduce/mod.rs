@@ -97,7 +97,10 @@ impl Resolution {
                 ic_per_axis: 3,
                 ..MunroOptions::default()
             },
-            kubo: KuboOptions { dense_points: 61 },
+            kubo: KuboOptions {
+                dense_points: 61,
+                ..KuboOptions::default()
+            },
         }
     }
 }

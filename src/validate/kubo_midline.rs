@@ -1,7 +1,7 @@
 //! The estimation problem both of `validate kubo`'s fits share: a model curve of D_L fitted to
 //! the envelope midline, zeta and omega_n (and the STE amplitude when rig.toml gives none), each
-//! point's noise scale its level. The contact-part fit ([`super::kubo`]) and the whole-curve
-//! fit ([`super::kubo_swept`]) differ only in the curve.
+//! point's noise proportional to the model's level. The contact-part fit ([`super::kubo`]) and
+//! the whole-curve fit ([`super::kubo_swept`]) differ only in the curve.
 
 use crate::data::KuboPoint;
 use crate::error::Result;
@@ -60,13 +60,18 @@ impl MidlineFit {
             &self.y,
             &self.params,
             &EstimateOptions {
-                // Each point's noise scale is its level, the midline: the scatter between tooth
-                // pairs grows with D_L, and the fit estimates the common factor. The envelope's
-                // half-width is that scale's noisiest estimate (the range of eight pairs varies
-                // by about 30% from speed to speed); weighting by it left the standard errors
-                // 10-20% small: on 200 synthetic sets omega_n's 95% interval covered the truth
-                // on 86.5-90.9%, against 94.5-96.5% with the level (docs/validation.md).
-                noise: NoiseSetting::Proportional(self.y.clone()),
+                // Each point's noise scale is proportional to its level: the scatter between
+                // tooth pairs grows with D_L, and the fit estimates the common factor. The level
+                // is the model's (iteratively reweighted), not the measured midline: weighting
+                // each point by its own measured value gives the points that happen to read low
+                // more weight, a curve biased low and zeta biased high (4 pairs, 8% scatter:
+                // +1.4%, 0.4 standard errors, on the whole-curve fit; docs/validation.md). A
+                // floor and a relative part both estimated are confounded over D_L 1-3 and
+                // widened the intervals (zeta covered 100% on 84 whole-curve fits). The
+                // envelope's half-width is the scale's noisiest estimate (the range of eight
+                // pairs varies by about 30% from speed to speed); weighting by it left the
+                // standard errors 10-20% small.
+                noise: NoiseSetting::ProportionalToLevel,
                 robust: Robust::Off,
                 stop: self.stop,
                 starts: starts.to_vec(),

@@ -21,7 +21,9 @@ pub use geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryModel,
     GeometryOperatingPoint, GeometryOptions, ReliefRule, StiffnessChoice,
 };
-pub use kubo::{validate_kubo, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT};
+pub use kubo::{
+    validate_kubo, KuboFitPath, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT,
+};
 pub use linear::{
     dte_gain, dte_pp_um, dte_pp_um_harmonics, load_factor_max, stays_in_contact,
     stays_in_contact_harmonics,
