@@ -224,9 +224,10 @@ fn kubo_fit_takes_the_whole_curve_when_the_teeth_separate() {
 /// branch grows to 8700 rpm) ended at zeta 0.33-0.36, 1180-1320 Hz, inside at 13-18% (with
 /// standard errors wide enough to pass the first check); the starts screened on a coarse grid
 /// reach the truth (0.061 [0.048, 0.062], 2199 Hz, inside at 98%). About 4 minutes on 2
-/// cores (the impact-heavy sweeps near the truth), so it runs in `.ci/run`.
+/// cores (the impact-heavy sweeps near the truth), over what `.ci/run` can take: run it with
+/// `cargo test --release --test validate_pipeline -- --ignored` (passed: 208 s).
 #[test]
-#[ignore = "about 4 minutes; run by .ci/run"]
+#[ignore = "about 4 minutes: cargo test --release --test validate_pipeline -- --ignored"]
 fn kubo_curve_without_a_contact_part_is_fitted_whole() {
     let dir = tempfile::tempdir().unwrap();
     let truth = KuboTruth {
