@@ -75,6 +75,10 @@ where
         1e-3 * centre.abs().max(1e-3)
     };
     let rise = (target - minimum).max(f64::MIN_POSITIVE);
+    // Inner fits that stop once they stall are accurate to `stop.stall` in the sum of
+    // squares, which places an end to stall / (2 q) standard errors (the profile's slope
+    // there is 2 q per standard error): a finer search only bisects that error.
+    let tolerance = END_TOLERANCE.max(stop.stall / (2.0 * est.quantile[index]));
     let side = |dir: f64| -> Result<Option<f64>> {
         let mut start = others.clone();
         let mut excess = |u: f64| -> Result<f64> {
@@ -103,7 +107,7 @@ where
                     hi,
                     f_lo,
                     f_hi,
-                    END_TOLERANCE * step,
+                    tolerance * step,
                 );
                 return match failed {
                     Some(e) => Err(e),

@@ -42,20 +42,6 @@ pub(super) struct SteSetting {
     pub held: Option<f64>,
     /// Where the fit starts it, um (the stated value when rig.toml states one).
     pub start: f64,
-    /// rig.toml's value, if it states one.
-    pub stated: Option<f64>,
-}
-
-impl SteSetting {
-    /// The setting of the whole-curve fit: a stated STE is held there. Fitted with zeta and
-    /// omega_n on a rig whose teeth separate at every speed (zeta 0.05, STE 8 um) the fit took
-    /// 4 minutes instead of seconds, and that path's coverage with a free STE was not studied.
-    pub fn whole_curve(self) -> SteSetting {
-        SteSetting {
-            held: self.held.or(self.stated),
-            ..self
-        }
-    }
 }
 
 /// The points where the model with (zeta, omega_n) keeps the teeth in contact: linear D_L below
@@ -173,10 +159,13 @@ impl ContactFit<'_> {
     }
 
     fn problem(&self) -> MidlineFit {
+        // The closed form is smooth: the fit and its profiles run to convergence.
+        let stop = Stop::converged(100).central();
         MidlineFit::new(
             midline(self.points.iter().copied()),
             self.ste_um,
-            Stop::converged(100).central(),
+            stop,
+            stop,
         )
     }
 
@@ -218,7 +207,6 @@ pub fn validate_kubo(
     let ste = SteSetting {
         held: ste_stated.filter(|_| opts.hold_ste),
         start: ste_stated.unwrap_or(1.0),
-        stated: ste_stated,
     };
     let par = match (rig.zeta, rig.omega_n_hz) {
         (Some(z), Some(w)) => given_parameters(data, z, w, ste_stated)?,
@@ -345,28 +333,14 @@ fn fit_parameters(
                 Ok(ContactOutcome::Undetermined { reached, .. }) => reached,
                 Err(_) => Vec::new(),
             };
-            fit_whole_curve(
-                data,
-                dim,
-                fm,
-                ste.whole_curve(),
-                &reached,
-                WHOLE_AS_ASKED,
-                progress,
-            )
+            fit_whole_curve(data, dim, fm, ste, &reached, WHOLE_AS_ASKED, progress)
         }
         KuboFitPath::Auto => match contact? {
             ContactOutcome::Usable(p) => Ok(*p),
-            ContactOutcome::Undetermined { reason, reached } => fit_whole_curve(
-                data,
-                dim,
-                fm,
-                ste.whole_curve(),
-                &reached,
-                WHOLE_AS_FALLBACK,
-                progress,
-            )
-            .map_err(|e| whole_curve_failed(data, reason, e)),
+            ContactOutcome::Undetermined { reason, reached } => {
+                fit_whole_curve(data, dim, fm, ste, &reached, WHOLE_AS_FALLBACK, progress)
+                    .map_err(|e| whole_curve_failed(data, reason, e))
+            }
         },
         KuboFitPath::ContactPart => match contact? {
             ContactOutcome::Usable(p) => Ok(*p),
@@ -399,13 +373,12 @@ fn fit_contact_part(
     fm: f64,
     ste: SteSetting,
 ) -> Result<ContactOutcome> {
-    let ste_given = ste.held;
     let contact: Vec<&KuboPoint> = data
         .points
         .iter()
         .filter(|p| p.dynamic_factor_max < CONTACT_LIMIT)
         .collect();
-    let k = 2 + usize::from(ste_given.is_none());
+    let k = 2 + usize::from(ste.held.is_none());
     if contact.len() < k + 3 {
         return Ok(ContactOutcome::Undetermined {
             reason: format!(
@@ -429,7 +402,7 @@ fn fit_contact_part(
         dim,
         fm,
         points,
-        ste_um: ste_given,
+        ste_um: ste.held,
     };
     let mut r = match problem_on(below.clone()).fit(&starts) {
         Ok(r) => r,
@@ -453,7 +426,7 @@ fn fit_contact_part(
         if !(zeta > 0.0 && zeta < 1.0) {
             break;
         }
-        let e = ste_of(ste_given, &r.params);
+        let e = ste_of(ste.held, &r.params);
         let used = contact_points(
             &all,
             dim,
@@ -489,14 +462,14 @@ fn fit_contact_part(
         });
     }
     Ok(ContactOutcome::Usable(Box::new(ModelParameters {
-        ste_um: ste_of(ste_given, &r.params),
+        ste_um: ste_of(ste.held, &r.params),
         zeta: r.params[0],
         omega_n_hz: r.params[1],
         fit: Some(r),
         profile,
         source: "fitted to the contact part of the curve",
         points_used: problem.points.len(),
-        ste_held: ste_given.is_some(),
+        ste_held: ste.held.is_some(),
     })))
 }
 

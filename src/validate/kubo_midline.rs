@@ -31,11 +31,14 @@ pub(super) struct MidlineFit {
     y: Vec<f64>,
     params: Vec<Param>,
     stop: Stop,
+    /// The stop of the profile intervals' inner fits.
+    profile_stop: Stop,
 }
 
 impl MidlineFit {
-    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_given`.
-    pub fn new(midline: Vec<f64>, ste_given: Option<f64>, stop: Stop) -> Self {
+    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_given`; the
+    /// fit stops at `stop`, the inner fits of its profile intervals at `profile_stop`.
+    pub fn new(midline: Vec<f64>, ste_given: Option<f64>, stop: Stop, profile_stop: Stop) -> Self {
         let mut params = vec![
             Param::positive("zeta", 0.1),
             Param::positive("omega_n_hz", 1000.0),
@@ -47,6 +50,7 @@ impl MidlineFit {
             y: midline,
             params,
             stop,
+            profile_stop,
         }
     }
 
@@ -85,7 +89,7 @@ impl MidlineFit {
         C: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
     {
         (0..est.params.len())
-            .map(|i| profile_interval(curve, &self.y, est, i, self.stop))
+            .map(|i| profile_interval(curve, &self.y, est, i, self.profile_stop))
             .collect()
     }
 }

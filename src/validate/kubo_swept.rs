@@ -12,8 +12,8 @@
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo::{carried_branch, ste_of, ModelParameters, SteSetting};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
-use crate::data::{KuboData, KuboPoint};
-use crate::error::Result;
+use crate::data::KuboData;
+use crate::error::{GearError, Result};
 use crate::fit::{Estimate, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
@@ -22,6 +22,24 @@ use rayon::prelude::*;
 
 /// Jacobians at most in the fit (a simulated curve: 10-30 on the sets tried).
 const SWEPT_JACOBIANS: usize = 60;
+
+/// The fit stops once three Jacobians gained less than this (sigma^2 units; see
+/// [`Stop::stall`]): within 0.01 standard errors of where it creeps to, far inside what the
+/// report prints (the creep took half the fit's 11 s on a set whose optimum lies at a jump).
+const FIT_STALL: f64 = 1e-4;
+/// The profile intervals' inner fits stop once three Jacobians gained less than this: an
+/// interval's end then lies within 0.01 / (2 x 1.96) = 0.003 standard errors. Creeping to
+/// convergence, they took 100 s of 115 on that set (0.3-0.9 s a sweep at the saddle-node);
+/// with this rule 15 s, the ends moving by less than 1e-5 of their values.
+const PROFILE_STALL: f64 = 1e-2;
+
+/// The least damping ratio the fit simulates. A sweep's transients last 30 / zeta forcing
+/// periods at each speed: at zeta 0.01 a sweep of 81 speeds took 0.02 s, at 4e-4 26 s and
+/// at 2e-5 129 s. Unbounded, the profile of a free STE on an independent envelope (set-035 of
+/// batch 515) ran zeta there and took over 12 minutes; the paper's lightest damping (Munro's
+/// rig, 0.0175) is 3.5 times the floor. A fit or profile end at the floor is reported as not
+/// determined by the curve.
+const SWEPT_ZETA_MIN: f64 = 0.005;
 
 /// Damping ratios the fit starts from, each at two natural frequencies: the light end of
 /// what a rig whose contact part did not determine zeta may have, to Kubo's 0.1 and beyond.
@@ -47,8 +65,8 @@ pub(super) fn fit_whole_curve(
     let problem = SweptFit {
         dim,
         fm,
-        points: &data.points,
         speeds: data.points.iter().map(|k| k.speed_rpm).collect(),
+        midline: midline(&data.points),
         ste_um: ste.held,
     };
     progress.start(2, "whole-curve fit (simulated up-sweeps)");
@@ -59,8 +77,20 @@ pub(super) fn fit_whole_curve(
     let profile = problem.profile(&fit)?;
     progress.advance(1);
     progress.finish();
+    let profile = unbounded_at_the_floor(profile);
     if let Some(reason) = fit_failure(&fit, &profile) {
         return Err(fit_failed(&data.dir, "fit to the whole curve", reason));
+    }
+    if fit.params[0] < FLOOR_REACHED * SWEPT_ZETA_MIN {
+        return Err(fit_failed(
+            &data.dir,
+            "fit to the whole curve",
+            format!(
+                "zeta = {:.4} ran to the least damping simulated ({SWEPT_ZETA_MIN}): the curve \
+                 shows no resonance that determines the damping",
+                fit.params[0]
+            ),
+        ));
     }
     Ok(ModelParameters {
         ste_um: ste_of(ste.held, &fit.params),
@@ -72,6 +102,23 @@ pub(super) fn fit_whole_curve(
         points_used: data.points.len(),
         ste_held: ste.held.is_some(),
     })
+}
+
+/// A zeta within this factor of [`SWEPT_ZETA_MIN`] lies at the floor: the fit could not go
+/// below it (a curve that fails there counts as infinitely bad), so the profile's lower end
+/// found there is the floor's, not the data's.
+const FLOOR_REACHED: f64 = 1.1;
+
+/// Profile intervals with zeta's lower end removed (unbounded) where it lies at the floor.
+fn unbounded_at_the_floor(
+    mut profile: Vec<(Option<f64>, Option<f64>)>,
+) -> Vec<(Option<f64>, Option<f64>)> {
+    if let Some((lo, _)) = profile.first_mut() {
+        if lo.is_some_and(|z| z < FLOOR_REACHED * SWEPT_ZETA_MIN) {
+            *lo = None;
+        }
+    }
+    profile
 }
 
 /// Starts of the whole-curve fit: each of [`START_ZETAS`] at the contact fit's natural
@@ -107,15 +154,22 @@ fn starts(data: &KuboData, dim: &Dimensional, near: &[f64], ste: SteSetting) -> 
 struct SweptFit<'a> {
     dim: &'a Dimensional,
     fm: f64,
-    points: &'a [KuboPoint],
     /// The measured speeds, rpm: the sweep's grid at every evaluation.
     speeds: Vec<f64>,
+    /// The envelope's midline at each of them: what is fitted.
+    midline: Vec<f64>,
     ste_um: Option<f64>,
 }
 
 impl SweptFit<'_> {
     /// The model's D_L at each measured speed on the up-sweep for (zeta, omega_n[, STE]).
     fn curve(&self, p: &[f64]) -> Result<Vec<f64>> {
+        if p[0].is_nan() || p[0] < SWEPT_ZETA_MIN {
+            return Err(GearError::Numerical(format!(
+                "zeta = {} is below the least damping the whole-curve fit simulates ({SWEPT_ZETA_MIN})",
+                p[0]
+            )));
+        }
         let ste = self
             .ste_um
             .unwrap_or_else(|| p.get(2).copied().unwrap_or(f64::NAN));
@@ -144,7 +198,7 @@ impl SweptFit<'_> {
         if !(f_lo > 0.0 && f_hi > f_lo) {
             return Vec::new();
         }
-        let y = midline(self.points);
+        let y = &self.midline;
         let grid: Vec<Vec<f64>> = START_ZETAS
             .iter()
             .flat_map(|&z| {
@@ -175,10 +229,12 @@ impl SweptFit<'_> {
     }
 
     fn problem(&self) -> MidlineFit {
+        let stop = Stop::converged(SWEPT_JACOBIANS).central();
         MidlineFit::new(
-            midline(self.points),
+            self.midline.clone(),
             self.ste_um,
-            Stop::converged(SWEPT_JACOBIANS).central(),
+            stop.or_stalled(FIT_STALL),
+            stop.or_stalled(PROFILE_STALL),
         )
     }
 
