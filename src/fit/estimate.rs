@@ -222,10 +222,6 @@ fn noise_at(
     data: &NoiseData,
     dist: Distribution,
 ) -> Result<(NoiseModel, Vec<f64>, f64)> {
-    // The relative scales of noise proportional to the level, once for every distribution
-    // tried and the scales returned.
-    let proportional = matches!(setting, NoiseSetting::ProportionalToLevel)
-        .then(|| proportional_levels(data.levels));
     let pick = |dist: Distribution| -> Result<(NoiseModel, f64)> {
         match setting {
             NoiseSetting::Estimate(freedom) => estimate_noise(data, *freedom, dist),
@@ -250,8 +246,8 @@ fn noise_at(
             NoiseSetting::ProportionalToLevel => {
                 // Residuals in units of the level: a floor-only model of them is the common
                 // factor s.
-                let c = proportional.as_deref().unwrap_or_default();
-                let r: Vec<f64> = data.residuals.iter().zip(c).map(|(r, c)| r / c).collect();
+                let c = proportional_levels(data.levels);
+                let r: Vec<f64> = data.residuals.iter().zip(&c).map(|(r, c)| r / c).collect();
                 let zero = vec![0.0; r.len()];
                 let scaled = NoiseData {
                     residuals: &r,
@@ -287,10 +283,7 @@ fn noise_at(
             best.ok_or_else(|| GearError::Numerical("no Student-t noise model".into()))?
         }
     };
-    let scales = match &proportional {
-        Some(c) => c.iter().map(|c| m.relative * c).collect(),
-        None => scales_of(setting, &m, data.levels),
-    };
+    let scales = scales_of(setting, &m, data.levels);
     Ok((m, scales, nll))
 }
 

@@ -124,8 +124,7 @@ struct State {
     best_u: Vec<f64>,
     best_r: Vec<f64>,
     best_rss: f64,
-    jacobians: usize,
-    /// The best sum of squares when each Jacobian was asked for.
+    /// The best sum of squares when each Jacobian was asked for: its length counts them.
     best_at_jacobian: Vec<f64>,
     evaluations: usize,
     /// Jacobian (internal coordinates) at `best_u`, when computed there.
@@ -358,10 +357,9 @@ where
         let u = self.u.as_slice().to_vec();
         let r0 = {
             let mut st = self.state.borrow_mut();
-            if st.jacobians > self.ev.stop.max_jacobians {
+            if st.best_at_jacobian.len() > self.ev.stop.max_jacobians {
                 return None;
             }
-            st.jacobians += 1;
             let best = st.best_rss;
             if stalled(&mut st.best_at_jacobian, best, self.ev.stop.stall) {
                 return None;
@@ -452,7 +450,6 @@ where
             best_rss: rss(&r0),
             best_u: u0,
             best_r: r0,
-            jacobians: 0,
             best_at_jacobian: Vec::new(),
             evaluations: 1,
             last_jacobian: None,
@@ -469,7 +466,6 @@ where
         best_u: Vec::new(),
         best_r: Vec::new(),
         best_rss: 0.0,
-        jacobians: 0,
         best_at_jacobian: Vec::new(),
         evaluations: 0,
         last_jacobian: None,

@@ -24,8 +24,13 @@ fn brief(v: f64) -> String {
 }
 
 /// The reason `est` (with the profile intervals `profile` of its first parameters) cannot be
-/// used, if any. Parameter 0 is zeta.
-pub fn fit_failure(est: &Estimate, profile: &[(Option<f64>, Option<f64>)]) -> Option<String> {
+/// used, if any. Parameter 0 is zeta, which must end inside `zeta_range` ([`FITTED_ZETA`], or
+/// a narrower range where the fit's model cannot go as far).
+pub fn fit_failure(
+    est: &Estimate,
+    profile: &[(Option<f64>, Option<f64>)],
+    zeta_range: (f64, f64),
+) -> Option<String> {
     if !(est.chi_square.is_finite() && est.log_likelihood.is_finite()) {
         return Some(format!(
             "the residual sum is not finite (chi-square {})",
@@ -48,13 +53,13 @@ pub fn fit_failure(est: &Estimate, profile: &[(Option<f64>, Option<f64>)]) -> Op
         }
     }
     let zeta = est.params.first().copied().unwrap_or(f64::NAN);
-    if !(FITTED_ZETA.0..=FITTED_ZETA.1).contains(&zeta) {
+    if !(zeta_range.0..=zeta_range.1).contains(&zeta) {
         return Some(format!(
             "zeta = {} ran to a bound (plausible fits end in [{}, {}]): the curve shows no \
              resonance that determines the damping",
             brief(zeta),
-            FITTED_ZETA.0,
-            FITTED_ZETA.1
+            brief(zeta_range.0),
+            brief(zeta_range.1)
         ));
     }
     for (i, (lo, hi)) in profile.iter().enumerate() {

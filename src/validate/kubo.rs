@@ -12,7 +12,7 @@
 //! state; refit until the selection repeats.
 
 use super::curve_metrics::{rms, transition_location};
-use super::fit_check::{fit_failed, fit_failure};
+use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
@@ -455,7 +455,7 @@ fn fit_contact_part(
     }
     let problem = problem.unwrap_or_else(|| problem_on(below));
     let profile = problem.profile(&r)?;
-    if let Some(reason) = fit_failure(&r, &profile) {
+    if let Some(reason) = fit_failure(&r, &profile, FITTED_ZETA) {
         return Ok(ContactOutcome::Undetermined {
             reason,
             reached: r.params,

@@ -36,14 +36,14 @@ pub(super) struct MidlineFit {
 }
 
 impl MidlineFit {
-    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_given`; the
+    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_held`; the
     /// fit stops at `stop`, the inner fits of its profile intervals at `profile_stop`.
-    pub fn new(midline: Vec<f64>, ste_given: Option<f64>, stop: Stop, profile_stop: Stop) -> Self {
+    pub fn new(midline: Vec<f64>, ste_held: Option<f64>, stop: Stop, profile_stop: Stop) -> Self {
         let mut params = vec![
             Param::positive("zeta", 0.1),
             Param::positive("omega_n_hz", 1000.0),
         ];
-        if ste_given.is_none() {
+        if ste_held.is_none() {
             params.push(Param::positive("ste_um", 1.0));
         }
         MidlineFit {

@@ -78,19 +78,9 @@ pub(super) fn fit_whole_curve(
     progress.advance(1);
     progress.finish();
     let profile = unbounded_at_the_floor(profile);
-    if let Some(reason) = fit_failure(&fit, &profile) {
+    let zeta_range = (FLOOR_REACHED * SWEPT_ZETA_MIN, FITTED_ZETA.1);
+    if let Some(reason) = fit_failure(&fit, &profile, zeta_range) {
         return Err(fit_failed(&data.dir, "fit to the whole curve", reason));
-    }
-    if fit.params[0] < FLOOR_REACHED * SWEPT_ZETA_MIN {
-        return Err(fit_failed(
-            &data.dir,
-            "fit to the whole curve",
-            format!(
-                "zeta = {:.4} ran to the least damping simulated ({SWEPT_ZETA_MIN}): the curve \
-                 shows no resonance that determines the damping",
-                fit.params[0]
-            ),
-        ));
     }
     Ok(ModelParameters {
         ste_um: ste_of(ste.held, &fit.params),

@@ -13,7 +13,7 @@ use super::curve_metrics::{jump_location, min_max, rms};
 use super::design_fit::{
     fit_design_geometry, fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA,
 };
-use super::fit_check::{fit_failed, fit_failure};
+use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule,
 };
@@ -246,7 +246,7 @@ fn design_curve(data: &MunroData) -> Result<(Dimensional, f64, Vec<&MunroPoint>)
 
 /// The fit `fit` of the data set `data`, or the reason it failed (see [`fit_failure`]).
 fn usable(data: &MunroData, what: &str, fit: DesignLoadFit) -> Result<DesignLoadFit> {
-    match fit_failure(&fit.estimate, &fit.ci95_profile) {
+    match fit_failure(&fit.estimate, &fit.ci95_profile, FITTED_ZETA) {
         Some(reason) => Err(fit_failed(&data.dir, what, reason)),
         None => Ok(fit),
     }
