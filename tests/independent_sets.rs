@@ -12,9 +12,9 @@
 //! the standard errors three times too small that issue "Calibrated inference" found on such sets
 //! fail at once.
 
-use geardyn::data::load_munro;
+use geardyn::data::{load_kubo, load_munro};
 use geardyn::progress::NoProgress;
-use geardyn::validate::{validate_munro, MunroOptions};
+use geardyn::validate::{validate_kubo, validate_munro, KuboFitPath, KuboOptions, MunroOptions};
 use std::path::Path;
 
 #[derive(serde::Deserialize)]
@@ -62,4 +62,50 @@ fn validate_munro_covers_the_truth_of_independent_sets() {
         covered[0],
         covered[1]
     );
+}
+
+#[derive(serde::Deserialize)]
+struct KuboTruth {
+    noise_family: String,
+    tooth_pairs: usize,
+    zeta: f64,
+    omega_n_hz: f64,
+}
+
+/// `validate kubo --fit whole` on two envelopes of `tools/indep-synth`'s batch 515, where each
+/// tooth pair has its own STE amplitude and jumps down at its own speed: the envelope's
+/// midline over the jump is the mean of a pair still on the resonance branch and one already
+/// down. Fitted with one pair's D_L, zeta came out +16% (z +5.8) and +14% (z +3.3), their
+/// intervals missing the truth; over the batch's 118 fitted sets the intervals covered 84%
+/// (docs/validation.md). The fit now models the midline as the mean of two pairs (STE
+/// (1 +- h)); the truth must be inside the 95% (covariance) interval and within 3 standard
+/// errors, on each set. (Not the profile interval: on set-058 the sum of squares steps up just
+/// below the estimate, where a pair's jump crosses a measured speed, and the profile's lower
+/// end lies there, 0.2% below the estimate and above the truth; docs/validation.md.)
+#[test]
+fn validate_kubo_whole_curve_follows_pairs_that_jump_apart() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/independent-kubo");
+    let text = std::fs::read_to_string(root.join("truth.toml")).expect("truth.toml");
+    let truths: std::collections::BTreeMap<String, KuboTruth> =
+        toml::from_str(&text).expect("truth.toml parses");
+    assert_eq!(truths.len(), 2);
+    for (key, truth) in &truths {
+        let data = load_kubo(&root.join(key.replace('_', "-"))).expect("set loads");
+        let opts = KuboOptions {
+            fit_path: KuboFitPath::WholeCurve,
+            ..KuboOptions::default()
+        };
+        let r = validate_kubo(&data, &opts, &NoProgress).expect("fit");
+        let e = r.fit.as_ref().expect("fitted");
+        for (k, t) in [truth.zeta, truth.omega_n_hz].into_iter().enumerate() {
+            let (lo, hi) = e.ci95[k];
+            let z = (e.params[k] - t) / e.std_errors[k];
+            let what = format!(
+                "{key} ({} pairs, {}): {} = {} [{lo}, {hi}], truth {t}, z {z:.2}",
+                truth.tooth_pairs, truth.noise_family, e.names[k], e.params[k]
+            );
+            assert!(z.abs() < 3.0, "{what}");
+            assert!(lo <= t && t <= hi, "{what}");
+        }
+    }
 }

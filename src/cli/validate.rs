@@ -53,7 +53,7 @@ struct KuboArgs {
     /// of the envelope where the teeth stay in contact (closed form, hundredths of a second),
     /// the whole curve when that part does not determine zeta; contact: that part only; whole:
     /// the whole curve through simulated up-sweeps, the peak and jump included (narrower
-    /// intervals, about 4 s).
+    /// intervals, about 10 s).
     #[arg(long, value_enum, default_value_t = KuboFit::Auto)]
     fit: KuboFit,
     /// Hold the STE amplitude at rig.toml's value. By default a stated STE is where the fit

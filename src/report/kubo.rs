@@ -7,32 +7,52 @@ use super::{data_kind_banner, interval_digits};
 use crate::data::{DataKind, KuboData};
 use crate::error::Result;
 use crate::plot::{write_xy, Series, XyPlot};
-use crate::validate::KuboValidation;
+use crate::validate::{KuboValidation, PAIR_SPREAD};
 use serde_json::json;
 use std::path::{Path, PathBuf};
+
+/// Where the fit holds parameter `name`, if it fitted it: looked up by name, since the STE is
+/// not a fitted parameter when held, and the pair spread follows it only in the whole-curve fit.
+fn fitted_index(r: &KuboValidation, name: &str) -> Option<usize> {
+    r.fit
+        .as_ref()
+        .and_then(|f| f.names.iter().position(|n| n == name))
+}
 
 /// The fitted-parameter record.
 pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
     let src = &data.rig.source;
-    let ci = |i: usize| {
+    let index = |name: &str| fitted_index(r, name);
+    let ci = |name: &str| {
+        let i = index(name);
         json!({
-            "covariance": r.fit.as_ref().and_then(|f| f.ci95.get(i).map(|(a, b)| [*a, *b])),
-            "profile": r.ci95_profile.get(i).map(|(a, b)| [*a, *b]),
+            "covariance": r.fit.as_ref().zip(i).and_then(|(f, i)| f.ci95.get(i).map(|(a, b)| [*a, *b])),
+            "profile": i.and_then(|i| r.ci95_profile.get(i)).map(|(a, b)| [*a, *b]),
         })
     };
+    let std_error = |name: &str| {
+        r.fit
+            .as_ref()
+            .zip(index(name))
+            .and_then(|(f, i)| f.std_errors.get(i).copied())
+    };
+    let value = |name: &str| r.fit.as_ref().zip(index(name)).map(|(f, i)| f.params[i]);
     json!({
         "data_kind": src.kind.name(),
         "notice": data_kind_banner(&data.rig),
         "parameter_source": r.parameter_source,
         "zeta": r.zeta,
-        "zeta_std_error": r.fit.as_ref().map(|f| f.std_errors[0]),
-        "zeta_ci95": ci(0),
+        "zeta_std_error": std_error("zeta"),
+        "zeta_ci95": ci("zeta"),
         "omega_n_hz": r.omega_n_hz,
-        "omega_n_hz_std_error": r.fit.as_ref().map(|f| f.std_errors[1]),
-        "omega_n_hz_ci95": ci(1),
+        "omega_n_hz_std_error": std_error("omega_n_hz"),
+        "omega_n_hz_ci95": ci("omega_n_hz"),
         "ste_um": r.ste_um,
-        "ste_um_std_error": r.fit.as_ref().and_then(|f| f.std_errors.get(2).copied()),
-        "ste_um_ci95": ci(2),
+        "ste_um_std_error": std_error("ste_um"),
+        "ste_um_ci95": ci("ste_um"),
+        // The curve is even in the spread; its sign is the fit's accident.
+        "pair_ste_half_spread": value(PAIR_SPREAD).map(f64::abs),
+        "pair_ste_half_spread_std_error": std_error(PAIR_SPREAD),
         "ste_source": r.ste_source,
         "load_n": r.load_n,
         "mean_force": r.mean_force,
@@ -151,14 +171,20 @@ pub fn write_kubo_report(
 
 /// The parameters first: estimate, 95% intervals, unit and source, then the load's setting.
 fn parameter_table(page: &mut Page, r: &KuboValidation) {
-    let fisher = |i: usize| r.fit.as_ref().and_then(|f| f.ci95.get(i).copied());
+    let index = |name: &str| fitted_index(r, name);
+    let fisher = |i: Option<usize>| {
+        r.fit
+            .as_ref()
+            .zip(i)
+            .and_then(|(f, i)| f.ci95.get(i).copied())
+    };
     let interval = |c: Option<(f64, f64)>, min: usize| {
         c.map_or("-".to_string(), |(lo, hi)| {
             let d = interval_digits(lo, hi, min);
             format!("[{lo:.d$}, {hi:.d$}]")
         })
     };
-    let profile = |i: usize, min: usize| match r.ci95_profile.get(i) {
+    let profile = |i: Option<usize>, min: usize| match i.and_then(|i| r.ci95_profile.get(i)) {
         Some((a, b)) => {
             let f = |v: &Option<f64>| v.map_or("unbounded".to_string(), |v| format!("{v:.min$}"));
             format!("[{}, {}]", f(a), f(b))
@@ -176,10 +202,69 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             crate::validate::KUBO_CONTACT_LIMIT
         ),
     };
-    let digits =
-        |i: usize, min: usize| fisher(i).map_or(min, |(lo, hi)| interval_digits(lo, hi, min));
-    let (dz, dw) = (digits(0, 4), digits(1, 1));
+    let (zeta, omega, ste) = (index("zeta"), index("omega_n_hz"), index("ste_um"));
+    let digits = |i: Option<usize>, min: usize| {
+        fisher(i).map_or(min, |(lo, hi)| interval_digits(lo, hi, min))
+    };
+    let (dz, dw) = (digits(zeta, 4), digits(omega, 1));
     page.heading("Parameters");
+    let mut rows = vec![
+        vec![
+            "ζ (damping ratio)".into(),
+            format!("{:.dz$}", r.zeta),
+            interval(fisher(zeta), 4),
+            profile(zeta, dz),
+            "".into(),
+            source.clone(),
+        ],
+        vec![
+            "ωₙ (natural frequency)".into(),
+            format!("{:.dw$}", r.omega_n_hz),
+            interval(fisher(omega), 1),
+            profile(omega, dw),
+            "Hz".into(),
+            source,
+        ],
+        vec![
+            "STE amplitude".into(),
+            format!("{:.3}", r.ste_um),
+            interval(fisher(ste), 3),
+            profile(ste, 3),
+            "µm".into(),
+            r.ste_source.clone(),
+        ],
+        vec![
+            "load".into(),
+            format!("{}", r.load_n),
+            "-".into(),
+            "-".into(),
+            "N".into(),
+            format!(
+                "rig.toml (Fₘ = {:.4}, Fₐₕ = {:.4}, dimensionless)",
+                r.mean_force, r.ste_amplitude
+            ),
+        ],
+    ];
+    if let (Some(fit), Some(i)) = (&r.fit, index(PAIR_SPREAD)) {
+        // The curve is even in the spread: the interval of |h| is that of h folded at zero.
+        let (lo, hi) = fit.ci95[i];
+        let folded = if lo <= 0.0 && hi >= 0.0 {
+            (0.0, lo.abs().max(hi.abs()))
+        } else {
+            (lo.abs().min(hi.abs()), lo.abs().max(hi.abs()))
+        };
+        rows.insert(
+            3,
+            vec![
+                "pairs' STE half-spread h".into(),
+                format!("{:.3}", fit.params[i].abs()),
+                interval(Some(folded), 3),
+                "-".into(),
+                "".into(),
+                "whole-curve fit: its envelope edges are two tooth pairs with STE amplitudes (1 ± h) times the STE; seen only where the pairs jump at different speeds".into(),
+            ],
+        );
+    }
     page.table(
         &[
             "parameter",
@@ -189,43 +274,7 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             "unit",
             "source",
         ],
-        &[
-            vec![
-                "ζ (damping ratio)".into(),
-                format!("{:.dz$}", r.zeta),
-                interval(fisher(0), 4),
-                profile(0, dz),
-                "".into(),
-                source.clone(),
-            ],
-            vec![
-                "ωₙ (natural frequency)".into(),
-                format!("{:.dw$}", r.omega_n_hz),
-                interval(fisher(1), 1),
-                profile(1, dw),
-                "Hz".into(),
-                source,
-            ],
-            vec![
-                "STE amplitude".into(),
-                format!("{:.3}", r.ste_um),
-                interval(fisher(2), 3),
-                profile(2, 3),
-                "µm".into(),
-                r.ste_source.clone(),
-            ],
-            vec![
-                "load".into(),
-                format!("{}", r.load_n),
-                "-".into(),
-                "-".into(),
-                "N".into(),
-                format!(
-                    "rig.toml (Fₘ = {:.4}, Fₐₕ = {:.4}, dimensionless)",
-                    r.mean_force, r.ste_amplitude
-                ),
-            ],
-        ],
+        &rows,
     );
     if let Some(fit) = &r.fit {
         page.paragraph(&format!(

@@ -3,7 +3,7 @@
 //! reason instead of being carried into predictions and reports.
 
 use crate::error::GearError;
-use crate::fit::Estimate;
+use crate::fit::{Estimate, Transform};
 use crate::sim::to_significant;
 use std::path::Path;
 
@@ -39,7 +39,11 @@ pub fn fit_failure(
     }
     for (i, name) in est.names.iter().enumerate() {
         let v = est.params[i];
-        if !(v.is_finite() && v > 0.0) {
+        let signed = est
+            .param_defs
+            .get(i)
+            .is_some_and(|d| d.transform == Transform::Signed);
+        if !(v.is_finite() && (signed || v > 0.0)) {
             return Some(format!("{name} = {v} is not a positive finite number"));
         }
         let (lo, hi) = est.ci95[i];

@@ -83,7 +83,7 @@ pub enum KuboFitPath {
     /// determine zeta). Depends least on how the model treats separation.
     ContactPart,
     /// The whole curve through simulated up-sweeps, separation and jump included: the most
-    /// information (the peak), about 4 s on 2 cores instead of hundredths.
+    /// information (the peak), about 10 s on 2 cores instead of hundredths.
     WholeCurve,
 }
 
@@ -164,6 +164,9 @@ impl ContactFit<'_> {
         MidlineFit::new(
             midline(self.points.iter().copied()),
             self.ste_um,
+            // In contact D_L - 1 is proportional to the STE amplitude, so the mean of two
+            // pairs' D_L is one pair's at their mean STE: the spread does not enter.
+            None,
             stop,
             stop,
         )

@@ -26,19 +26,34 @@ pub(super) fn measured_peak_rpm(points: &[KuboPoint]) -> Option<f64> {
         .map(|p| p.speed_rpm)
 }
 
+/// Name of the relative half-spread of the tooth pairs' STE amplitudes (see
+/// [`MidlineFit::new`]).
+pub const PAIR_SPREAD: &str = "pair_ste_half_spread";
+
 /// A fit of some model curve to a midline.
 pub(super) struct MidlineFit {
     y: Vec<f64>,
     params: Vec<Param>,
+    /// Parameters whose profile intervals are wanted (the pair spread is a nuisance).
+    profiled: usize,
     stop: Stop,
     /// The stop of the profile intervals' inner fits.
     profile_stop: Stop,
 }
 
 impl MidlineFit {
-    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_held`; the
-    /// fit stops at `stop`, the inner fits of its profile intervals at `profile_stop`.
-    pub fn new(midline: Vec<f64>, ste_held: Option<f64>, stop: Stop, profile_stop: Stop) -> Self {
+    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_held`; last,
+    /// when `pair_spread` gives its start, the relative half-spread h of the tooth pairs' STE
+    /// amplitudes (the curve is then the mean of two pairs' at STE (1 - h) and (1 + h): the
+    /// envelope's edges are its extreme pairs, see [`super::kubo_swept`]). The fit stops at
+    /// `stop`, the inner fits of its profile intervals at `profile_stop`.
+    pub fn new(
+        midline: Vec<f64>,
+        ste_held: Option<f64>,
+        pair_spread: Option<f64>,
+        stop: Stop,
+        profile_stop: Stop,
+    ) -> Self {
         let mut params = vec![
             Param::positive("zeta", 0.1),
             Param::positive("omega_n_hz", 1000.0),
@@ -46,9 +61,16 @@ impl MidlineFit {
         if ste_held.is_none() {
             params.push(Param::positive("ste_um", 1.0));
         }
+        let profiled = params.len();
+        if let Some(h) = pair_spread {
+            // Signed, not positive: the curve is even in h, and a fit that finds no spread
+            // ends at h = 0 (a log or logistic coordinate would run off to -infinity there).
+            params.push(Param::signed(PAIR_SPREAD, h, h));
+        }
         MidlineFit {
             y: midline,
             params,
+            profiled,
             stop,
             profile_stop,
         }
@@ -83,12 +105,13 @@ impl MidlineFit {
         )
     }
 
-    /// Profile-likelihood 95% intervals of every parameter of the fit `est` of `curve`.
+    /// Profile-likelihood 95% intervals of zeta, omega_n and a fitted STE of the fit `est` of
+    /// `curve` (not of the pair spread: a nuisance parameter, not reported).
     pub fn profile<C>(&self, curve: &C, est: &Estimate) -> Result<Vec<(Option<f64>, Option<f64>)>>
     where
         C: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
     {
-        (0..est.params.len())
+        (0..self.profiled.min(est.params.len()))
             .map(|i| profile_interval(curve, &self.y, est, i, self.profile_stop))
             .collect()
     }
