@@ -190,7 +190,7 @@ pub(super) struct ModelParameters {
     pub zeta: f64,
     pub omega_n_hz: f64,
     pub ste_um: f64,
-    pub source: &'static str,
+    pub source: String,
     pub points_used: usize,
     /// Whether the STE amplitude was held (given with zeta and omega_n, or held in the fit).
     pub ste_held: bool,
@@ -257,7 +257,7 @@ pub fn validate_kubo(
     Ok(KuboValidation {
         fit: par.fit,
         ci95_profile: par.profile,
-        parameter_source: par.source.to_string(),
+        parameter_source: par.source,
         zeta: par.zeta,
         omega_n_hz: par.omega_n_hz,
         ste_um: par.ste_um,
@@ -302,7 +302,7 @@ fn given_parameters(
         zeta,
         omega_n_hz,
         ste_um,
-        source: "given in rig.toml",
+        source: "given in rig.toml".into(),
         points_used: 0,
         ste_held: true,
     })
@@ -470,7 +470,7 @@ fn fit_contact_part(
         omega_n_hz: r.params[1],
         fit: Some(r),
         profile,
-        source: "fitted to the contact part of the curve",
+        source: "fitted to the contact part of the curve".into(),
         points_used: problem.points.len(),
         ste_held: ste.held.is_some(),
     })))

@@ -60,6 +60,11 @@ const SCREENED_STARTS: usize = 2;
 /// zeta, omega_n (and the STE amplitude unless `ste` holds it) fitted to the whole curve of
 /// `data`, at load `fm`, started about `near` (the values the contact-part fit reached, empty
 /// when it reached none) and about the measured peak; `source` says why this path was taken.
+///
+/// The model is two tooth pairs ([`SweptFit::curve`]); where the curve does not tell their
+/// spread from the damping (the fit is refused: on a rig whose teeth separate at nearly every
+/// speed, zeta's profile ran to the floor with the spread widening), the nested model of one
+/// pair is fitted instead and `parameter_source` says so.
 pub(super) fn fit_whole_curve(
     data: &KuboData,
     dim: &Dimensional,
@@ -69,15 +74,52 @@ pub(super) fn fit_whole_curve(
     source: &'static str,
     progress: &dyn Progress,
 ) -> Result<ModelParameters> {
+    let fitted = |pairs| fit_with(data, dim, fm, ste, near, pairs, progress);
+    let (fit, profile, source) = match fitted(true) {
+        Ok((fit, profile)) => (fit, profile, source.to_string()),
+        Err(GearError::FitFailed { .. }) => {
+            let (fit, profile) = fitted(false)?;
+            let source = format!(
+                "{source}; one tooth pair (the curve does not tell the pairs' STE spread from \
+                 the damping)"
+            );
+            (fit, profile, source)
+        }
+        Err(e) => return Err(e),
+    };
+    Ok(ModelParameters {
+        ste_um: ste_of(ste.held, &fit.params),
+        zeta: fit.params[0],
+        omega_n_hz: fit.params[1],
+        fit: Some(fit),
+        profile,
+        source,
+        points_used: data.points.len(),
+        ste_held: ste.held.is_some(),
+    })
+}
+
+/// The whole-curve fit and its profile intervals, with two tooth pairs or one (`pairs`); an
+/// error when [`fit_failure`] refuses it.
+fn fit_with(
+    data: &KuboData,
+    dim: &Dimensional,
+    fm: f64,
+    ste: SteSetting,
+    near: &[f64],
+    pairs: bool,
+    progress: &dyn Progress,
+) -> Result<(Estimate, Vec<(Option<f64>, Option<f64>)>)> {
     let problem = SweptFit {
         dim,
         fm,
         speeds: data.points.iter().map(|k| k.speed_rpm).collect(),
         midline: midline(&data.points),
         ste_um: ste.held,
+        pair_spread: pairs.then_some(PAIR_SPREAD_START),
     };
     progress.start(2, "whole-curve fit (simulated up-sweeps)");
-    let mut from = starts(data, dim, near, ste);
+    let mut from = starts(data, dim, near, ste, problem.pair_spread);
     from.extend(problem.screened(ste));
     let fit = problem.fit(&from)?;
     progress.advance(1);
@@ -89,16 +131,7 @@ pub(super) fn fit_whole_curve(
     if let Some(reason) = fit_failure(&fit, &profile, zeta_range) {
         return Err(fit_failed(&data.dir, "fit to the whole curve", reason));
     }
-    Ok(ModelParameters {
-        ste_um: ste_of(ste.held, &fit.params),
-        zeta: fit.params[0],
-        omega_n_hz: fit.params[1],
-        fit: Some(fit),
-        profile,
-        source,
-        points_used: data.points.len(),
-        ste_held: ste.held.is_some(),
-    })
+    Ok((fit, profile))
 }
 
 /// A zeta within this factor of [`SWEPT_ZETA_MIN`] lies at the floor: the fit could not go
@@ -123,7 +156,13 @@ fn unbounded_at_the_floor(
 /// (backlash softens the resonance, so the peak lies below omega_n); the STE amplitude, when
 /// fitted, at the contact fit's (the setting's start when it reached none that is finite and
 /// positive).
-fn starts(data: &KuboData, dim: &Dimensional, near: &[f64], ste: SteSetting) -> Vec<Vec<f64>> {
+fn starts(
+    data: &KuboData,
+    dim: &Dimensional,
+    near: &[f64],
+    ste: SteSetting,
+    pair_spread: Option<f64>,
+) -> Vec<Vec<f64>> {
     let peak_hz = measured_peak_rpm(&data.points).map(|rpm| dim.mesh_frequency_hz(rpm));
     let plausible = |v: &f64| v.is_finite() && *v > 0.0;
     let omegas: Vec<f64> = [near.get(1).copied(), peak_hz.map(|f| 1.05 * f)]
@@ -141,7 +180,7 @@ fn starts(data: &KuboData, dim: &Dimensional, near: &[f64], ste: SteSetting) -> 
         for &w in &omegas {
             let mut s = vec![z, w];
             s.extend(ste_start);
-            s.push(PAIR_SPREAD_START);
+            s.extend(pair_spread);
             out.push(s);
         }
     }
@@ -157,6 +196,8 @@ struct SweptFit<'a> {
     /// The envelope's midline at each of them: what is fitted.
     midline: Vec<f64>,
     ste_um: Option<f64>,
+    /// Where the pairs' STE half-spread h starts; None: one pair (h = 0, not fitted).
+    pair_spread: Option<f64>,
 }
 
 impl SweptFit<'_> {
@@ -182,7 +223,10 @@ impl SweptFit<'_> {
             Some(e) => (e, p.get(2)),
             None => (p.get(2).copied().unwrap_or(f64::NAN), p.get(3)),
         };
-        let h = h.copied().unwrap_or(f64::NAN).abs();
+        let h = match self.pair_spread {
+            Some(_) => h.copied().unwrap_or(f64::NAN).abs(),
+            None => 0.0,
+        };
         if h.is_nan() || h >= PAIR_SPREAD_MAX {
             return Err(GearError::Numerical(format!(
                 "the pairs' STE half-spread {h} is outside [0, {PAIR_SPREAD_MAX})"
@@ -193,6 +237,9 @@ impl SweptFit<'_> {
             let up = carried_branch(self.dim, &model, self.fm, &self.speeds, p[1], Branch::Up)?;
             Ok(up.iter().map(|u| u.1).collect())
         };
+        if h == 0.0 {
+            return pair(ste);
+        }
         let (low, high) = rayon::join(|| pair(ste * (1.0 - h)), || pair(ste * (1.0 + h)));
         Ok(low?.iter().zip(high?).map(|(a, b)| 0.5 * (a + b)).collect())
     }
@@ -227,7 +274,7 @@ impl SweptFit<'_> {
                     if ste.held.is_none() {
                         p.push(ste.start);
                     }
-                    p.push(PAIR_SPREAD_START);
+                    p.extend(self.pair_spread);
                     p
                 })
             })
@@ -253,7 +300,7 @@ impl SweptFit<'_> {
         MidlineFit::new(
             self.midline.clone(),
             self.ste_um,
-            Some(PAIR_SPREAD_START),
+            self.pair_spread,
             stop.or_stalled(FIT_STALL),
             stop.or_stalled(PROFILE_STALL),
         )
