@@ -99,6 +99,9 @@ pub(super) fn fit_whole_curve(
     })
 }
 
+/// Profile-likelihood 95% intervals per fitted parameter (None: unbounded on that side).
+type ProfileIntervals = Vec<(Option<f64>, Option<f64>)>;
+
 /// The whole-curve fit and its profile intervals, with two tooth pairs or one (`pairs`); an
 /// error when [`fit_failure`] refuses it.
 fn fit_with(
@@ -109,7 +112,7 @@ fn fit_with(
     near: &[f64],
     pairs: bool,
     progress: &dyn Progress,
-) -> Result<(Estimate, Vec<(Option<f64>, Option<f64>)>)> {
+) -> Result<(Estimate, ProfileIntervals)> {
     let problem = SweptFit {
         dim,
         fm,
