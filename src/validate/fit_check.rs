@@ -44,7 +44,8 @@ pub fn fit_failure(
             .get(i)
             .is_some_and(|d| d.transform == Transform::Signed);
         if !(v.is_finite() && (signed || v > 0.0)) {
-            return Some(format!("{name} = {v} is not a positive finite number"));
+            let what = if signed { "finite" } else { "positive finite" };
+            return Some(format!("{name} = {v} is not a {what} number"));
         }
         let (lo, hi) = est.ci95[i];
         if !(lo.is_finite() && hi.is_finite()) {

@@ -222,12 +222,10 @@ impl SweptFit<'_> {
                 p[0]
             )));
         }
-        let (ste, h) = match self.ste_um {
-            Some(e) => (e, p.get(2)),
-            None => (p.get(2).copied().unwrap_or(f64::NAN), p.get(3)),
-        };
+        let ste = ste_of(self.ste_um, p);
+        // The spread, when fitted, is the last parameter (MidlineFit::new).
         let h = match self.pair_spread {
-            Some(_) => h.copied().unwrap_or(f64::NAN).abs(),
+            Some(_) => p.last().map_or(f64::NAN, |h| h.abs()),
             None => 0.0,
         };
         if h.is_nan() || h >= PAIR_SPREAD_MAX {
