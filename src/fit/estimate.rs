@@ -172,7 +172,7 @@ fn leverages(jw: &DMatrix<f64>) -> Vec<f64> {
 
 /// Pseudo-inverse of a symmetric positive semi-definite matrix (zero rows and columns, the
 /// parameters held still, give zero variance).
-fn pinv_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
+pub(super) fn pinv_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     let n = a.nrows();
     let keep: Vec<usize> = (0..n).filter(|&i| a[(i, i)] > 0.0).collect();
     let sub = DMatrix::from_fn(keep.len(), keep.len(), |i, j| a[(keep[i], keep[j])]);

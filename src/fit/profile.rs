@@ -3,16 +3,39 @@
 //! the others with the fit's final weights held (the working likelihood of the reweighted fit),
 //! exceeds its minimum by q^2, q the fit's t quantile, so that the profile and Wald intervals
 //! agree where the model is linear in its parameters.
+//!
+//! The sum of squares of a model whose curve jumps (an up-sweep falling off its resonance
+//! branch) has steps where a jump crosses a measured speed, and an inner fit started on the
+//! wrong side of one stays there. So each inner fit starts from the fit of the nearest point
+//! found inside the interval (the estimate, at first); a point that rises more than twice as
+//! far as the quadratic approximation says (or than the threshold) is fitted again from the
+//! ridge (the others' regression on the profiled parameter under the fit's information
+//! matrix, the linear approximation to the profile trace, Bates & Watts 1988, Sec. 6.1) and
+//! from the estimate, the least of the fits kept; and the root search gets a bracket whose
+//! outside end was fitted from its inside end, a quarter of a standard error away
+//! ([`Profile::bracket`]). Without this, the profile of zeta on two envelopes of tooth pairs
+//! that jump at their own speeds (tests/data/independent-kubo) rose by 18 and 45 q^2 within a
+//! hundredth of a standard error of the estimate and ended there; now it is a parabola to
+//! beyond 1.5 standard errors.
+//!
+//! A step that no start avoids is not a confidence bound: it says on which side of one
+//! measured speed a jump falls, not how far the parameter may move. A side whose root is such
+//! a step (the profile rises by more than the threshold between two points a hundredth of a
+//! standard error apart) ends at the Wald end instead, or at the step if that is farther.
 
-use super::estimate::Estimate;
+use super::estimate::{pinv_sym, Estimate};
 use super::lm::{least_squares, rss, Stop};
 use super::params::{restarted, Param};
 use crate::error::Result;
 use crate::hb::brent;
+use nalgebra::{DMatrix, DVector};
 
-/// Doublings of the bracketing step (from one standard error, internal coordinates) before a
-/// side is declared unbounded.
+/// Points of the bracketing out from the estimate, 1, 2, 4, ... standard errors (internal
+/// coordinates), before a side is declared unbounded.
 const MAX_DOUBLINGS: usize = 12;
+/// Width of the bracket handed to the root search, in standard errors: its outside end was
+/// fitted from a start at most this far away.
+const BRACKET_WIDTH: f64 = 0.25;
 /// Accuracy of an interval's end, in standard errors (internal coordinates): far below what
 /// any report prints, and reached by Brent's method in a handful of profile fits where 30
 /// bisections took thirty.
@@ -21,10 +44,18 @@ const END_TOLERANCE: f64 = 1e-6;
 /// from the minimum before the root search (a profile point that cannot be fitted is
 /// infinite; the cap keeps Brent's interpolation finite and makes it bisect there).
 const EXCESS_CAP: f64 = 1e3;
+/// A profile point whose rise over the minimum is this many times what the quadratic model
+/// predicts there (or the threshold, if larger) is fitted again from the other starts.
+const SURPRISE: f64 = 2.0;
+/// A profile that rises by more than the threshold q^2 within this many standard errors (or
+/// four times the root search's tolerance, if wider) has stepped, not risen: where smooth, its
+/// slope at the threshold is 2 q per standard error (about 4), so it rises by 0.04 in 0.01, a
+/// hundredth of the threshold.
+const STEP_WIDTH: f64 = 0.01;
 
 /// Profile interval of parameter `index` of the fit `est` of `model` to `y`; None on a side
-/// where the profile does not rise enough within 2^12 standard errors (the parameter is not
-/// identifiable that way).
+/// where the profile does not rise enough within 2^11 standard errors (the parameter is
+/// not identifiable that way).
 pub fn profile_interval<M>(
     model: &M,
     y: &[f64],
@@ -35,92 +66,305 @@ pub fn profile_interval<M>(
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    let defs = &est.param_defs;
-    let w = &est.weights;
-    let weighted = |p: &[f64]| -> Result<Vec<f64>> {
-        let m = model(p)?;
-        Ok(y.iter()
+    let profile = Profile::new(model, y, est, index, stop)?;
+    let (lo, hi) = rayon::join(|| profile.side(-1.0), || profile.side(1.0));
+    Ok((lo?, hi?))
+}
+
+/// A profile point: its distance u from the estimate (internal coordinate, signed) and the
+/// excess of the profile there over the threshold.
+type ProfilePoint = (f64, f64);
+
+/// The profile of one parameter, in its internal coordinate u measured from the estimate.
+struct Profile<'a, M> {
+    model: &'a M,
+    y: &'a [f64],
+    est: &'a Estimate,
+    index: usize,
+    stop: Stop,
+    /// The other parameters, starting at the estimate.
+    others: Vec<Param>,
+    /// Their internal coordinates at the estimate and slopes along the ridge.
+    ridge: Vec<(f64, f64)>,
+    /// The profiled parameter's internal coordinate at the estimate.
+    centre: f64,
+    /// Its standard error in the internal coordinate (the bracketing's unit), and whether that is
+    /// the standard error (not a stand-in for a parameter without one).
+    se: f64,
+    se_known: bool,
+    minimum: f64,
+    /// The threshold's height q^2 above the minimum.
+    rise: f64,
+    /// Accuracy of an end, in internal units.
+    tolerance: f64,
+}
+
+impl<'a, M> Profile<'a, M>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    fn new(
+        model: &'a M,
+        y: &'a [f64],
+        est: &'a Estimate,
+        index: usize,
+        stop: Stop,
+    ) -> Result<Self> {
+        let t = est.param_defs[index].transform;
+        let mut others = restarted(&est.param_defs, &est.params);
+        others.remove(index);
+        let centre = t.internal(est.params[index]).unwrap_or(est.params[index]);
+        let se_u = est.std_errors[index] / t.derivative(centre).abs().max(1e-300);
+        let se_known = se_u.is_finite() && se_u > 0.0;
+        let se = if se_known {
+            se_u
+        } else {
+            1e-3 * centre.abs().max(1e-3)
+        };
+        let q = est.quantile[index];
+        let mut profile = Profile {
+            model,
+            y,
+            est,
+            index,
+            stop,
+            others,
+            ridge: ridge_slopes(est, index),
+            centre,
+            se,
+            se_known,
+            minimum: 0.0,
+            rise: (q * q).max(f64::MIN_POSITIVE),
+            // Inner fits that stop once they stall are accurate to `stop.stall` in the sum of
+            // squares, which places an end to stall / (2 q) standard errors (the profile's
+            // slope there is 2 q per standard error): a finer search only bisects that error.
+            tolerance: END_TOLERANCE.max(stop.stall / (2.0 * q)) * se,
+        };
+        profile.minimum = rss(&profile.weighted(&est.params)?);
+        Ok(profile)
+    }
+
+    /// Weighted residuals at the full parameter vector `p`, the fit's final weights held.
+    fn weighted(&self, p: &[f64]) -> Result<Vec<f64>> {
+        let m = (self.model)(p)?;
+        Ok(self
+            .y
+            .iter()
             .zip(&m)
-            .zip(w)
+            .zip(&self.est.weights)
             .map(|((y, f), w)| (y - f) * w.sqrt())
             .collect())
-    };
-    let minimum = rss(&weighted(&est.params)?);
-    let target = minimum + est.quantile[index] * est.quantile[index];
-    let mut others = restarted(defs, &est.params);
-    others.remove(index);
-    let t = defs[index].transform;
-    // The profile at u, its other parameters fitted from `start`; the fitted values are
-    // returned to start the next point of the same side (a few Jacobians where the estimate
-    // as start took several times more). A point that cannot be fitted counts as outside.
-    let profile = |u: f64, start: &[Param]| -> Result<(f64, Option<Vec<f64>>)> {
-        let value = t.value(u);
+    }
+
+    /// The sum of squares at u with the other parameters fitted from `start`, and their fitted
+    /// values; a point that cannot be fitted counts as outside (infinite).
+    fn fit_from(&self, u: f64, start: &[Param]) -> Result<(f64, Option<Vec<f64>>)> {
+        let value = self.est.param_defs[self.index]
+            .transform
+            .value(self.centre + u);
         let full = |p: &[f64]| {
             let mut q = p.to_vec();
-            q.insert(index, value);
+            q.insert(self.index, value);
             q
         };
         if start.is_empty() {
-            return Ok((rss(&weighted(&full(&[]))?), None));
+            return Ok((rss(&self.weighted(&full(&[]))?), None));
         }
-        let f = |p: &[f64]| weighted(&full(p));
-        Ok(least_squares(&f, start, stop)
+        let f = |p: &[f64]| self.weighted(&full(p));
+        Ok(least_squares(&f, start, self.stop)
             .map_or((f64::INFINITY, None), |fit| (fit.rss, Some(fit.params))))
-    };
-    let centre = t.internal(est.params[index]).unwrap_or(est.params[index]);
-    let se_u = est.std_errors[index] / t.derivative(centre).abs().max(1e-300);
-    let step = if se_u.is_finite() && se_u > 0.0 {
-        se_u
-    } else {
-        1e-3 * centre.abs().max(1e-3)
-    };
-    let rise = (target - minimum).max(f64::MIN_POSITIVE);
-    // Inner fits that stop once they stall are accurate to `stop.stall` in the sum of
-    // squares, which places an end to stall / (2 q) standard errors (the profile's slope
-    // there is 2 q per standard error): a finer search only bisects that error.
-    let tolerance = END_TOLERANCE.max(stop.stall / (2.0 * est.quantile[index]));
-    let side = |dir: f64| -> Result<Option<f64>> {
-        let mut start = others.clone();
-        let mut excess = |u: f64| -> Result<f64> {
-            let (value, fitted) = profile(centre + u, &start)?;
-            if let Some(p) = fitted {
-                start = restarted(&others, &p);
+    }
+
+    /// The other parameters' start on the ridge at u.
+    fn on_ridge(&self, u: f64) -> Vec<Param> {
+        let values: Vec<f64> = self
+            .others
+            .iter()
+            .zip(&self.ridge)
+            .map(|(d, (hat, slope))| d.transform.value(hat + slope * u))
+            .collect();
+        restarted(&self.others, &values)
+    }
+
+    /// The profile at u: fitted from `nearest` (the fit of the nearest point inside), and where
+    /// that comes out surprisingly high also from the ridge and the estimate, the least kept.
+    fn fit_at(&self, u: f64, nearest: &[Param]) -> Result<(f64, Option<Vec<f64>>)> {
+        let (mut value, mut fitted) = self.fit_from(u, nearest)?;
+        // In chi-square units a quadratic sum of squares rises by (u / se)^2.
+        let quadratic = (u / self.se).powi(2);
+        if value - self.minimum > SURPRISE * quadratic.max(self.rise) {
+            for start in [&self.on_ridge(u), &self.others] {
+                let (v, f) = self.fit_from(u, start)?;
+                if v < value {
+                    (value, fitted) = (v, f);
+                }
             }
-            Ok((value - target).min(EXCESS_CAP * rise))
-        };
-        let (mut lo, mut hi) = (0.0, dir * step);
-        let mut f_lo = minimum - target;
-        for _ in 0..MAX_DOUBLINGS {
-            let f_hi = excess(hi)?;
-            if f_hi > 0.0 {
-                // An error inside Brent's search counts as outside, as above; it is kept and
-                // returned after the search.
-                let mut failed = None;
-                let root = brent(
-                    |u| {
-                        excess(u).unwrap_or_else(|e| {
-                            failed.get_or_insert(e);
-                            EXCESS_CAP * rise
-                        })
-                    },
-                    lo,
-                    hi,
-                    f_lo,
-                    f_hi,
-                    tolerance * step,
-                );
-                return match failed {
-                    Some(e) => Err(e),
-                    None => Ok(Some(t.value(centre + root))),
-                };
-            }
-            (lo, f_lo) = (hi, f_hi);
-            hi *= 2.0;
         }
-        Ok(None)
-    };
-    let (lo, hi) = rayon::join(|| side(-1.0), || side(1.0));
-    Ok((lo?, hi?))
+        Ok((value, fitted))
+    }
+
+    /// The end on side `dir` (-1 or 1): a bracket ([`Profile::bracket`]), then Brent's
+    /// method in it.
+    fn side(&self, dir: f64) -> Result<Option<f64>> {
+        // The fitted other parameters at the points found inside the interval, by distance
+        // from the estimate: each inner fit starts from the nearest of them on the estimate's
+        // side (a start from a point outside may have crossed a step).
+        let mut inside: Vec<(f64, Vec<Param>)> = vec![(0.0, self.others.clone())];
+        let mut evaluated: Vec<(f64, f64)> = Vec::new();
+        let cap = EXCESS_CAP * self.rise;
+        let mut excess = |u: f64| -> Result<f64> {
+            let d = u.abs();
+            let nearest = inside
+                .iter()
+                .filter(|(x, _)| *x <= d)
+                .max_by(|a, b| a.0.total_cmp(&b.0))
+                .map_or(&self.others, |(_, p)| p);
+            let (value, fitted) = self.fit_at(u, nearest)?;
+            let e = (value - self.minimum - self.rise).min(cap);
+            // A point fitted again (from a nearer start) keeps only its latest value.
+            evaluated.retain(|(x, _)| *x != d);
+            evaluated.push((d, e));
+            if let (true, Some(p)) = (e <= 0.0, fitted) {
+                inside.push((d, restarted(&self.others, &p)));
+            }
+            Ok(e)
+        };
+        let Some(((lo, f_lo), (hi, f_hi))) = self.bracket(dir, &mut excess)? else {
+            return Ok(None);
+        };
+        // An error inside Brent's search counts as outside, as above; it is kept and returned
+        // after the search.
+        let mut failed = None;
+        let root = brent(
+            |u| {
+                excess(u).unwrap_or_else(|e| {
+                    failed.get_or_insert(e);
+                    cap
+                })
+            },
+            lo,
+            hi,
+            f_lo,
+            f_hi,
+            self.tolerance,
+        );
+        if let Some(e) = failed {
+            return Err(e);
+        }
+        let end = self.end_beyond(root.abs(), &evaluated);
+        let t = self.est.param_defs[self.index].transform;
+        Ok(Some(t.value(self.centre + dir * end)))
+    }
+
+    /// A point inside and one outside on side `dir`, with their excesses over the threshold,
+    /// at most [`BRACKET_WIDTH`] standard errors apart, the outside one fitted from the inside
+    /// one; None when the profile stays inside to 2^11 standard errors. Out from one standard
+    /// error by doublings, then halvings; where the outside point had been fitted from farther
+    /// in, it is fitted again from the inside one, and if it is then inside the doublings go
+    /// on (from a start a standard error away, an inner fit on a sum of squares with many small
+    /// steps ended on a ledge above the threshold, where a start a quarter of one away did
+    /// not: set-084 of tools/indep-synth batch 515).
+    fn bracket(
+        &self,
+        dir: f64,
+        excess: &mut impl FnMut(f64) -> Result<f64>,
+    ) -> Result<Option<(ProfilePoint, ProfilePoint)>> {
+        let mut inner = (0.0, -self.rise);
+        let mut outer = (dir * self.se, excess(dir * self.se)?);
+        // Whether `outer` was fitted from `inner` (the nearest start inside when it was).
+        let mut outer_from_inner = true;
+        let mut doublings = 1;
+        // Each pass doubles, halves the bracket or refits its outside end, so the bound is
+        // generous (11 doublings, 13 halvings from 2^11 standard errors and a refit after each).
+        for _ in 0..4 * (MAX_DOUBLINGS + 16) {
+            if outer.1 <= 0.0 {
+                if doublings == MAX_DOUBLINGS {
+                    return Ok(None);
+                }
+                doublings += 1;
+                inner = outer;
+                outer.0 *= 2.0;
+                outer.1 = excess(outer.0)?;
+                outer_from_inner = true;
+            } else if (outer.0 - inner.0).abs() > BRACKET_WIDTH * self.se {
+                let mid = 0.5 * (inner.0 + outer.0);
+                let f_mid = excess(mid)?;
+                if f_mid > 0.0 {
+                    outer = (mid, f_mid);
+                    outer_from_inner = true;
+                } else {
+                    inner = (mid, f_mid);
+                    outer_from_inner = false;
+                }
+            } else if outer_from_inner {
+                return Ok(Some((inner, outer)));
+            } else {
+                outer.1 = excess(outer.0)?;
+                outer_from_inner = true;
+            }
+        }
+        Ok((outer.1 > 0.0).then_some((inner, outer)))
+    }
+
+    /// The end's distance from the estimate, given the root search's: the root, or where the
+    /// profile stepped there (see the module's notes), the Wald end if that is farther.
+    fn end_beyond(&self, root: f64, evaluated: &[(f64, f64)]) -> f64 {
+        let width = (STEP_WIDTH * self.se).max(4.0 * self.tolerance);
+        if self.se_known && steps_up(evaluated, width, self.rise) {
+            root.max(self.est.quantile[self.index] * self.se)
+        } else {
+            root
+        }
+    }
+}
+
+/// Whether the profile evaluated at `evaluated` (distance from the estimate, excess over the
+/// threshold) steps up by more than `rise` (the threshold's height) between the last point
+/// inside and the first outside, these closer than `width`: a jump, not a rise.
+fn steps_up(evaluated: &[(f64, f64)], width: f64, rise: f64) -> bool {
+    let inside = evaluated
+        .iter()
+        .filter(|(_, e)| *e <= 0.0)
+        .max_by(|a, b| a.0.total_cmp(&b.0));
+    let outside = evaluated
+        .iter()
+        .filter(|(_, e)| *e > 0.0)
+        .min_by(|a, b| a.0.total_cmp(&b.0));
+    match (inside, outside) {
+        (Some(i), Some(o)) => o.0 - i.0 <= width && o.1 - i.1 > rise,
+        _ => false,
+    }
+}
+
+/// For each parameter but `index`: its internal coordinate at the estimate, and its change per
+/// unit change of `index`'s internal coordinate along the ridge of the weighted sum of squares,
+/// -F_oo^+ F_oi, F the information J'WJ in internal coordinates (J the model's Jacobian, W the
+/// fit's final weights). Zero slopes where F_oo cannot be inverted.
+fn ridge_slopes(est: &Estimate, index: usize) -> Vec<(f64, f64)> {
+    let defs = &est.param_defs;
+    let p = est.params.len();
+    let internal: Vec<f64> = defs
+        .iter()
+        .zip(&est.params)
+        .map(|(d, v)| d.transform.internal(*v).unwrap_or(*v))
+        .collect();
+    let mut j = est.model_jacobian.clone();
+    for (c, (d, u)) in defs.iter().zip(&internal).enumerate() {
+        j.column_mut(c).scale_mut(d.transform.derivative(*u));
+    }
+    for (r, w) in est.weights.iter().enumerate() {
+        j.row_mut(r).scale_mut(w.sqrt());
+    }
+    let f = j.transpose() * &j;
+    let others: Vec<usize> = (0..p).filter(|&c| c != index).collect();
+    let f_oo = DMatrix::from_fn(others.len(), others.len(), |a, b| f[(others[a], others[b])]);
+    let f_oi = DVector::from_fn(others.len(), |a, _| f[(others[a], index)]);
+    let slopes = pinv_sym(&f_oo).map_or_else(|| DVector::zeros(others.len()), |inv| -(inv * f_oi));
+    others
+        .iter()
+        .zip(slopes.iter())
+        .map(|(&c, s)| (internal[c], if s.is_finite() { *s } else { 0.0 }))
+        .collect()
 }
 
 #[cfg(test)]
@@ -188,6 +432,41 @@ mod tests {
                 "{i}: {hi}"
             );
         }
+    }
+
+    /// A step that no start avoids is not a bound: the linear model with one point that jumps
+    /// by ten standard deviations (100 in the sum of squares) once the intercept falls 0.3
+    /// standard errors below its estimate, as a point does when a jump of the curve crosses
+    /// its speed. The lower end must be the Wald end (the step alone would put it at 0.3
+    /// standard errors), the upper one unchanged (the Wald end, as the model is linear there).
+    #[test]
+    fn a_step_no_start_avoids_ends_at_the_wald_end() {
+        let (x, y, sd) = data(|x| 1.0 + 2.0 * x);
+        let line =
+            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
+        let params = [Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)];
+        let est = fit(&line, &y, &sd, &params);
+        let (a, se, q) = (est.params[0], est.std_errors[0], est.quantile[0]);
+        let a_step = a - 0.3 * se;
+        let stepped = |p: &[f64]| -> Result<Vec<f64>> {
+            let mut m = line(p)?;
+            if p[0] < a_step {
+                m[0] += 10.0 * sd[0];
+            }
+            Ok(m)
+        };
+        let (lo, hi) = profile_interval(&stepped, &y, &est, 0, Stop::converged(100)).unwrap();
+        let (lo, hi) = (lo.unwrap(), hi.unwrap());
+        assert!(
+            (lo - (a - q * se)).abs() < 1e-5 * se,
+            "{lo} vs {}",
+            a - q * se
+        );
+        assert!(
+            (hi - (a + q * se)).abs() < 1e-5 * se,
+            "{hi} vs {}",
+            a + q * se
+        );
     }
 
     /// A one-parameter nonlinear model y = exp(-k x) with k positive (log coordinate): the
