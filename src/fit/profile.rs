@@ -193,7 +193,18 @@ where
         // In chi-square units a quadratic sum of squares rises by (u / se)^2.
         let quadratic = (u / self.se).powi(2);
         if value - self.minimum > SURPRISE * quadratic.max(self.rise) {
-            for start in [&self.on_ridge(u), &self.others] {
+            // The estimate is not fitted from again where it was the first start (the nearest
+            // point inside is the estimate until one is found): the same fit, twice.
+            let from_estimate = nearest
+                .iter()
+                .zip(&self.others)
+                .all(|(a, b)| a.start == b.start);
+            let ridge = self.on_ridge(u);
+            let mut starts = vec![&ridge[..]];
+            if !from_estimate {
+                starts.push(&self.others);
+            }
+            for start in starts {
                 let (v, f) = self.fit_from(u, start)?;
                 if v < value {
                     (value, fitted) = (v, f);
