@@ -7,7 +7,7 @@ use geardyn::reproduce::figure_index;
 use serde_json::Value;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::process::{Child, Command, Stdio};
 
 fn files(root: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     let mut out = BTreeMap::new();
@@ -26,14 +26,22 @@ fn files(root: &Path) -> BTreeMap<PathBuf, Vec<u8>> {
     out
 }
 
-/// Run the quick reproduction; `threads` sets rayon's thread count (outputs must not depend on it).
-fn run_quick(out: &Path, threads: Option<&str>) {
+/// Start the quick reproduction; `threads` sets rayon's thread count (outputs must not depend
+/// on it).
+fn start_quick(out: &Path, threads: Option<&str>) -> Child {
     let mut cmd = Command::new(env!("CARGO_BIN_EXE_geardyn"));
-    cmd.args(["reproduce", "--quick", "--out"]).arg(out);
+    cmd.args(["reproduce", "--quick", "--out"])
+        .arg(out)
+        .stdout(Stdio::null())
+        .stderr(Stdio::piped());
     if let Some(t) = threads {
         cmd.env("RAYON_NUM_THREADS", t);
     }
-    let o = cmd.output().expect("the geardyn binary runs");
+    cmd.spawn().expect("the geardyn binary runs")
+}
+
+fn wait_quick(child: Child) {
+    let o = child.wait_with_output().expect("the geardyn binary runs");
     assert!(
         o.status.success(),
         "reproduce failed: {}",
@@ -52,9 +60,11 @@ fn claim<'a>(claims: &'a [Value], id: &str) -> &'a Value {
 fn quick_reproduction_is_complete_deterministic_and_honest() {
     let tmp = tempfile::tempdir().expect("temp dir");
     let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
-    run_quick(&a, None);
-    // The second run on one thread: the same bytes whatever the parallel schedule.
-    run_quick(&b, Some("1"));
+    // The second run on one thread: the same bytes whatever the parallel schedule. The two run
+    // at once, so the one-thread run does not leave a core idle for its whole length.
+    let (ra, rb) = (start_quick(&a, None), start_quick(&b, Some("1")));
+    wait_quick(ra);
+    wait_quick(rb);
 
     // Bit-for-bit identical outputs.
     let (fa, fb) = (files(&a), files(&b));
