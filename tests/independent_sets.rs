@@ -110,7 +110,7 @@ fn validate_kubo_whole_curve_follows_pairs_that_jump_apart() {
             );
             assert!(z.abs() < 3.0, "{what}");
             assert!(lo <= t && t <= hi, "{what}");
-            let (Some(plo), Some(phi)) = r.ci95_profile[k] else {
+            let (Some(plo), Some(phi)) = r.ci95_profile[k].ends() else {
                 panic!("{what}: profile {:?}", r.ci95_profile[k]);
             };
             let profile = format!("{what}, profile [{plo}, {phi}]");

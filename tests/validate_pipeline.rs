@@ -5,6 +5,7 @@
 mod common;
 use common::geardyn;
 use geardyn::data::{load_kubo, load_munro};
+use geardyn::fit::ProfileInterval;
 use geardyn::model::{Dimensional, GearPair};
 use geardyn::progress::NoProgress;
 use geardyn::validate::{
@@ -12,20 +13,11 @@ use geardyn::validate::{
     KuboOptions, KuboTruth, MunroOptions, MunroTruth,
 };
 
-fn within(v: f64, ci: (Option<f64>, Option<f64>)) -> bool {
-    ci.0.is_none_or(|lo| lo <= v) && ci.1.is_none_or(|hi| v <= hi)
-}
-
 /// The true zeta and omega_n lie inside the fit's 95% profile intervals.
-fn assert_truth_inside(
-    seed: u64,
-    truth: [f64; 2],
-    fitted: [f64; 2],
-    ci: &[(Option<f64>, Option<f64>)],
-) {
+fn assert_truth_inside(seed: u64, truth: [f64; 2], fitted: [f64; 2], ci: &[ProfileInterval]) {
     for (k, name) in ["zeta", "omega_n"].iter().enumerate() {
         assert!(
-            within(truth[k], ci[k]),
+            ci[k].covers(truth[k]),
             "seed {seed}: {name} {} ci {:?}",
             fitted[k],
             ci[k]
@@ -288,7 +280,7 @@ fn kubo_contact_fit_that_runs_away_falls_back_to_the_whole_curve() {
         "{}",
         r.parameter_source
     );
-    let (lo, hi) = r.ci95_profile[0];
+    let (lo, hi) = r.ci95_profile[0].ends();
     assert!(
         lo.unwrap() < truth.zeta && truth.zeta < hi.unwrap(),
         "zeta {} [{lo:?}, {hi:?}]",
@@ -318,7 +310,7 @@ fn kubo_first_contact_fit_towards_zero_damping_recovers_by_the_selection() {
         ..KuboOptions::default()
     };
     let r = validate_kubo(&data, &opts, &NoProgress).unwrap();
-    let (lo, hi) = r.ci95_profile[0];
+    let (lo, hi) = r.ci95_profile[0].ends();
     assert!(
         lo.unwrap() < truth.zeta && truth.zeta < hi.unwrap(),
         "zeta {} [{lo:?}, {hi:?}]",

@@ -20,4 +20,4 @@ pub use noise::{
     NoiseModel,
 };
 pub use params::{Param, Transform};
-pub use profile::profile_interval;
+pub use profile::{profile_interval, ProfileInterval};

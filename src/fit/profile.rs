@@ -29,6 +29,7 @@ use super::params::{restarted, Param};
 use crate::error::Result;
 use crate::hb::brent;
 use nalgebra::{DMatrix, DVector};
+use serde::Serialize;
 
 /// Points of the bracketing out from the estimate, 1, 2, 4, ... standard errors (internal
 /// coordinates), before a side is declared unbounded.
@@ -53,22 +54,49 @@ const SURPRISE: f64 = 2.0;
 /// hundredth of the threshold.
 const STEP_WIDTH: f64 = 0.01;
 
-/// Profile interval of parameter `index` of the fit `est` of `model` to `y`; None on a side
-/// where the profile does not rise enough within 2^11 standard errors (the parameter is
-/// not identifiable that way).
+/// A profile-likelihood 95% interval.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ProfileInterval {
+    /// None where the profile does not rise enough within 2^11 standard errors (the parameter
+    /// is not identifiable that way).
+    pub lower: Option<f64>,
+    pub upper: Option<f64>,
+    /// For the lower and the upper end: the profile steps there rather than rises (see the
+    /// module's notes), so that end is the Wald end, or the step where that is farther.
+    pub stepped: [bool; 2],
+}
+
+impl ProfileInterval {
+    /// The two ends.
+    pub fn ends(&self) -> (Option<f64>, Option<f64>) {
+        (self.lower, self.upper)
+    }
+
+    /// Whether `value` lies inside (an unbounded side holds everything beyond the estimate).
+    pub fn covers(&self, value: f64) -> bool {
+        self.lower.is_none_or(|a| a <= value) && self.upper.is_none_or(|b| value <= b)
+    }
+}
+
+/// Profile interval of parameter `index` of the fit `est` of `model` to `y`.
 pub fn profile_interval<M>(
     model: &M,
     y: &[f64],
     est: &Estimate,
     index: usize,
     stop: Stop,
-) -> Result<(Option<f64>, Option<f64>)>
+) -> Result<ProfileInterval>
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
     let profile = Profile::new(model, y, est, index, stop)?;
     let (lo, hi) = rayon::join(|| profile.side(-1.0), || profile.side(1.0));
-    Ok((lo?, hi?))
+    let (lo, hi) = (lo?, hi?);
+    Ok(ProfileInterval {
+        lower: lo.map(|e| e.0),
+        upper: hi.map(|e| e.0),
+        stepped: [lo.is_some_and(|e| e.1), hi.is_some_and(|e| e.1)],
+    })
 }
 
 /// A profile point: its distance u from the estimate (internal coordinate, signed) and the
@@ -215,8 +243,8 @@ where
     }
 
     /// The end on side `dir` (-1 or 1): a bracket ([`Profile::bracket`]), then Brent's
-    /// method in it.
-    fn side(&self, dir: f64) -> Result<Option<f64>> {
+    /// method in it; with whether the profile stepped there ([`Profile::end_beyond`]).
+    fn side(&self, dir: f64) -> Result<Option<(f64, bool)>> {
         // The fitted other parameters at the points found inside the interval, by distance
         // from the estimate: each inner fit starts from the nearest of them on the estimate's
         // side (a start from a point outside may have crossed a step).
@@ -262,9 +290,9 @@ where
         if let Some(e) = failed {
             return Err(e);
         }
-        let end = self.end_beyond(root.abs(), &evaluated);
+        let (end, stepped) = self.end_beyond(root.abs(), &evaluated);
         let t = self.est.param_defs[self.index].transform;
-        Ok(Some(t.value(self.centre + dir * end)))
+        Ok(Some((t.value(self.centre + dir * end), stepped)))
     }
 
     /// A point inside and one outside on side `dir`, with their excesses over the threshold,
@@ -318,13 +346,14 @@ where
     }
 
     /// The end's distance from the estimate, given the root search's: the root, or where the
-    /// profile stepped there (see the module's notes), the Wald end if that is farther.
-    fn end_beyond(&self, root: f64, evaluated: &[(f64, f64)]) -> f64 {
+    /// profile stepped there (see the module's notes), the Wald end if that is farther; and
+    /// whether it stepped.
+    fn end_beyond(&self, root: f64, evaluated: &[(f64, f64)]) -> (f64, bool) {
         let width = (STEP_WIDTH * self.se).max(4.0 * self.tolerance);
         if self.se_known && steps_up(evaluated, width, self.rise) {
-            root.max(self.est.quantile[self.index] * self.se)
+            (root.max(self.est.quantile[self.index] * self.se), true)
         } else {
-            root
+            (root, false)
         }
     }
 }
@@ -426,8 +455,9 @@ mod tests {
         let params = [Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)];
         let est = fit(&model, &y, &sd, &params);
         for i in 0..2 {
-            let (lo, hi) = profile_interval(&model, &y, &est, i, Stop::converged(100)).unwrap();
-            let (lo, hi) = (lo.unwrap(), hi.unwrap());
+            let p = profile_interval(&model, &y, &est, i, Stop::converged(100)).unwrap();
+            assert_eq!(p.stepped, [false, false], "{i}: a parabola has no step");
+            let (lo, hi) = (p.lower.unwrap(), p.upper.unwrap());
             let se = est.std_errors[i];
             let q = est.quantile[i];
             assert!(
@@ -466,8 +496,9 @@ mod tests {
             }
             Ok(m)
         };
-        let (lo, hi) = profile_interval(&stepped, &y, &est, 0, Stop::converged(100)).unwrap();
-        let (lo, hi) = (lo.unwrap(), hi.unwrap());
+        let p = profile_interval(&stepped, &y, &est, 0, Stop::converged(100)).unwrap();
+        assert_eq!(p.stepped, [true, false], "the step is below the estimate");
+        let (lo, hi) = (p.lower.unwrap(), p.upper.unwrap());
         assert!(
             (lo - (a - q * se)).abs() < 1e-5 * se,
             "{lo} vs {}",
@@ -489,7 +520,9 @@ mod tests {
         let model =
             |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| (-p[0] * x).exp()).collect()) };
         let est = fit(&model, &y, &sd, &[Param::positive("k", 0.5)]);
-        let (lo, hi) = profile_interval(&model, &y, &est, 0, Stop::converged(100)).unwrap();
+        let (lo, hi) = profile_interval(&model, &y, &est, 0, Stop::converged(100))
+            .unwrap()
+            .ends();
         let s = |k: f64| -> f64 {
             let m = model(&[k]).unwrap();
             y.iter()
@@ -529,7 +562,9 @@ mod tests {
         let model =
             |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|_| 1.0 - (-p[0]).exp()).collect()) };
         let est = fit(&model, &y, &sd, &[Param::positive("k", 3.0)]);
-        let (lo, hi) = profile_interval(&model, &y, &est, 0, Stop::converged(100)).unwrap();
+        let (lo, hi) = profile_interval(&model, &y, &est, 0, Stop::converged(100))
+            .unwrap()
+            .ends();
         assert!(lo.is_some(), "a small k lowers the curve: bounded below");
         assert!(
             hi.is_none(),

@@ -3,7 +3,7 @@
 
 use super::html::Page;
 use super::staging::{finish_report, Staged};
-use super::{data_kind_banner, interval_digits};
+use super::{any_stepped, data_kind_banner, interval_digits, profile_cell, STEPPED_NOTE};
 use crate::data::{DataKind, KuboData};
 use crate::error::Result;
 use crate::plot::{write_xy, Series, XyPlot};
@@ -27,7 +27,8 @@ pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
         let i = index(name);
         json!({
             "covariance": r.fit.as_ref().zip(i).and_then(|(f, i)| f.ci95.get(i).map(|(a, b)| [*a, *b])),
-            "profile": i.and_then(|i| r.ci95_profile.get(i)).map(|(a, b)| [*a, *b]),
+            "profile": i.and_then(|i| r.ci95_profile.get(i)).map(|p| [p.lower, p.upper]),
+            "profile_end_at_step": i.and_then(|i| r.ci95_profile.get(i)).map(|p| p.stepped),
         })
     };
     let std_error = |name: &str| {
@@ -184,13 +185,8 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             format!("[{lo:.d$}, {hi:.d$}]")
         })
     };
-    let profile = |i: Option<usize>, min: usize| match i.and_then(|i| r.ci95_profile.get(i)) {
-        Some((a, b)) => {
-            let f = |v: &Option<f64>| v.map_or("unbounded".to_string(), |v| format!("{v:.min$}"));
-            format!("[{}, {}]", f(a), f(b))
-        }
-        None => "-".into(),
-    };
+    let profile =
+        |i: Option<usize>, min: usize| profile_cell(i.and_then(|i| r.ci95_profile.get(i)), min);
     let source = match (&r.fit, r.points_used_in_fit) {
         (None, _) => r.parameter_source.clone(),
         (Some(_), n) if n == r.envelope.len() => {
@@ -276,6 +272,9 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
         ],
         &rows,
     );
+    if any_stepped(&r.ci95_profile) {
+        page.paragraph(STEPPED_NOTE);
+    }
     if let Some(fit) = &r.fit {
         page.paragraph(&format!(
             "Noise of the fit: each point's standard deviation is s times its level (the \

@@ -26,6 +26,41 @@ pub fn interval_digits(lo: f64, hi: f64, min: usize) -> usize {
     needed.clamp(min, 12)
 }
 
+/// A profile-likelihood interval as a table cell: its ends at `digits` decimals (more where
+/// its width needs them, [`interval_digits`]), "unbounded" on a side without an end, and
+/// [`STEPPED_MARK`] after an end where the profile stepped.
+pub fn profile_cell(p: Option<&ProfileInterval>, digits: usize) -> String {
+    let Some(p) = p else {
+        return "-".into();
+    };
+    let digits = match p.ends() {
+        (Some(lo), Some(hi)) => interval_digits(lo, hi, digits),
+        _ => digits,
+    };
+    let end = |v: Option<f64>, stepped: bool| {
+        v.map_or("unbounded".to_string(), |v| {
+            format!("{v:.digits$}{}", if stepped { STEPPED_MARK } else { "" })
+        })
+    };
+    format!(
+        "[{}, {}]",
+        end(p.lower, p.stepped[0]),
+        end(p.upper, p.stepped[1])
+    )
+}
+
+/// The mark of a profile end where the profile stepped, and its note under the table.
+pub const STEPPED_MARK: &str = "†";
+pub const STEPPED_NOTE: &str = "† The profile likelihood steps at this end rather than rising: \
+     the fit's curve jumps (an up-sweep leaving its resonance branch) across a measured speed, \
+     which tells on which side of that speed the jump falls, not how far the parameter may move. \
+     The end given is the Wald (Fisher) end, or the step where that is farther.";
+
+/// Whether any of `profiles` stepped at an end (the report then adds [`STEPPED_NOTE`]).
+pub fn any_stepped(profiles: &[ProfileInterval]) -> bool {
+    profiles.iter().any(|p| p.stepped.contains(&true))
+}
+
 /// Legend text of a data set's points: "measured" only for measured data.
 pub fn measured_label(kind: DataKind) -> &'static str {
     match kind {
@@ -36,6 +71,7 @@ pub fn measured_label(kind: DataKind) -> &'static str {
 }
 
 use crate::data::{DataKind, RigFile};
+use crate::fit::ProfileInterval;
 
 /// The first line of every report and output: the data kind, prominently.
 pub fn data_kind_banner(rig: &RigFile) -> String {
@@ -72,6 +108,27 @@ mod tests {
         // The estimate 0.01775 and the bound 0.01776 must print apart.
         let d = interval_digits(0.01710, 0.01776, 3);
         assert_ne!(format!("{:.d$}", 0.01775), format!("{:.d$}", 0.01776));
+    }
+
+    /// A stepped end carries the mark, an unbounded side says so, and the digits follow the
+    /// width as for the Fisher interval.
+    #[test]
+    fn profile_cell_marks_a_stepped_end() {
+        let p = ProfileInterval {
+            lower: Some(0.07404),
+            upper: Some(0.08003),
+            stepped: [true, false],
+        };
+        assert_eq!(profile_cell(Some(&p), 3), "[0.0740†, 0.0800]");
+        assert!(any_stepped(&[p]));
+        let open = ProfileInterval {
+            lower: Some(2.5),
+            upper: None,
+            stepped: [false, false],
+        };
+        assert_eq!(profile_cell(Some(&open), 2), "[2.50, unbounded]");
+        assert!(!any_stepped(&[open]));
+        assert_eq!(profile_cell(None, 2), "-");
     }
 
     #[test]

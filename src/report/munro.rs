@@ -3,7 +3,9 @@
 
 use super::html::Page;
 use super::staging::{finish_report, Staged};
-use super::{data_kind_banner, interval_digits, measured_label};
+use super::{
+    any_stepped, data_kind_banner, interval_digits, measured_label, profile_cell, STEPPED_NOTE,
+};
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
@@ -20,7 +22,8 @@ fn ci(r: &MunroValidation, i: usize) -> serde_json::Value {
     json!({
         "covariance": pair(e.ci95.get(i)),
         "sandwich": pair(e.ci95_sandwich.get(i)),
-        "profile": r.fit.ci95_profile.get(i).map(|(a, b)| [*a, *b]),
+        "profile": r.fit.ci95_profile.get(i).map(|p| [p.lower, p.upper]),
+        "profile_end_at_step": r.fit.ci95_profile.get(i).map(|p| p.stepped),
     })
 }
 
@@ -127,7 +130,8 @@ fn geometry_json(g: &GeometryValidation) -> serde_json::Value {
             "ci95": {
                 "covariance": e.ci95[i],
                 "sandwich": e.ci95_sandwich[i],
-                "profile": g.fit.ci95_profile.get(i),
+                "profile": g.fit.ci95_profile.get(i).map(|p| [p.lower, p.upper]),
+                "profile_end_at_step": g.fit.ci95_profile.get(i).map(|p| p.stepped),
             },
         })
     };
@@ -229,7 +233,7 @@ fn geometry_section(
             vec![
                 e.names[i].clone(),
                 with_ci(e.params[i], Some(e.ci95[i]), min),
-                fmt_ci(g.fit.ci95_profile.get(i), min),
+                profile_cell(g.fit.ci95_profile.get(i), min),
             ]
         })
         .collect();
@@ -241,6 +245,9 @@ fn geometry_section(
         ],
         &rows,
     );
+    if any_stepped(&g.fit.ci95_profile) {
+        page.paragraph(STEPPED_NOTE);
+    }
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
     let p1 = |l: &LoadResult| l.rms_period1_um.map_or("-".into(), |v| format!("{v:.3}"));
     let rows: Vec<Vec<String>> = r
@@ -571,7 +578,7 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
                 format!("{v:.d$}"),
                 pair(e.ci95[i], d),
                 pair(e.ci95_sandwich[i], d),
-                fmt_ci(r.fit.ci95_profile.get(i), d),
+                profile_cell(r.fit.ci95_profile.get(i), d),
                 unit.to_string(),
                 source,
             ]
@@ -590,6 +597,9 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         ],
         &rows,
     );
+    if any_stepped(&r.fit.ci95_profile) {
+        page.paragraph(STEPPED_NOTE);
+    }
     let n = &e.noise;
     let noise_rows = vec![
         vec![
@@ -630,23 +640,6 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         r.stiffness_source_text,
         r.half_backlash_um
     ));
-}
-
-fn fmt_ci(c: Option<&(Option<f64>, Option<f64>)>, digits: usize) -> String {
-    match c {
-        Some((a, b)) => {
-            let digits = match (a, b) {
-                (Some(lo), Some(hi)) => interval_digits(*lo, *hi, digits),
-                _ => digits,
-            };
-            format!(
-                "[{}, {}]",
-                a.map_or("unbounded".to_string(), |v| format!("{v:.digits$}")),
-                b.map_or("unbounded".to_string(), |v| format!("{v:.digits$}"))
-            )
-        }
-        None => "-".into(),
-    }
 }
 
 /// Human wording of where an STE amplitude came from.

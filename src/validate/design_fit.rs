@@ -9,7 +9,7 @@ use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
 use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseFreedom, NoiseModel, NoiseSetting,
-    Param, Robust, Stop,
+    Param, ProfileInterval, Robust, Stop,
 };
 use crate::model::Dimensional;
 use serde::Serialize;
@@ -25,7 +25,7 @@ pub struct DesignLoadFit {
     pub estimate: Estimate,
     /// Profile-likelihood 95% intervals of zeta, omega_n_hz and the design-load STE (None: not
     /// bounded on that side).
-    pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
+    pub ci95_profile: Vec<ProfileInterval>,
     /// Loads whose low-speed part joined the fit, and the points each gave.
     pub other_loads: Vec<(f64, usize)>,
     /// Points of the design-load curve (the first rows of the fit).

@@ -3,7 +3,7 @@
 //! reason instead of being carried into predictions and reports.
 
 use crate::error::GearError;
-use crate::fit::{Estimate, Transform};
+use crate::fit::{Estimate, ProfileInterval, Transform};
 use crate::sim::to_significant;
 use std::path::Path;
 
@@ -28,7 +28,7 @@ fn brief(v: f64) -> String {
 /// a narrower range where the fit's model cannot go as far).
 pub fn fit_failure(
     est: &Estimate,
-    profile: &[(Option<f64>, Option<f64>)],
+    profile: &[ProfileInterval],
     zeta_range: (f64, f64),
 ) -> Option<String> {
     if !(est.chi_square.is_finite() && est.log_likelihood.is_finite()) {
@@ -67,8 +67,8 @@ pub fn fit_failure(
             brief(zeta_range.1)
         ));
     }
-    for (i, (lo, hi)) in profile.iter().enumerate() {
-        let side = match (lo, hi) {
+    for (i, p) in profile.iter().enumerate() {
+        let side = match p.ends() {
             (None, _) => "below",
             (_, None) => "above",
             _ => continue,

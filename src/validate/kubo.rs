@@ -18,7 +18,7 @@ use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
 use crate::data::{rig_key_error, KuboData, KuboPoint};
 use crate::error::{GearError, Result};
-use crate::fit::{Estimate, Stop};
+use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan};
@@ -115,7 +115,7 @@ impl Default for KuboOptions {
 pub struct KuboValidation {
     /// The fit, when zeta and omega_n were not given in rig.toml.
     pub fit: Option<Estimate>,
-    pub ci95_profile: Vec<(Option<f64>, Option<f64>)>,
+    pub ci95_profile: Vec<ProfileInterval>,
     /// "fitted to the contact part of the curve" or "given in rig.toml".
     pub parameter_source: String,
     pub zeta: f64,
@@ -176,7 +176,7 @@ impl ContactFit<'_> {
         self.problem().fit(&|p: &[f64]| self.curve(p), starts)
     }
 
-    fn profile(&self, est: &Estimate) -> Result<Vec<(Option<f64>, Option<f64>)>> {
+    fn profile(&self, est: &Estimate) -> Result<Vec<ProfileInterval>> {
         self.problem().profile(&|p: &[f64]| self.curve(p), est)
     }
 }
@@ -186,7 +186,7 @@ impl ContactFit<'_> {
 pub(super) struct ModelParameters {
     /// The fit, when zeta and omega_n were not given in rig.toml.
     pub fit: Option<Estimate>,
-    pub profile: Vec<(Option<f64>, Option<f64>)>,
+    pub profile: Vec<ProfileInterval>,
     pub zeta: f64,
     pub omega_n_hz: f64,
     pub ste_um: f64,

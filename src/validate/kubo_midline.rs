@@ -6,7 +6,8 @@
 use crate::data::KuboPoint;
 use crate::error::Result;
 use crate::fit::{
-    estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, Robust, Stop,
+    estimate, profile_interval, Estimate, EstimateOptions, NoiseSetting, Param, ProfileInterval,
+    Robust, Stop,
 };
 
 /// The midline of the envelope at each of `points`: the data both fits take.
@@ -107,7 +108,7 @@ impl MidlineFit {
 
     /// Profile-likelihood 95% intervals of zeta, omega_n and a fitted STE of the fit `est` of
     /// `curve` (not of the pair spread: a nuisance parameter, not reported).
-    pub fn profile<C>(&self, curve: &C, est: &Estimate) -> Result<Vec<(Option<f64>, Option<f64>)>>
+    pub fn profile<C>(&self, curve: &C, est: &Estimate) -> Result<Vec<ProfileInterval>>
     where
         C: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
     {

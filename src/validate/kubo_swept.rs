@@ -15,7 +15,7 @@ use super::kubo::{carried_branch, ste_of, ModelParameters, SteSetting};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use crate::data::KuboData;
 use crate::error::{GearError, Result};
-use crate::fit::{Estimate, Stop};
+use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::Branch;
@@ -100,7 +100,7 @@ pub(super) fn fit_whole_curve(
 }
 
 /// Profile-likelihood 95% intervals per fitted parameter (None: unbounded on that side).
-type ProfileIntervals = Vec<(Option<f64>, Option<f64>)>;
+type ProfileIntervals = Vec<ProfileInterval>;
 
 /// The whole-curve fit and its profile intervals, with two tooth pairs or one (`pairs`); an
 /// error when [`fit_failure`] refuses it.
@@ -143,12 +143,14 @@ fn fit_with(
 const FLOOR_REACHED: f64 = 1.1;
 
 /// Profile intervals with zeta's lower end removed (unbounded) where it lies at the floor.
-fn unbounded_at_the_floor(
-    mut profile: Vec<(Option<f64>, Option<f64>)>,
-) -> Vec<(Option<f64>, Option<f64>)> {
-    if let Some((lo, _)) = profile.first_mut() {
-        if lo.is_some_and(|z| z < FLOOR_REACHED * SWEPT_ZETA_MIN) {
-            *lo = None;
+fn unbounded_at_the_floor(mut profile: ProfileIntervals) -> ProfileIntervals {
+    if let Some(zeta) = profile.first_mut() {
+        if zeta
+            .lower
+            .is_some_and(|z| z < FLOOR_REACHED * SWEPT_ZETA_MIN)
+        {
+            zeta.lower = None;
+            zeta.stepped[0] = false;
         }
     }
     profile
@@ -311,7 +313,7 @@ impl SweptFit<'_> {
         self.problem().fit(&|p: &[f64]| self.curve(p), starts)
     }
 
-    fn profile(&self, est: &Estimate) -> Result<Vec<(Option<f64>, Option<f64>)>> {
+    fn profile(&self, est: &Estimate) -> Result<ProfileIntervals> {
         self.problem().profile(&|p: &[f64]| self.curve(p), est)
     }
 }

@@ -160,10 +160,6 @@ fn covered(truth: f64, ci: (f64, f64)) -> bool {
     ci.0 <= truth && truth <= ci.1
 }
 
-fn covered_profile(truth: f64, ci: (Option<f64>, Option<f64>)) -> bool {
-    ci.0.is_none_or(|a| a <= truth) && ci.1.is_none_or(|b| truth <= b)
-}
-
 /// Run a validation study: one set per seed in `scratch` (replaced by the next), `on_seed`
 /// called with each seed's fit as soon as it is known.
 pub fn run_validate_study(
@@ -224,10 +220,7 @@ pub fn run_validate_study(
                 .map(|i| Covered {
                     fisher: covered(truth[i], e.ci95[i]),
                     sandwich: covered(truth[i], e.ci95_sandwich[i]),
-                    profile: fit
-                        .ci95_profile
-                        .get(i)
-                        .map(|c| covered_profile(truth[i], *c)),
+                    profile: fit.ci95_profile.get(i).map(|c| c.covers(truth[i])),
                 })
                 .collect(),
             noise_floor_um: e.noise.model.floor,
