@@ -74,6 +74,18 @@ impl NoiseModel {
     }
 }
 
+/// Signed root of the deviance of a standardized residual z under `dist`:
+/// sign(z) sqrt(2 (log f(0) - log f(z))), so that the sum of their squares is -2 log L up to a
+/// constant (the scales held). z itself for Gaussian errors; sign(z) sqrt((dof + 1)
+/// ln(1 + z^2 / dof)) for Student-t errors (McCullagh & Nelder 1989, Sec. 2.4.3), which is
+/// smooth through z = 0 (slope sqrt((dof + 1) / dof)), so least squares can minimise it.
+pub fn deviance_residual(dist: Distribution, z: f64) -> f64 {
+    match dist {
+        Distribution::Gaussian => z,
+        Distribution::StudentT { dof } => z.signum() * ((dof + 1.0) * (z * z / dof).ln_1p()).sqrt(),
+    }
+}
+
 /// Log-likelihood of residuals r_i with scales s_i under `dist`.
 pub fn log_likelihood(dist: Distribution, residuals: &[f64], scales: &[f64]) -> f64 {
     let ln2pi = (2.0 * std::f64::consts::PI).ln();
@@ -433,5 +445,22 @@ mod tests {
         let normal = -(s * (2.0 * std::f64::consts::PI).sqrt()).ln() - 0.5 * (r / s).powi(2);
         let g = log_likelihood(Distribution::Gaussian, &[r], &[s]);
         assert!((g - normal).abs() < 1e-12);
+    }
+
+    /// The squared deviance residuals differ from -2 log L by a constant: the differences
+    /// between two residuals' values agree with the log-likelihood's (scales held).
+    #[test]
+    fn deviance_residuals_square_to_minus_twice_the_log_likelihood() {
+        for dist in [Distribution::Gaussian, Distribution::StudentT { dof: 3.0 }] {
+            let ll = |z: f64| log_likelihood(dist, &[z], &[1.0]);
+            for z in [-4.0, -0.3, 0.0, 0.2, 2.5, 30.0] {
+                let d = deviance_residual(dist, z);
+                assert!(
+                    (d * d - 2.0 * (ll(0.0) - ll(z))).abs() < 1e-12,
+                    "{dist:?} {z}"
+                );
+                assert_eq!(d.signum(), if z < 0.0 { -1.0 } else { 1.0 }, "{z}");
+            }
+        }
     }
 }

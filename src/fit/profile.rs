@@ -1,8 +1,9 @@
 //! Profile-likelihood 95% intervals (Venzon & Moolgavkar 1988; Bates & Watts 1988, Sec. 6.1):
-//! the values of one parameter at which the weighted residual sum of squares, minimised over
-//! the others with the fit's final weights held (the working likelihood of the reweighted fit),
-//! exceeds its minimum by q^2, q the fit's t quantile, so that the profile and Wald intervals
-//! agree where the model is linear in its parameters.
+//! the values of one parameter at which -2 log L of the fitted noise model, its scales held
+//! (the weighted residual sum of squares under Gaussian errors, the sum of squared deviance
+//! residuals under Student-t errors), minimised over the others, exceeds its minimum by q^2,
+//! q the fit's t quantile, so that the profile and Wald intervals agree where the model is
+//! linear in its parameters.
 //!
 //! The sum of squares of a model whose curve jumps (an up-sweep falling off its resonance
 //! branch) has steps where a jump crosses a measured speed, and an inner fit started on the
@@ -25,6 +26,7 @@
 
 use super::estimate::{pinv_sym, Estimate};
 use super::lm::{least_squares, rss, Stop};
+use super::noise::{deviance_residual, Distribution};
 use super::params::{restarted, Param};
 use crate::error::Result;
 use crate::hb::brent;
@@ -172,16 +174,25 @@ where
         Ok(profile)
     }
 
-    /// Weighted residuals at the full parameter vector `p`, the fit's final weights held.
+    /// Residuals at the full parameter vector `p` whose sum of squares is -2 log L of the
+    /// fitted noise model up to a constant, its scales held: weighted by the final weights
+    /// under Gaussian errors; deviance residuals under Student-t errors, whose final weights
+    /// (the reweighting's, about 1 / sigma^2 on average) would profile a likelihood
+    /// (dof + 3) / (dof + 1) times as curved as the Fisher information (dof 3: intervals 18%
+    /// short; validate-study's Student-t sets covered 84-90%).
     fn weighted(&self, p: &[f64]) -> Result<Vec<f64>> {
         let m = (self.model)(p)?;
-        Ok(self
-            .y
-            .iter()
-            .zip(&m)
-            .zip(&self.est.weights)
-            .map(|((y, f), w)| (y - f) * w.sqrt())
-            .collect())
+        let residuals = self.y.iter().zip(&m).map(|(y, f)| y - f);
+        Ok(match self.est.noise.model.distribution {
+            Distribution::Gaussian => residuals
+                .zip(&self.est.weights)
+                .map(|(r, w)| r * w.sqrt())
+                .collect(),
+            dist => residuals
+                .zip(&self.est.noise.scales)
+                .map(|(r, s)| deviance_residual(dist, r / s))
+                .collect(),
+        })
     }
 
     /// The sum of squares at u with the other parameters fitted from `start`, and their fitted
@@ -509,6 +520,55 @@ mod tests {
             "{hi} vs {}",
             a + q * se
         );
+    }
+
+    /// Under Student-t errors (a line, 400 points, 3 degrees of freedom, the scale stated and
+    /// the dof estimated) the profile of the t likelihood matches the Fisher interval, whose
+    /// information is (dof + 1) / (dof + 3) of the reweighting's J'WJ: half-widths within 10%
+    /// (the observed information of 400 points scatters by about 5% about the expected). With
+    /// the final working weights held, as before, the profile's half-widths were about
+    /// sqrt(4 / 6) = 0.82 of the Fisher ones, and validate-study's Student-t sets covered
+    /// 84-90%.
+    #[test]
+    fn student_t_profile_matches_the_fisher_interval() {
+        let x: Vec<f64> = (0..400).map(|i| 0.01 * f64::from(i)).collect();
+        let mut rng = crate::validate::Rng::new(11);
+        let y: Vec<f64> = x
+            .iter()
+            .map(|x| 1.0 + 2.0 * x + 0.1 * rng.student_t(3.0))
+            .collect();
+        let line =
+            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
+        let est = estimate(
+            &line,
+            &y,
+            &[Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)],
+            &EstimateOptions {
+                noise: NoiseSetting::PerPoint(vec![0.1; x.len()]),
+                robust: Robust::On,
+                stop: Stop::converged(100).central(),
+                starts: Vec::new(),
+            },
+        )
+        .unwrap();
+        assert!(
+            matches!(
+                est.noise.model.distribution,
+                crate::fit::Distribution::StudentT { .. }
+            ),
+            "{:?}",
+            est.noise.model
+        );
+        for i in 0..2 {
+            let p = profile_interval(&line, &y, &est, i, Stop::converged(100)).unwrap();
+            let (lo, hi) = (p.lower.unwrap(), p.upper.unwrap());
+            let (flo, fhi) = est.ci95[i];
+            let ratio = (hi - lo) / (fhi - flo);
+            assert!(
+                (0.9..1.1).contains(&ratio),
+                "{i}: profile / Fisher width {ratio}"
+            );
+        }
     }
 
     /// A one-parameter nonlinear model y = exp(-k x) with k positive (log coordinate): the
