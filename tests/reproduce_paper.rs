@@ -40,15 +40,6 @@ fn start_quick(out: &Path, threads: Option<&str>) -> Child {
     cmd.spawn().expect("the geardyn binary runs")
 }
 
-fn wait_quick(child: Child) {
-    let o = child.wait_with_output().expect("the geardyn binary runs");
-    assert!(
-        o.status.success(),
-        "reproduce failed: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-}
-
 fn claim<'a>(claims: &'a [Value], id: &str) -> &'a Value {
     claims
         .iter()
@@ -62,9 +53,18 @@ fn quick_reproduction_is_complete_deterministic_and_honest() {
     let (a, b) = (tmp.path().join("a"), tmp.path().join("b"));
     // The second run on one thread: the same bytes whatever the parallel schedule. The two run
     // at once, so the one-thread run does not leave a core idle for its whole length.
-    let (ra, rb) = (start_quick(&a, None), start_quick(&b, Some("1")));
-    wait_quick(ra);
-    wait_quick(rb);
+    let runs = [start_quick(&a, None), start_quick(&b, Some("1"))];
+    // Both are waited for before either is checked: a failed first run must not leave the
+    // second running on. The second's stderr (a few hundred bytes) fits in its pipe's buffer
+    // while the first is waited for.
+    let outputs = runs.map(|run| run.wait_with_output().expect("the geardyn binary runs"));
+    for o in &outputs {
+        assert!(
+            o.status.success(),
+            "reproduce failed: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    }
 
     // Bit-for-bit identical outputs.
     let (fa, fb) = (files(&a), files(&b));

@@ -170,7 +170,7 @@ where
             // slope there is 2 q per standard error): a finer search only bisects that error.
             tolerance: END_TOLERANCE.max(stop.stall / (2.0 * q)) * se,
         };
-        profile.minimum = rss(&profile.weighted(&est.params)?);
+        profile.minimum = rss(&profile.likelihood_residuals(&est.params)?);
         Ok(profile)
     }
 
@@ -180,7 +180,7 @@ where
     /// (the reweighting's, about 1 / sigma^2 on average) would profile a likelihood
     /// (dof + 3) / (dof + 1) times as curved as the Fisher information (dof 3: intervals 18%
     /// short; validate-study's Student-t sets covered 84-90%).
-    fn weighted(&self, p: &[f64]) -> Result<Vec<f64>> {
+    fn likelihood_residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
         let m = (self.model)(p)?;
         let residuals = self.y.iter().zip(&m).map(|(y, f)| y - f);
         Ok(match self.est.noise.model.distribution {
@@ -207,9 +207,9 @@ where
             q
         };
         if start.is_empty() {
-            return Ok((rss(&self.weighted(&full(&[]))?), None));
+            return Ok((rss(&self.likelihood_residuals(&full(&[]))?), None));
         }
-        let f = |p: &[f64]| self.weighted(&full(p));
+        let f = |p: &[f64]| self.likelihood_residuals(&full(p));
         Ok(least_squares(&f, start, self.stop)
             .map_or((f64::INFINITY, None), |fit| (fit.rss, Some(fit.params))))
     }
@@ -436,6 +436,14 @@ mod tests {
         (x, y, sd)
     }
 
+    /// The line a + b x at the points `x`, and its two signed parameters.
+    fn line(x: &[f64]) -> (impl Fn(&[f64]) -> Result<Vec<f64>> + Sync + '_, [Param; 2]) {
+        let model =
+            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
+        let params = [Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)];
+        (model, params)
+    }
+
     fn fit<M>(model: &M, y: &[f64], sd: &[f64], params: &[Param]) -> Estimate
     where
         M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
@@ -461,9 +469,7 @@ mod tests {
     #[test]
     fn profile_of_a_linear_model_is_the_wald_interval() {
         let (x, y, sd) = data(|x| 1.0 + 2.0 * x);
-        let model =
-            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
-        let params = [Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)];
+        let (model, params) = line(&x);
         let est = fit(&model, &y, &sd, &params);
         for i in 0..2 {
             let p = profile_interval(&model, &y, &est, i, Stop::converged(100)).unwrap();
@@ -494,9 +500,7 @@ mod tests {
     #[test]
     fn a_step_no_start_avoids_ends_at_the_wald_end() {
         let (x, y, sd) = data(|x| 1.0 + 2.0 * x);
-        let line =
-            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
-        let params = [Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)];
+        let (line, params) = line(&x);
         let est = fit(&line, &y, &sd, &params);
         let (a, se, q) = (est.params[0], est.std_errors[0], est.quantile[0]);
         let a_step = a - 0.3 * se;
@@ -537,12 +541,11 @@ mod tests {
             .iter()
             .map(|x| 1.0 + 2.0 * x + 0.1 * rng.student_t(3.0))
             .collect();
-        let line =
-            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
+        let (line, params) = line(&x);
         let est = estimate(
             &line,
             &y,
-            &[Param::signed("a", 0.5, 1.0), Param::signed("b", 1.0, 1.0)],
+            &params,
             &EstimateOptions {
                 noise: NoiseSetting::PerPoint(vec![0.1; x.len()]),
                 robust: Robust::On,
