@@ -481,9 +481,12 @@ fn fit_contact_part(
 fn ste_source(stated: Option<f64>, held: bool) -> String {
     match (stated, held) {
         (Some(_), true) => "rig.toml".into(),
-        (Some(s), false) => {
-            format!("fitted (rig.toml states {s} um, the fit's start; --hold-ste holds it)")
-        }
+        // Six digits: a set written by a program states the STE to full double precision,
+        // which the reports' source column would otherwise print as 17 digits.
+        (Some(s), false) => format!(
+            "fitted (rig.toml states {} um, the fit's start; --hold-ste holds it)",
+            crate::sim::to_significant(s, 6)
+        ),
         (None, _) => "fitted".into(),
     }
 }
@@ -588,4 +591,16 @@ fn outside_envelope(points: &[KuboPoint], up: &[(f64, f64, u8)]) -> Vec<f64> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::ste_source;
+
+    #[test]
+    fn a_stated_ste_is_quoted_to_six_digits() {
+        let s = ste_source(Some(2.990_954_998_206_589_3), false);
+        assert!(s.contains("states 2.99095 um"), "{s}");
+        assert!(ste_source(Some(3.0), false).contains("states 3 um"));
+    }
 }
