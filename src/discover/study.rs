@@ -278,45 +278,19 @@ pub fn run_study(
             "a study needs at least one seed",
         ));
     }
-    let strength = match (hidden, opts.strength) {
-        (Hidden::None, Some(s)) => {
-            return Err(GearError::param(
-                "strength",
-                s,
-                "the null study hides nothing: no strength to set",
-            ))
-        }
-        (_, Some(s)) => s,
-        (_, None) => hidden.default_strength().unwrap_or(0.0),
-    };
+    let strength = study_strength(hidden, opts.strength)?;
     let speeds = opts.grid.speeds()?;
     let mut outcomes = Vec::new();
     let mut truth = None;
     progress.start(opts.seeds as u64, "seeds");
     for k in 0..opts.seeds {
         let seed = opts.first_seed + k as u64;
-        let true_phase = hidden.has_phase().then(|| {
-            if opts.random_phase {
-                // Its own stream, so that the noise of seed k is the same with or without it.
-                2.0 * std::f64::consts::PI * Rng::new(seed ^ 0x005e_ed0f_9a5e).uniform()
-            } else {
-                0.0
-            }
-        });
+        let true_phase = hidden
+            .has_phase()
+            .then(|| true_phase(seed, opts.random_phase));
         let (effects, t_value) = hidden.effects(strength, true_phase.unwrap_or(0.0));
         truth = t_value;
-        let mut t = MunroTruth::default_munro();
-        t.seed = seed;
-        t.noise = opts.noise;
-        match opts.grid {
-            SpeedGrid::Uniform { step_rpm } => t.speeds_rpm = (1000.0, 5000.0, step_rpm),
-            SpeedGrid::NonUniform { .. } => t.speed_list = Some(speeds.clone()),
-        }
-        t.hidden = effects;
-        t.dop853_rtol = opts.dop853_rtol;
-        if let Some(loads) = &opts.loads {
-            t.ste_um = loads.clone();
-        }
+        let t = seed_truth(opts, &speeds, seed, effects);
         let dir = match &opts.keep_sets {
             Some(keep) => keep.join(format!("seed-{seed}")),
             None => scratch.join("set"),
@@ -327,118 +301,190 @@ pub fn run_study(
         let mut dopts = opts.discover.clone();
         dopts.seed = opts.discover.seed.wrapping_add(seed);
         let d: Discovery = discover(&data, &dopts, &crate::progress::NoProgress)?;
-        let cand = d.candidates.iter().find(|c| c.name == d.effect);
-        let p_values = d
-            .detection
-            .iter()
-            .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
-            .chain(
-                d.candidates
-                    .iter()
-                    .filter_map(|c| c.p_value.map(|p| (format!("candidate_{}", c.name), p))),
-            )
-            .collect();
-        let post_fit_p_values = d
-            .post_fit
-            .iter()
-            .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
-            .collect();
-        let leading_refit = d.leading_refit().map(str::to_string);
-        let estimate = cand.and_then(|c| c.estimate);
-        let phase_undetermined = cand.and_then(|c| {
-            c.other_start
-                .as_ref()
-                .zip(c.delta.as_ref())
-                .map(|(o, kept)| o.phase_undetermined(kept))
-        });
-        let ci95 = cand.and_then(|c| c.ci95);
-        let phase_deg = cand.and_then(|c| c.phase_deg);
-        let phase_wald95_deg = cand.map(|c| c.phase_wald95_deg.clone()).unwrap_or_default();
-        let phase_profile95_deg = cand.and_then(|c| c.phase_profile95_deg);
-        let true_deg = true_phase.map(f64::to_degrees);
-        // The other basin's Wald arc counts with the profile arc, as with the Wald arcs.
-        let other_arcs = phase_wald95_deg.get(1..).unwrap_or_default();
-        let outcome = SeedOutcome {
-            phase_profile_covered: true_deg.zip(phase_profile95_deg).map(|(t, arc)| {
-                on_phase_arc(t, arc) || other_arcs.iter().any(|&o| on_phase_arc(t, o))
-            }),
-            phase_profile95_deg,
-            phase_covered: true_deg
-                .filter(|_| phase_deg.is_some())
-                .map(|t| phase_wald95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
-            phase_error_deg: true_phase
-                .zip(phase_deg)
-                .map(|(t, e)| Candidate::angle_apart(e.to_radians(), t).to_degrees()),
-            phase_deg,
-            phase_wald95_deg,
+        let truth_of_seed = SeedTruth {
             seed,
-            true_phase,
-            correct: d.effect == hidden.expected(),
-            covered: truth.zip(ci95).map(|(v, (lo, hi))| v >= lo && v <= hi),
-            phase_undetermined,
-            estimate,
-            ci95,
-            wald_ci95: cand.and_then(|c| c.wald_ci95),
-            profile_ci95: cand.and_then(|c| c.profile_ci95),
-            held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
-            held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
-            excluded_far_outside: d.excluded_far_outside(),
-            refitted: d
-                .candidates
-                .iter()
-                .filter(|c| c.estimate.is_some())
-                .map(|c| c.name)
-                .collect(),
-            decided_on: d.decided_on(),
-            effect: d.effect,
-            p_values,
-            leading_refit,
-            post_fit_p_values,
-            seconds: start.elapsed().as_secs_f64(),
+            hidden,
+            value: truth,
+            phase: true_phase,
         };
+        let outcome = seed_outcome(&d, &truth_of_seed, start.elapsed().as_secs_f64());
         on_seed(&outcome)?;
         outcomes.push(outcome);
         progress.advance(1);
     }
     progress.finish();
+    Ok(summarise(hidden, opts, truth, outcomes))
+}
+
+/// The hidden effect's strength: the one asked for, or the study's default; none for the null
+/// study, which refuses one.
+fn study_strength(hidden: Hidden, asked: Option<f64>) -> Result<f64> {
+    match (hidden, asked) {
+        (Hidden::None, Some(s)) => Err(GearError::param(
+            "strength",
+            s,
+            "the null study hides nothing: no strength to set",
+        )),
+        (_, Some(s)) => Ok(s),
+        (_, None) => Ok(hidden.default_strength().unwrap_or(0.0)),
+    }
+}
+
+/// The true phase of a phase-carrying effect in seed `seed` (rad): uniform on the circle when
+/// `random`, else 0.
+fn true_phase(seed: u64, random: bool) -> f64 {
+    if random {
+        // Its own stream, so that the noise of seed k is the same with or without it.
+        2.0 * std::f64::consts::PI * Rng::new(seed ^ 0x005e_ed0f_9a5e).uniform()
+    } else {
+        0.0
+    }
+}
+
+/// The synthetic set of one seed: Munro's rig and loads (or the study's), its noise, grid,
+/// integrator and hidden effects.
+fn seed_truth(
+    opts: &StudyOptions,
+    speeds: &[f64],
+    seed: u64,
+    effects: HiddenEffects,
+) -> MunroTruth {
+    let mut t = MunroTruth::default_munro();
+    t.seed = seed;
+    t.noise = opts.noise;
+    match opts.grid {
+        SpeedGrid::Uniform { step_rpm } => t.speeds_rpm = (1000.0, 5000.0, step_rpm),
+        SpeedGrid::NonUniform { .. } => t.speed_list = Some(speeds.to_vec()),
+    }
+    t.hidden = effects;
+    t.dop853_rtol = opts.dop853_rtol;
+    if let Some(loads) = &opts.loads {
+        t.ste_um = loads.clone();
+    }
+    t
+}
+
+/// What a seed hid: the effect, its strength in the candidate's units and its phase (rad).
+struct SeedTruth {
+    seed: u64,
+    hidden: Hidden,
+    value: Option<f64>,
+    phase: Option<f64>,
+}
+
+/// One seed's discovery `d` scored against what it hid.
+fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
+    let cand = d.candidates.iter().find(|c| c.name == d.effect);
+    let p_values = d
+        .detection
+        .iter()
+        .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
+        .chain(
+            d.candidates
+                .iter()
+                .filter_map(|c| c.p_value.map(|p| (format!("candidate_{}", c.name), p))),
+        )
+        .collect();
+    let post_fit_p_values = d
+        .post_fit
+        .iter()
+        .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
+        .collect();
+    let phase_undetermined = cand.and_then(|c| {
+        c.other_start
+            .as_ref()
+            .zip(c.delta.as_ref())
+            .map(|(o, kept)| o.phase_undetermined(kept))
+    });
+    let ci95 = cand.and_then(|c| c.ci95);
+    let phase_deg = cand.and_then(|c| c.phase_deg);
+    let phase_wald95_deg = cand.map(|c| c.phase_wald95_deg.clone()).unwrap_or_default();
+    let phase_profile95_deg = cand.and_then(|c| c.phase_profile95_deg);
+    let true_deg = truth.phase.map(f64::to_degrees);
+    // The other basin's Wald arc counts with the profile arc, as with the Wald arcs.
+    let other_arcs = phase_wald95_deg.get(1..).unwrap_or_default();
+    SeedOutcome {
+        phase_profile_covered: true_deg
+            .zip(phase_profile95_deg)
+            .map(|(t, arc)| on_phase_arc(t, arc) || other_arcs.iter().any(|&o| on_phase_arc(t, o))),
+        phase_profile95_deg,
+        phase_covered: true_deg
+            .filter(|_| phase_deg.is_some())
+            .map(|t| phase_wald95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
+        phase_error_deg: truth
+            .phase
+            .zip(phase_deg)
+            .map(|(t, e)| Candidate::angle_apart(e.to_radians(), t).to_degrees()),
+        phase_deg,
+        phase_wald95_deg,
+        seed: truth.seed,
+        true_phase: truth.phase,
+        correct: d.effect == truth.hidden.expected(),
+        covered: truth
+            .value
+            .zip(ci95)
+            .map(|(v, (lo, hi))| v >= lo && v <= hi),
+        phase_undetermined,
+        estimate: cand.and_then(|c| c.estimate),
+        ci95,
+        wald_ci95: cand.and_then(|c| c.wald_ci95),
+        profile_ci95: cand.and_then(|c| c.profile_ci95),
+        held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
+        held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
+        excluded_far_outside: d.excluded_far_outside(),
+        refitted: d
+            .candidates
+            .iter()
+            .filter(|c| c.estimate.is_some())
+            .map(|c| c.name)
+            .collect(),
+        decided_on: d.decided_on(),
+        effect: d.effect.clone(),
+        p_values,
+        leading_refit: d.leading_refit().map(str::to_string),
+        post_fit_p_values,
+        seconds,
+    }
+}
+
+/// The study's rates over its seeds' outcomes, with Wilson 95% intervals; `truth` the hidden
+/// effect's strength (None for the null study and the sensor peak).
+fn summarise(
+    hidden: Hidden,
+    opts: &StudyOptions,
+    truth: Option<f64>,
+    outcomes: Vec<SeedOutcome>,
+) -> StudySummary {
     let n = outcomes.len();
     let correct = outcomes.iter().filter(|o| o.correct).count();
     let good: Vec<&SeedOutcome> = outcomes.iter().filter(|o| o.correct).collect();
-    let coverage = truth.map(|_| {
-        (
-            good.iter().filter(|o| o.covered == Some(true)).count(),
-            good.len(),
-        )
-    });
+    let share =
+        |flag: &dyn Fn(&SeedOutcome) -> bool| (good.iter().filter(|o| flag(o)).count(), good.len());
+    let coverage = truth.map(|_| share(&|o| o.covered == Some(true)));
     let held_out_shrunk = truth.map(|_| {
-        let s = good
-            .iter()
-            .filter(|o| {
-                o.held_out_rms_before_um
-                    .zip(o.held_out_rms_after_um)
-                    .is_some_and(|(b, a)| a < b)
-            })
-            .count();
-        (s, good.len())
+        share(&|o| {
+            o.held_out_rms_before_um
+                .zip(o.held_out_rms_after_um)
+                .is_some_and(|(b, a)| a < b)
+        })
     });
     let with_phase: Vec<bool> = good.iter().filter_map(|o| o.phase_undetermined).collect();
     let phase_undetermined = (!with_phase.is_empty())
         .then(|| (with_phase.iter().filter(|u| **u).count(), with_phase.len()));
-    let phase_covered: Vec<bool> = good.iter().filter_map(|o| o.phase_covered).collect();
     let rate = |flags: Vec<bool>| {
         (!flags.is_empty()).then(|| {
             let k = flags.iter().filter(|c| **c).count();
             (k, flags.len(), wilson95(k, flags.len()))
         })
     };
-    let phase_coverage = rate(phase_covered);
+    let phase_coverage = rate(good.iter().filter_map(|o| o.phase_covered).collect());
     let phase_profile_coverage = rate(
         good.iter()
             .filter_map(|o| o.phase_profile_covered)
             .collect(),
     );
-    let calibration = calibration(&outcomes);
-    Ok(StudySummary {
+    let null = hidden == Hidden::None;
+    StudySummary {
         hidden,
         expected: hidden.expected(),
         true_value: truth,
@@ -457,9 +503,9 @@ pub fn run_study(
         correct,
         correct_rate: correct as f64 / n as f64,
         correct_ci95: wilson95(correct, n),
-        false_positive_rate: (hidden == Hidden::None)
+        false_positive_rate: null
             .then(|| ((n - correct) as f64 / n as f64, wilson95(n - correct, n))),
-        false_positive_upper95: if hidden == Hidden::None {
+        false_positive_upper95: if null {
             clopper_pearson_upper95(n - correct, n)
         } else {
             None
@@ -473,9 +519,9 @@ pub fn run_study(
             .iter()
             .filter(|o| o.excluded_far_outside > 0)
             .count(),
-        calibration,
+        calibration: calibration(&outcomes),
         outcomes,
-    })
+    }
 }
 
 /// [`TestCalibration`] of every test that has a p-value in some seed, in first-seen order.
