@@ -1111,7 +1111,7 @@ pub(super) fn significant(c: &CandidateResult, alpha: f64) -> bool {
 
 /// Whether a candidate is significant on its own test before Holm's correction but not after:
 /// a rival for the held-out split of a name (see [`Rounds::held_out_rivals`]), never named.
-fn rival(c: &CandidateResult, alpha: f64) -> bool {
+pub(super) fn rival(c: &CandidateResult, alpha: f64) -> bool {
     c.p_value.is_some_and(|p| p < alpha / 2.0) && !significant(c, alpha)
 }
 
@@ -1223,28 +1223,36 @@ pub fn discover_setup(
         detected,
     };
     let mut refits: Vec<Refitted> = Vec::new();
-    rounds.refit(&refit, &mut cands, &mut refits);
-    let mut decision = rounds.decision(&mut cands, &mut refits)?;
-    // Before a discrepancy is called unexplained, every significant candidate is refitted:
-    // where M0 is far off, its local statistics can rank the right one low. On rattle-regime
-    // sets (b x 0.7) M0 sometimes settled at zeta 0.058 and omega_n 1815 Hz (true 0.0175,
-    // 1600 Hz), where the backlash probes ranked third by score and by LR.
-    let rest: Vec<usize> = (0..cands.len())
-        .filter(|&c| significant(&cands[c], opts.alpha) && !refit.contains(&c))
-        .collect();
-    if decision.effect == "unexplained" && !rest.is_empty() {
-        rounds.refit(&rest, &mut cands, &mut refits);
-        decision = rounds.decision(&mut cands, &mut refits)?;
-    }
-    // A rival is not significant after Holm's correction, so no earlier round refitted it.
-    let rivals: Vec<usize> = (0..cands.len())
-        .filter(|&c| rival(&cands[c], opts.alpha))
-        .collect();
-    if rounds.held_out_rivals(&decision) && !rivals.is_empty() {
-        rounds.refit(&rivals, &mut cands, &mut refits);
-        decision = rounds.decision(&mut cands, &mut refits)?;
-    }
+    let decision = rounds.settle(&refit, &mut cands, &mut refits)?;
     progress.advance(1);
+    progress.finish();
+    let tests = TestsOfM0 {
+        detection,
+        detected_by_tests,
+        significant_undetected,
+        excluded,
+    };
+    Ok(discovery_of(&rounds, &omega, decision, tests, cands))
+}
+
+/// What the tests of M0 found, beside [`Rounds::detected`].
+struct TestsOfM0 {
+    detection: Vec<TestResult>,
+    detected_by_tests: bool,
+    significant_undetected: Vec<String>,
+    excluded: Vec<ExcludedPoints>,
+}
+
+/// The run's findings from its rounds' `decision`: the answer, the gap before (M0) and after
+/// (the leading candidate's refit, or M0 when none was refitted) on the training and held-out
+/// curves, and the residual curves; `omega` is every point's Omega at M0's omega_n.
+fn discovery_of(
+    r: &Rounds,
+    omega: &[Vec<f64>],
+    decision: Decision,
+    tests: TestsOfM0,
+    cands: Vec<CandidateResult>,
+) -> Discovery {
     let Decision {
         effect,
         ambiguous_with,
@@ -1259,40 +1267,42 @@ pub fn discover_setup(
         rests_on: _,
         held_out_prefers,
     } = decision;
+    let (setup, train, held) = (r.setup, r.train, r.held);
+    let ws = &r.lin.windows;
     let after_name = leading_candidate(&effect, closest.as_deref(), &ambiguous_with);
     let gap_after_model = match (after_name, refit_preds.is_some()) {
         (Some(n), true) => format!("M0 + {n}"),
         _ => {
-            after_preds = f0.clone();
+            after_preds = r.f0.to_vec();
             "M0 (no candidate refitted)".to_string()
         }
     };
-    progress.advance(1);
-    progress.finish();
     let gap_set = |preds: &[CurvePrediction]| GapSet {
-        training: gap(setup, &train, preds, &compare_mask, &omega, &ws),
-        held_out: (!held.is_empty()).then(|| gap(setup, &held, preds, &compare_mask, &omega, &ws)),
+        training: gap(setup, train, preds, &compare_mask, omega, ws),
+        held_out: (!held.is_empty()).then(|| gap(setup, held, preds, &compare_mask, omega, ws)),
     };
-    let kept_scales = scales
+    let kept_scales = r
+        .scales
         .iter()
-        .zip(&mask)
+        .zip(r.mask)
         .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
     let noise_range_um = min_max(kept_scales).unwrap_or((0.0, 0.0));
-    Ok(Discovery {
+    Discovery {
         ambiguous_with,
         closest_candidate: closest,
-        detected,
-        detected_by_tests,
-        significant_undetected,
+        detected: r.detected,
+        detected_by_tests: tests.detected_by_tests,
+        significant_undetected: tests.significant_undetected,
         held_out_prefers,
         post_fit,
-        noise,
+        noise: r.noise.clone(),
         noise_range_um,
-        zeta_m0: m0.globals.zeta,
-        omega_n_hz_m0: m0.globals.omega_n_hz,
+        zeta_m0: r.m0.globals.zeta,
+        omega_n_hz_m0: r.m0.globals.omega_n_hz,
         training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
         held_out_loads_n: held.iter().map(|&i| setup.curves[i].load_n).collect(),
-        held_out_ste_um: held0
+        held_out_ste_um: r
+            .held0
             .iter()
             .map(|(i, e0, _)| {
                 let after = refit_held
@@ -1302,25 +1312,25 @@ pub fn discover_setup(
                 (setup.curves[*i].load_n, *e0, after)
             })
             .collect(),
-        excluded_points: mask.iter().flatten().filter(|m| !**m).count(),
-        excluded_by_load: excluded,
-        gap_before: gap_set(&f0),
+        excluded_points: r.mask.iter().flatten().filter(|m| !**m).count(),
+        excluded_by_load: tests.excluded,
+        gap_before: gap_set(r.f0),
         gap_after: gap_set(&after_preds),
         gap_after_model,
-        residuals_before: residual_curves(setup, &train, &f0, &compare_mask, &omega),
+        residuals_before: residual_curves(setup, train, r.f0, &compare_mask, omega),
         residuals_after: residual_curves(
             setup,
-            &train,
+            train,
             refit_preds.as_deref().unwrap_or(&after_preds),
             &compare_mask,
-            &omega,
+            omega,
         ),
-        windows: ws,
-        detection,
+        windows: ws.clone(),
+        detection: tests.detection,
         candidates: cands,
         effect,
-        bootstrap: opts.bootstrap,
-    })
+        bootstrap: r.opts.bootstrap,
+    }
 }
 
 #[cfg(test)]
