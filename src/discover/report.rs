@@ -421,6 +421,33 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         &banner,
         data.rig.source.kind == DataKind::Synthetic,
     );
+    summary_section(&mut page, d);
+    detection_section(
+        &mut page,
+        "Detection (bootstrap p-values under M0, Holm-adjusted over these and the candidates' tests)",
+        &d.detection,
+    );
+    candidates_section(&mut page, d);
+    if !d.post_fit.is_empty() {
+        detection_section(
+            &mut page,
+            "Detection tests after adding the leading candidate",
+            &d.post_fit,
+        );
+    }
+    excluded_section(&mut page, d);
+    gap_section(&mut page, d);
+    let (html, md) = page.finish("geardyn discover");
+    stage.write("index.html", &html)?;
+    stage.write("report.md", &md)?;
+    files.push("index.html".into());
+    files.push("report.md".into());
+    let dest = stage.commit()?;
+    Ok(files.into_iter().map(|f| dest.join(f)).collect())
+}
+
+/// The answer, the loads, M0's fit, the noise, and the notes that qualify the answer.
+fn summary_section(page: &mut Page, d: &Discovery) {
     page.paragraph(&format!(
         "Effect: {}{}. Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. {}. {} points excluded from the tests. {} bootstrap replicates under M0.",
         d.effect,
@@ -442,29 +469,31 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     if let Some(t) = significant_undetected_text(d) {
         page.paragraph(&t);
     }
-    page.heading(
-        "Detection (bootstrap p-values under M0, Holm-adjusted over these and the candidates' tests)",
-    );
-    let test_rows = |t: &[super::run::TestResult]| -> Vec<Vec<String>> {
-        t.iter()
-            .map(|x| {
-                vec![
-                    x.name.clone(),
-                    if x.statistic.is_nan() {
-                        "- (no points in the window)".to_string()
-                    } else {
-                        format!("{:.2}", x.statistic)
-                    },
-                    opt(x.p_value, 4),
-                    opt(x.p_holm, 4),
-                ]
-            })
-            .collect()
-    };
-    page.table(
-        &["test", "statistic", "p", "p (Holm)"],
-        &test_rows(&d.detection),
-    );
+}
+
+/// A table of detection tests: statistic, bootstrap p-value and Holm-adjusted p-value.
+fn detection_section(page: &mut Page, heading: &str, tests: &[super::run::TestResult]) {
+    page.heading(heading);
+    let rows: Vec<Vec<String>> = tests
+        .iter()
+        .map(|x| {
+            vec![
+                x.name.clone(),
+                if x.statistic.is_nan() {
+                    "- (no points in the window)".to_string()
+                } else {
+                    format!("{:.2}", x.statistic)
+                },
+                opt(x.p_value, 4),
+                opt(x.p_holm, 4),
+            ]
+        })
+        .collect();
+    page.table(&["test", "statistic", "p", "p (Holm)"], &rows);
+}
+
+/// Every candidate's score, test, refit estimate with its interval and phase.
+fn candidates_section(page: &mut Page, d: &Discovery) {
     page.heading("Candidates");
     let rows: Vec<Vec<String>> = d
         .candidates
@@ -502,53 +531,55 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     for t in d.candidates.iter().filter_map(other_start_text) {
         page.paragraph(&t);
     }
-    if !d.post_fit.is_empty() {
-        page.heading("Detection tests after adding the leading candidate");
-        page.table(
-            &["test", "statistic", "p", "p (Holm)"],
-            &test_rows(&d.post_fit),
-        );
+}
+
+/// The points left out of the tests, their measured and predicted ranges.
+fn excluded_section(page: &mut Page, d: &Discovery) {
+    if d.excluded_by_load.is_empty() {
+        return;
     }
-    if !d.excluded_by_load.is_empty() {
-        page.heading("Points excluded from the tests");
-        page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one. Measured points far outside that range (by more than 3 sigma plus 10% of M0's largest pp: beyond the noise, beyond any window of M0's motion and beyond the onset of non-period-1 motion moving a little with the parameters) are a discrepancy the tests cannot see.");
-        let rows: Vec<Vec<String>> = d
-            .excluded_by_load
-            .iter()
-            .map(|e| {
-                vec![
-                    format!("{}", e.load_n),
-                    e.points.to_string(),
-                    e.non_period1.to_string(),
-                    format!(
-                        "{:.1} .. {:.1}",
-                        e.measured_range_um.0, e.measured_range_um.1
-                    ),
-                    format!(
-                        "{:.1} .. {:.1}",
-                        e.predicted_range_um.0, e.predicted_range_um.1
-                    ),
-                    format!("{:.1} .. {:.1}", e.model_range_um.0, e.model_range_um.1),
-                    e.outside_model_range.to_string(),
-                ]
-            })
-            .collect();
-        page.table(
-            &[
-                "load (N)",
-                "excluded points",
-                "non-period-1 in M0",
-                "measured pp (um)",
-                "M0 predicted pp (um)",
-                "M0 pp over 32 windows (um)",
-                "measured outside M0's range by > 3 sigma + 10% of its top",
-            ],
-            &rows,
-        );
-        if let Some(w) = excluded_warning(d) {
-            page.paragraph(&w);
-        }
+    page.heading("Points excluded from the tests");
+    page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one. Measured points far outside that range (by more than 3 sigma plus 10% of M0's largest pp: beyond the noise, beyond any window of M0's motion and beyond the onset of non-period-1 motion moving a little with the parameters) are a discrepancy the tests cannot see.");
+    let rows: Vec<Vec<String>> = d
+        .excluded_by_load
+        .iter()
+        .map(|e| {
+            vec![
+                format!("{}", e.load_n),
+                e.points.to_string(),
+                e.non_period1.to_string(),
+                format!(
+                    "{:.1} .. {:.1}",
+                    e.measured_range_um.0, e.measured_range_um.1
+                ),
+                format!(
+                    "{:.1} .. {:.1}",
+                    e.predicted_range_um.0, e.predicted_range_um.1
+                ),
+                format!("{:.1} .. {:.1}", e.model_range_um.0, e.model_range_um.1),
+                e.outside_model_range.to_string(),
+            ]
+        })
+        .collect();
+    page.table(
+        &[
+            "load (N)",
+            "excluded points",
+            "non-period-1 in M0",
+            "measured pp (um)",
+            "M0 predicted pp (um)",
+            "M0 pp over 32 windows (um)",
+            "measured outside M0's range by > 3 sigma + 10% of its top",
+        ],
+        &rows,
+    );
+    if let Some(w) = excluded_warning(d) {
+        page.paragraph(&w);
     }
+}
+
+/// The gap before and after on the training and held-out loads, and the residual figures.
+fn gap_section(page: &mut Page, d: &Discovery) {
     page.heading("Gap before and after");
     let mut g = vec![vec![
         "training".into(),
@@ -564,13 +595,6 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         "residuals_after.png",
         "residuals after adding the effect versus Omega",
     );
-    let (html, md) = page.finish("geardyn discover");
-    stage.write("index.html", &html)?;
-    stage.write("report.md", &md)?;
-    files.push("index.html".into());
-    files.push("report.md".into());
-    let dest = stage.commit()?;
-    Ok(files.into_iter().map(|f| dest.join(f)).collect())
 }
 
 /// " (hull of the profile-likelihood and Wald intervals)" and the like after an interval that
