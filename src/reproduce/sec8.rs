@@ -26,31 +26,39 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             .ok_or_else(|| GearError::Numerical(format!("internal: study {name} missing")))
     };
     let exc = find("excitation")?;
-    let sup = &find("superposition")?.summary;
-    let shb = &find("superposition-hb")?.summary;
-    let comb = &find("combined")?.summary;
-    let load = &find("parametric-load")?.summary;
     let mut out = Vec::new();
-    let fr = |i: usize, eq: &str, k: &str| -> Vec<String> {
-        vec![
-            "force_ratios".to_string(),
-            i.to_string(),
-            eq.to_string(),
-            k.to_string(),
-        ]
-    };
-    let get = |p: Vec<String>| -> Option<&Value> {
-        let refs: Vec<&str> = p.iter().map(String::as_str).collect();
-        super::summary_values::at(&exc.summary, &refs)
-    };
-    let cases = |i: usize, eq: &str| -> Vec<u64> {
-        get(fr(i, eq, "cases_present"))
-            .and_then(Value::as_array)
-            .map(|a| a.iter().filter_map(Value::as_u64).collect())
-            .unwrap_or_default()
-    };
-    // Figs 24(a): F_hat 10 (index 0), linear for both.
-    let (c5, c4) = (cases(0, "internal_eq5"), cases(0, "external_eq4"));
+    fig24a(exc, &mut out)?;
+    fig24b(exc, &mut out);
+    fig25(exc, &mut out);
+    coexisting(exc, &mut out);
+    figs26_27(&find("superposition")?.summary, &mut out);
+    fig28(
+        &find("superposition-hb")?.summary,
+        &find("parametric-load")?.summary,
+        &mut out,
+    );
+    fig29(&find("combined")?.summary, &mut out);
+    Ok(out)
+}
+
+/// The path of a summary value of force ratio `i` (the excitation study's F_hat index) under
+/// excitation `eq` ("internal_eq5" or "external_eq4").
+fn force_ratio_path<'a>(i: &'a str, eq: &'a str, key: &'a str) -> [&'a str; 4] {
+    ["force_ratios", i, eq, key]
+}
+
+/// The solution cases (I, II, III) present at force ratio `i` under excitation `eq`.
+fn cases(exc: &StudyOutput, i: usize, eq: &str) -> Vec<u64> {
+    let i = i.to_string();
+    super::summary_values::at(&exc.summary, &force_ratio_path(&i, eq, "cases_present"))
+        .and_then(Value::as_array)
+        .map(|a| a.iter().filter_map(Value::as_u64).collect())
+        .unwrap_or_default()
+}
+
+/// Fig. 24(a): F_hat 10 (index 0), linear for both excitations.
+fn fig24a(exc: &StudyOutput, out: &mut Vec<Claim>) -> Result<()> {
+    let (c5, c4) = (cases(exc, 0, "internal_eq5"), cases(exc, 0, "external_eq4"));
     let ratio = |w: f64| -> Option<f64> {
         let near = |label: &str| {
             exc.rows
@@ -115,11 +123,17 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             }
         ),
     ));
-    // Fig. 24(b): F_hat 2 (index 1).
+    Ok(())
+}
+
+/// Fig. 24(b): F_hat 2 (index 1), the dual-valued ranges.
+fn fig24b(exc: &StudyOutput, out: &mut Vec<Claim>) {
     let w = |i: usize, eq: &str| -> Option<(f64, f64)> {
-        let refs = fr(i, eq, "multistable_omega_range");
-        let r: Vec<&str> = refs.iter().map(String::as_str).collect();
-        range(&exc.summary, &r)
+        let i = i.to_string();
+        range(
+            &exc.summary,
+            &force_ratio_path(&i, eq, "multistable_omega_range"),
+        )
     };
     let width = |r: Option<(f64, f64)>| r.map_or(0.0, |(a, b)| b - a);
     let (m5, m4) = (w(1, "internal_eq5"), w(1, "external_eq4"));
@@ -142,14 +156,15 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             "eq. 4's dual-valued range is the wider".into()
         },
     ));
-    // Fig. 25: case I at low Omega.
+}
+
+/// Fig. 25: case I at low Omega, and case III at the lower force ratios.
+fn fig25(exc: &StudyOutput, out: &mut Vec<Claim>) {
     let low = |i: usize, eq: &str| {
+        let i = i.to_string();
         flag(
             &exc.summary,
-            &fr(i, eq, "case_i_at_lowest_omega")
-                .iter()
-                .map(String::as_str)
-                .collect::<Vec<_>>(),
+            &force_ratio_path(&i, eq, "case_i_at_lowest_omega"),
         )
     };
     let (l5_1, l4_1, l5_05, l4_05) = (
@@ -182,10 +197,10 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
         },
     ));
     let c3_5: Vec<bool> = (2..4)
-        .map(|i| cases(i, "internal_eq5").contains(&3))
+        .map(|i| cases(exc, i, "internal_eq5").contains(&3))
         .collect();
     let c3_4: Vec<bool> = (2..4)
-        .map(|i| cases(i, "external_eq4").contains(&3))
+        .map(|i| cases(exc, i, "external_eq4").contains(&3))
         .collect();
     out.push(Claim::new(
         "S8-04",
@@ -208,15 +223,17 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             }
         ),
     ));
+}
+
+/// Figs 24, 25: how many steady states coexist under each excitation.
+fn coexisting(exc: &StudyOutput, out: &mut Vec<Claim>) {
     let maxs = |eq: &str| -> f64 {
         (0..4)
             .filter_map(|i| {
+                let i = i.to_string();
                 num(
                     &exc.summary,
-                    &fr(i, eq, "max_coexisting_stable")
-                        .iter()
-                        .map(String::as_str)
-                        .collect::<Vec<_>>(),
+                    &force_ratio_path(&i, eq, "max_coexisting_stable"),
                 )
             })
             .fold(0.0, f64::max)
@@ -235,7 +252,11 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             format!("eq. 4 up to {s4}, eq. 5 up to {s5} stable; the paper counts unstable middle branches too")
         },
     ));
-    // Figs 26, 27.
+}
+
+/// Figs 26, 27: each STE harmonic alone, and their superposition, against the simultaneous
+/// response (the superposition study `sup`).
+fn figs26_27(sup: &Value, out: &mut Vec<Claim>) {
     let windows = ["omega_1", "omega_1_2", "omega_1_3"];
     let rel_alone: Vec<f64> = windows
         .iter()
@@ -294,7 +315,11 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             format!("accurate overall ({:.1}%), but near Omega 1 the first harmonic alone is closer than the superposition", 100.0 * rms_rel)
         },
     ));
-    // Fig. 28.
+}
+
+/// Fig. 28: the HB superposition of three STE harmonics (`shb`) against the first harmonic
+/// alone (the parametric-load study `load`).
+fn fig28(shb: &Value, load: &Value, out: &mut Vec<Claim>) {
     let smv = range(shb, &["superposition_multivalued_omega"]);
     let first = range(load, &["curves", "1", "multivalued_omega_range"]);
     let only_first = match (smv, first) {
@@ -333,6 +358,10 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
         agree_if(rms_hb < 0.01),
         format!("within {rms_hb:.4} in q_a where both are single-valued (threshold 0.01)"),
     ));
+}
+
+/// Fig. 29: torque and STE excitation together (the combined study `comb`).
+fn fig29(comb: &Value, out: &mut Vec<Claim>) {
     let fails = list(comb, &["omegas_without_stable_simultaneous_period1"]);
     let rms_c = num(
         comb,
@@ -357,5 +386,4 @@ pub(crate) fn claims(studies: &[StudyOutput]) -> Result<Vec<Claim>> {
             "accurate where single-valued, but fails where the torque resonance and the STE resonance at Omega_h = 2 Omega_T overlap".into()
         },
     ));
-    Ok(out)
 }
