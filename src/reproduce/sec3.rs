@@ -278,81 +278,133 @@ pub(crate) fn build(
     searches: &Searches,
     progress: &dyn Progress,
 ) -> Result<Sec3Outputs> {
-    let g = IcGrid::new(-2.0, 2.0, res.ic_n)?;
-    let b = IcGrid::new(-2.0, 2.0, res.basin_n)?;
-    let get = |pt: Point, grid: &IcGrid| -> Result<&AttractorMap> {
-        searches.get(pt, grid).ok_or_else(|| {
-            crate::error::GearError::Numerical(format!("internal: no search at {}", pt.caption()))
-        })
+    let found = Found {
+        searches,
+        ic: IcGrid::new(-2.0, 2.0, res.ic_n)?,
+        basin: IcGrid::new(-2.0, 2.0, res.basin_n)?,
     };
     let specs = specs();
-    // Which points have attractors beyond the paper's list: confirm them with DOP853.
+    let confirmations = confirm(&found, &specs)?;
+    progress.advance(1);
+    let (claims, table) = claims_and_table(&found, &specs, &confirmations)?;
+    let figs = figures(&found)?;
+    Ok((claims, figs, confirmations, vec![table]))
+}
+
+/// Which initial-condition grid a search covered.
+#[derive(Clone, Copy)]
+enum Grid {
+    /// The attractor search's grid.
+    Ic,
+    /// The basin maps' finer grid.
+    Basin,
+}
+
+/// The searches of Sec. 3's points on their grids.
+struct Found<'a> {
+    searches: &'a Searches,
+    ic: IcGrid,
+    basin: IcGrid,
+}
+
+impl Found<'_> {
+    fn grid(&self, grid: Grid) -> &IcGrid {
+        match grid {
+            Grid::Ic => &self.ic,
+            Grid::Basin => &self.basin,
+        }
+    }
+
+    /// The search at `pt` on `grid`.
+    fn get(&self, pt: Point, grid: Grid) -> Result<&AttractorMap> {
+        self.searches
+            .get(pt, self.grid(grid))
+            .ok_or_else(|| missing(pt))
+    }
+
+    /// The paper's and the exact flow's searches at `pt` on the attractor grid.
+    fn both(&self, pt: Point) -> Result<(&AttractorMap, &AttractorMap)> {
+        let paper = self
+            .searches
+            .get_paper(pt, &self.ic)
+            .ok_or_else(|| missing(pt))?;
+        Ok((paper, self.get(pt, Grid::Ic)?))
+    }
+}
+
+fn missing(pt: Point) -> crate::error::GearError {
+    crate::error::GearError::Numerical(format!("internal: no search at {}", pt.caption()))
+}
+
+/// The points with attractors beyond the paper's list (and the light-load points with more than
+/// one), searched again with DOP853.
+fn confirm(found: &Found, specs: &[Spec]) -> Result<Confirmations> {
     let mut to_confirm: Vec<Point> = Vec::new();
-    for s in &specs {
-        let m = get(s.point, &g)?;
+    for s in specs {
+        let m = found.get(s.point, Grid::Ic)?;
         if !match_expected(m, &s.expected).extra.is_empty() && !to_confirm.contains(&s.point) {
             to_confirm.push(s.point);
         }
     }
     for w in [1.0, 1.25, 1.5] {
-        let m = get(light(w), &g)?;
+        let m = found.get(light(w), Grid::Ic)?;
         if m.attractors.len() > 1 && !to_confirm.contains(&light(w)) {
             to_confirm.push(light(w));
         }
     }
     let rk: Vec<Result<AttractorMap>> = to_confirm
         .par_iter()
-        .map(|pt| search(pt, &g, true, Horizon::Followed))
+        .map(|pt| search(pt, &found.ic, true, Horizon::Followed))
         .collect();
     let rk: Vec<AttractorMap> = rk.into_iter().collect::<Result<_>>()?;
-    progress.advance(1);
-    let confirmations = Confirmations {
+    Ok(Confirmations {
         points: to_confirm,
         maps: rk,
-    };
+    })
+}
 
+/// Sec. 3's claim rows, sorted by id, and the evidence table of every point's attractors.
+fn claims_and_table(
+    found: &Found,
+    specs: &[Spec],
+    confirmations: &Confirmations,
+) -> Result<(Vec<Claim>, ReportTable)> {
     let mut claims = Vec::new();
-    for s in &specs {
-        let m = get(s.point, &g)?;
-        claims.push(list_claim(s, m, &confirmations));
+    for s in specs {
+        let m = found.get(s.point, Grid::Ic)?;
+        claims.push(list_claim(s, m, confirmations));
     }
-    let both = |pt: Point| -> Result<(&AttractorMap, &AttractorMap)> {
-        let paper = searches.get_paper(pt, &g).ok_or_else(|| {
-            crate::error::GearError::Numerical(format!("internal: no search at {}", pt.caption()))
-        })?;
-        Ok((paper, get(pt, &g)?))
-    };
-    claims.push(chaos_claim(both(light(1.0))?, &confirmations));
+    claims.push(chaos_claim(found.both(light(1.0))?, confirmations));
     claims.push(chaos_range_claim(
         &[1.0, 1.25, 1.5]
             .iter()
-            .map(|&w| both(light(w)).map(|m| (w, m)))
+            .map(|&w| found.both(light(w)).map(|m| (w, m)))
             .collect::<Result<Vec<_>>>()?,
     ));
     claims.push(heavy_period_one_claim(
         &HEAVY_OMEGAS[..6]
             .iter()
-            .map(|&w| get(heavy(w), &g).map(|m| (w, m)))
+            .map(|&w| found.get(heavy(w), Grid::Ic).map(|m| (w, m)))
             .collect::<Result<Vec<_>>>()?,
     ));
     claims.push(heavy_no_chaos_claim(
         &HEAVY_OMEGAS
             .iter()
-            .map(|&w| get(heavy(w), &g).map(|m| (w, m)))
+            .map(|&w| found.get(heavy(w), Grid::Ic).map(|m| (w, m)))
             .collect::<Result<Vec<_>>>()?,
     ));
     claims.push(basin_claim(
         "S3-08",
         "Fig. 3",
         "Omega_h 0.5, F_hat 0.5: domains of attraction of three attractors (no, single-sided, double-sided impact) in -2 < q(0), q'(0) < 2",
-        get(fig14(0.02), &b)?,
+        found.get(fig14(0.02), Grid::Basin)?,
         &[Impact::None, Impact::Single, Impact::Double],
     ));
     claims.push(basin_claim(
         "S3-12",
         "Fig. 6",
         "F_hat 2, Omega_h 0.6: domains of attraction of two attractors (no impact, single-sided impact)",
-        get(heavy(0.6), &b)?,
+        found.get(heavy(0.6), Grid::Basin)?,
         &[Impact::None, Impact::Single],
     ));
     claims.push(fig7_claim(
@@ -360,7 +412,7 @@ pub(crate) fn build(
             .iter()
             .map(|&f| {
                 let pt = if f == FM { light(1.0) } else { fig7(f) };
-                both(pt).map(|m| (f / FAH_LIGHT, m))
+                found.both(pt).map(|m| (f / FAH_LIGHT, m))
             })
             .collect::<Result<Vec<_>>>()?,
     ));
@@ -371,12 +423,17 @@ pub(crate) fn build(
     let table = sets_table(
         &table_points
             .iter()
-            .map(|&pt| both(pt).map(|(a, b)| (pt, a, b)))
+            .map(|&pt| found.both(pt).map(|(a, b)| (pt, a, b)))
             .collect::<Result<Vec<_>>>()?,
-        &confirmations,
+        confirmations,
     );
     claims.sort_by(|a, b| a.id.cmp(&b.id));
 
+    Ok((claims, table))
+}
+
+/// Figs 2-9.
+fn figures(found: &Found) -> Result<Vec<Artifact>> {
     let mut figs = Vec::new();
     let planes: [(&str, &str, PointAt); 2] = [
         (
@@ -396,7 +453,7 @@ pub(crate) fn build(
             title,
             &FIG2_OMEGAS
                 .iter()
-                .map(|&w| get(point(w), &g).map(|m| (point(w), m)))
+                .map(|&w| found.get(point(w), Grid::Ic).map(|m| (point(w), m)))
                 .collect::<Result<Vec<_>>>()?,
         )?);
     }
@@ -405,16 +462,16 @@ pub(crate) fn build(
         "fig03-basins",
         "Fig. 3: domains of attraction",
         fig14(0.02),
-        get(fig14(0.02), &b)?,
+        found.get(fig14(0.02), Grid::Basin)?,
     ));
     figs.push(basin_map(
         DIR,
         "fig06-basins",
         "Fig. 6: domains of attraction",
         heavy(0.6),
-        get(heavy(0.6), &b)?,
+        found.get(heavy(0.6), Grid::Basin)?,
     ));
-    figs.push(chaos_figure(light(1.0), get(light(1.0), &g)?)?);
+    figs.push(chaos_figure(light(1.0), found.get(light(1.0), Grid::Ic)?)?);
     figs.push(histories(
         "fig07-time-histories",
         "Fig. 7: time histories (chaotic set, else dominant attractor), F_ah = 0.2, ζ = 0.02, Ω = 1.0",
@@ -422,7 +479,7 @@ pub(crate) fn build(
             .iter()
             .map(|&f| {
                 let pt = if f == FM { light(1.0) } else { fig7(f) };
-                get(pt, &g).map(|m| (pt, m, None))
+                found.get(pt, Grid::Ic).map(|m| (pt, m, None))
             })
             .collect::<Result<Vec<_>>>()?,
     )?);
@@ -431,11 +488,18 @@ pub(crate) fn build(
         "Fig. 8: time histories, F_m = 0.1, F_hat = 0.5, Omega_h = 1.0",
         &FIG8_ZETA
             .iter()
-            .map(|&z| get(fig8(z), &g).map(|m| (fig8(z), m, Some(if z == 0.05 { 8 } else { 2 }))))
+            .map(|&z| {
+                found
+                    .get(fig8(z), Grid::Ic)
+                    .map(|m| (fig8(z), m, Some(if z == 0.05 { 8 } else { 2 })))
+            })
             .collect::<Result<Vec<_>>>()?,
     )?);
-    figs.push(impact_regimes(light(0.5), get(light(0.5), &g)?)?);
-    Ok((claims, figs, confirmations, vec![table]))
+    figs.push(impact_regimes(
+        light(0.5),
+        found.get(light(0.5), Grid::Ic)?,
+    )?);
+    Ok(figs)
 }
 
 /// DOP853 re-searches of the points where the exact flow found more than the paper.
