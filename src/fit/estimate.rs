@@ -542,12 +542,7 @@ fn summarise(
 ) -> Result<Estimate> {
     let n = c.residuals.len();
     let p = params.len();
-    // Jacobian of the model values: the weighted residuals' Jacobian is -sqrt(w_i) df_i/dp.
-    let mut jf = c.lm.jacobian.clone();
-    for i in 0..n {
-        let s = -1.0 / c.weights[i].sqrt();
-        jf.row_mut(i).scale_mut(s);
-    }
+    let jf = model_jacobian(&c);
     let z: Vec<f64> = c
         .residuals
         .iter()
@@ -573,59 +568,118 @@ fn summarise(
                 .into(),
         )
     })?;
-    // g_i = df_i/dp / sigma_i, the score's direction at point i.
-    let mut g = jf.clone();
-    for i in 0..n {
-        g.row_mut(i).scale_mut(1.0 / c.scales[i]);
+    let residual_dof = n.saturating_sub(p + noise_params).max(1);
+    let sandwich = sandwich_covariance(&c, &jf, &z, &cov, residual_dof);
+    let dof = satterthwaite_dof(setting, &c, &cov, &inverse_fisher, residual_dof);
+    let quantile: Vec<f64> = dof.iter().map(|d| t_quantile_975(*d)).collect();
+    let (std_errors, ci95) = wald_intervals(params, &c.lm.params, &cov, &quantile);
+    let (std_errors_sandwich, ci95_sandwich) =
+        wald_intervals(params, &c.lm.params, &sandwich, &quantile);
+    let noise = noise_fit(&c, setting, robust_lr, &z);
+    Ok(Estimate {
+        names: params.iter().map(|d| d.name.clone()).collect(),
+        params: c.lm.params.clone(),
+        std_errors,
+        ci95,
+        std_errors_sandwich,
+        ci95_sandwich,
+        quantile,
+        dof,
+        residual_dof,
+        n,
+        chi_square: z.iter().map(|z| z * z).sum(),
+        log_likelihood: -c.nll,
+        noise,
+        residuals: c.residuals,
+        levels: c.levels,
+        weights: c.weights,
+        start_costs,
+        iterations: c.iterations,
+        settled: c.iterations < MAX_REWEIGHTS,
+        model_jacobian: jf,
+        param_defs: params.to_vec(),
+    })
+}
+
+/// The Jacobian of the model values, from the weighted residuals' -sqrt(w_i) df_i/dp.
+fn model_jacobian(c: &Converged) -> DMatrix<f64> {
+    let mut jf = c.lm.jacobian.clone();
+    for (i, w) in c.weights.iter().enumerate() {
+        jf.row_mut(i).scale_mut(-1.0 / w.sqrt());
     }
+    jf
+}
+
+/// The sandwich covariance cov M cov (Huber 1967; White 1980), M the sum over the points of
+/// g_i' g_i psi(z_i)^2, g_i = df_i/dp / sigma_i the score's direction at point i, psi the
+/// noise model's score function, scaled by n / residual_dof (MacKinnon & White's HC1).
+fn sandwich_covariance(
+    c: &Converged,
+    jf: &DMatrix<f64>,
+    z: &[f64],
+    cov: &DMatrix<f64>,
+    residual_dof: usize,
+) -> DMatrix<f64> {
     let psi = |z: f64| match c.noise.distribution {
         Distribution::Gaussian => z,
         Distribution::StudentT { dof } => (dof + 1.0) * z / (dof + z * z),
     };
+    let p = jf.ncols();
     let mut meat = DMatrix::zeros(p, p);
     for (i, zi) in z.iter().enumerate() {
-        let gi = g.row(i);
-        meat += gi.transpose() * gi * psi(*zi).powi(2);
+        let gi = jf.row(i) * (1.0 / c.scales[i]);
+        meat += gi.transpose() * &gi * psi(*zi).powi(2);
     }
-    let residual_dof = n.saturating_sub(p + noise_params).max(1);
-    meat *= n as f64 / residual_dof as f64;
-    let sandwich = &cov * meat * &cov;
-    let dof = satterthwaite_dof(setting, &c, &cov, &inverse_fisher, residual_dof);
-    let quantile: Vec<f64> = dof
+    meat *= z.len() as f64 / residual_dof as f64;
+    cov * meat * cov
+}
+
+/// The 97.5% point of Student's t with `dof` degrees of freedom (the normal's where infinite).
+fn t_quantile_975(dof: f64) -> f64 {
+    const NORMAL: f64 = 1.959_963_984_540_054;
+    if dof.is_finite() {
+        StudentsT::new(0.0, 1.0, dof)
+            .map(|t| t.inverse_cdf(0.975))
+            .unwrap_or(NORMAL)
+    } else {
+        NORMAL
+    }
+}
+
+/// Standard errors and Wald intervals of `values` from the covariance `cv`, each interval
+/// formed on its parameter's internal coordinate and mapped back (so a positive parameter's
+/// interval stays positive), `quantile` standard errors either side.
+fn wald_intervals(
+    params: &[Param],
+    values: &[f64],
+    cv: &DMatrix<f64>,
+    quantile: &[f64],
+) -> (Vec<f64>, Vec<(f64, f64)>) {
+    params
         .iter()
-        .map(|d| {
-            if d.is_finite() {
-                StudentsT::new(0.0, 1.0, *d)
-                    .map(|t| t.inverse_cdf(0.975))
-                    .unwrap_or(1.96)
-            } else {
-                1.959_963_984_540_054
-            }
-        })
-        .collect();
-    let wald = |cv: &DMatrix<f64>| -> (Vec<f64>, Vec<(f64, f64)>) {
-        params
-            .iter()
-            .enumerate()
-            .map(|(j, d)| {
-                let v = c.lm.params[j];
-                let se = cv[(j, j)].max(0.0).sqrt();
-                let u = d.transform.internal(v).unwrap_or(v);
-                let su = se / d.transform.derivative(u).abs().max(1e-300);
+        .enumerate()
+        .map(|(j, d)| {
+            let v = values[j];
+            let se = cv[(j, j)].max(0.0).sqrt();
+            let u = d.transform.internal(v).unwrap_or(v);
+            let su = se / d.transform.derivative(u).abs().max(1e-300);
+            (
+                se,
                 (
-                    se,
-                    (
-                        d.transform.value(u - quantile[j] * su),
-                        d.transform.value(u + quantile[j] * su),
-                    ),
-                )
-            })
-            .unzip()
-    };
-    let (std_errors, ci95) = wald(&cov);
-    let (std_errors_sandwich, ci95_sandwich) = wald(&sandwich);
+                    d.transform.value(u - quantile[j] * su),
+                    d.transform.value(u + quantile[j] * su),
+                ),
+            )
+        })
+        .unzip()
+}
+
+/// The fitted noise as reported: its source, model, the intervals of an estimated floor and
+/// relative part, the robust likelihood ratio, and the outliers, points beyond the Bonferroni
+/// bound |z| > Phi^-1(1 - 0.025 / n).
+fn noise_fit(c: &Converged, setting: &NoiseSetting, robust_lr: Option<f64>, z: &[f64]) -> NoiseFit {
     let bonferroni = Normal::new(0.0, 1.0)
-        .map(|d| d.inverse_cdf(1.0 - 0.025 / n as f64))
+        .map(|d| d.inverse_cdf(1.0 - 0.025 / z.len() as f64))
         .unwrap_or(4.0);
     let outliers: Vec<usize> = z
         .iter()
@@ -651,37 +705,15 @@ fn summarise(
         NoiseSetting::PerPoint(_) => NoiseSource::PerPoint,
         NoiseSetting::ProportionalToLevel => NoiseSource::Proportional,
     };
-    Ok(Estimate {
-        names: params.iter().map(|d| d.name.clone()).collect(),
-        params: c.lm.params.clone(),
-        std_errors,
-        ci95,
-        std_errors_sandwich,
-        ci95_sandwich,
-        quantile,
-        dof,
-        residual_dof,
-        n,
-        chi_square: z.iter().map(|z| z * z).sum(),
-        log_likelihood: -c.nll,
-        residuals: c.residuals,
-        levels: c.levels,
-        weights: c.weights,
-        noise: NoiseFit {
-            source,
-            model: c.noise,
-            floor_ci95,
-            relative_ci95,
-            robust_lr,
-            outliers,
-            scales: c.scales,
-        },
-        start_costs,
-        iterations: c.iterations,
-        settled: c.iterations < MAX_REWEIGHTS,
-        model_jacobian: jf,
-        param_defs: params.to_vec(),
-    })
+    NoiseFit {
+        source,
+        model: c.noise,
+        floor_ci95,
+        relative_ci95,
+        robust_lr,
+        outliers,
+        scales: c.scales.clone(),
+    }
 }
 
 #[cfg(test)]
