@@ -591,95 +591,26 @@ fn predict_load(
     let (ste_um, ste_ci95_um, ste_source) = (exc.ste_um, exc.ste_ci95_um, exc.ste_source);
     let measured: Vec<(f64, f64)> = curve.iter().map(|p| (p.speed_rpm, p.dte_pp_um)).collect();
     let (lo, hi) = (measured[0].0, measured[measured.len() - 1].0);
-    let n = opts.dense_points.max(2);
-    let mut speeds: Vec<f64> = (0..n)
-        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
-        .collect();
-    speeds.extend(measured.iter().map(|m| m.0));
-    speeds.sort_by(f64::total_cmp);
-    speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+    let speeds = prediction_speeds(&measured, opts.dense_points.max(2));
     let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, wn)).collect();
-    let factory = |m: &GearPair| flow_with_rtol(m, RK_RTOL);
     let opts_ss = SteadyOptions {
         escape: opts.escape,
         ..SteadyOptions::default()
     };
-    let carried = |branch: Branch| -> Result<Vec<ModelPoint>> {
-        let plan = SweepPlan {
-            omegas: omegas.clone(),
-            branch,
-            x0: [1.0 + fm, 0.0],
-            grid: IcGrid::new(-2.0, 2.0, 1)?,
-            opts: opts_ss.clone(),
-        };
-        Ok(sweep(&factory, model, &plan, &crate::progress::NoProgress)?
-            .iter()
-            .map(|p| ModelPoint {
-                speed_rpm: dim.speed_rpm(p.omega, wn),
-                dte_pp_um: dim.dte_um(p.steady.dte_pp),
-                case: p.steady.impact.case(),
-                period: p.steady.period,
-                basin_fraction: None,
-                kind: None,
-            })
-            .collect())
+    let steady = Sweep {
+        dim,
+        model,
+        omega_n_hz: wn,
+        opts: &opts_ss,
     };
-    let up = carried(Branch::Up)?;
-    let down = carried(Branch::Down)?;
-    let grid = IcGrid::new(-2.0, 2.0, opts.ic_per_axis.max(1))?;
+    let up = steady.carried(&omegas, Branch::Up)?;
+    let down = steady.carried(&omegas, Branch::Down)?;
     let k = opts.attractor_speeds.max(2);
-    let mut all = Vec::new();
-    for i in 0..k {
-        let s = lo + (hi - lo) * i as f64 / (k - 1) as f64;
-        let om = dim.omega(s, wn);
-        let flow = flow_with_rtol(&model.at_omega(om)?, RK_RTOL)?;
-        let map = find_attractors(flow.as_ref(), &grid, &opts_ss, &crate::progress::NoProgress)?;
-        // A transient set that every trajectory of the grid left within the horizon is not
-        // something the rig would show while held at this speed.
-        all.extend(
-            map.attractors
-                .iter()
-                .filter(|a| a.basin_count > 0)
-                .map(|a| ModelPoint {
-                    speed_rpm: s,
-                    dte_pp_um: dim.dte_um(a.steady.dte_pp),
-                    case: a.steady.impact.case(),
-                    period: a.steady.period,
-                    basin_fraction: Some(a.basin_fraction),
-                    kind: Some(a.kind),
-                }),
-        );
-    }
-    let at = |branch: &[ModelPoint], s: f64| {
-        branch
-            .iter()
-            .find(|p| (p.speed_rpm - s).abs() <= 1e-6 * s.abs().max(1.0))
-            .map_or((f64::NAN, false), |p| (p.dte_pp_um, p.period == Some(1)))
-    };
-    let mut d_up = Vec::new();
-    let mut d_down = Vec::new();
-    let mut d_best = Vec::new();
-    let mut d_period1 = Vec::new();
-    let mut residuals = Vec::new();
-    let mut not_period1: Vec<(f64, f64)> = Vec::new();
-    for &(s, y) in &measured {
-        let ((fu, pu), (fd, pd)) = (at(&up, s), at(&down, s));
-        let (u, d) = (y - fu, y - fd);
-        let (best, f, p1) = if u.abs() <= d.abs() {
-            (u, fu, pu)
-        } else {
-            (d, fd, pd)
-        };
-        d_up.push(u);
-        d_down.push(d);
-        d_best.push(best);
-        if p1 {
-            d_period1.push(best);
-        } else {
-            not_period1.push((y, f));
-        }
-        residuals.push((s, best));
-    }
+    let attractor_speeds: Vec<f64> = (0..k)
+        .map(|i| lo + (hi - lo) * i as f64 / (k - 1) as f64)
+        .collect();
+    let all = steady.attractors(&attractor_speeds, opts.ic_per_axis.max(1))?;
+    let cmp = Comparison::of(&measured, &up, &down);
     let curve_of = |b: &[ModelPoint]| {
         b.iter()
             .map(|p| (p.speed_rpm, p.dte_pp_um))
@@ -697,21 +628,152 @@ fn predict_load(
         ste_source,
         force_ratio: fm / fah,
         fitted,
-        rms_um: rms(&d_best),
-        rms_up_um: rms(&d_up),
-        rms_down_um: rms(&d_down),
-        rms_period1_um: (!d_period1.is_empty()).then(|| rms(&d_period1)),
-        not_period1_points: not_period1.len(),
-        not_period1_measured_um: min_max(not_period1.iter().map(|p| p.0)),
-        not_period1_model_um: min_max(not_period1.iter().map(|p| p.1)),
+        rms_um: rms(&cmp.best),
+        rms_up_um: rms(&cmp.up),
+        rms_down_um: rms(&cmp.down),
+        rms_period1_um: (!cmp.period1.is_empty()).then(|| rms(&cmp.period1)),
+        not_period1_points: cmp.not_period1.len(),
+        not_period1_measured_um: min_max(cmp.not_period1.iter().map(|p| p.0)),
+        not_period1_model_um: min_max(cmp.not_period1.iter().map(|p| p.1)),
         jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
         jump_down_rpm: jump_down,
-        residuals,
+        residuals: cmp.residuals,
         measured,
         up,
         down,
         all,
     })
+}
+
+/// The speeds of a predicted curve: `n` evenly spaced over the measured range, and every
+/// measured speed (so that each measured point has a prediction at its own speed).
+fn prediction_speeds(measured: &[(f64, f64)], n: usize) -> Vec<f64> {
+    let (lo, hi) = (measured[0].0, measured[measured.len() - 1].0);
+    let mut speeds: Vec<f64> = (0..n)
+        .map(|i| lo + (hi - lo) * i as f64 / (n - 1) as f64)
+        .collect();
+    speeds.extend(measured.iter().map(|m| m.0));
+    speeds.sort_by(f64::total_cmp);
+    speeds.dedup_by(|a, b| (*a - *b).abs() <= 1e-9 * b.abs());
+    speeds
+}
+
+/// The steady states of one load's model, in the rig's units.
+struct Sweep<'a> {
+    dim: &'a Dimensional,
+    model: &'a GearPair,
+    omega_n_hz: f64,
+    opts: &'a SteadyOptions,
+}
+
+impl Sweep<'_> {
+    /// The sweep up or down `omegas`, each speed started from the last one's state.
+    fn carried(&self, omegas: &[f64], branch: Branch) -> Result<Vec<ModelPoint>> {
+        let factory = |m: &GearPair| flow_with_rtol(m, RK_RTOL);
+        let plan = SweepPlan {
+            omegas: omegas.to_vec(),
+            branch,
+            x0: [1.0 + self.model.mean_force, 0.0],
+            grid: IcGrid::new(-2.0, 2.0, 1)?,
+            opts: self.opts.clone(),
+        };
+        Ok(
+            sweep(&factory, self.model, &plan, &crate::progress::NoProgress)?
+                .iter()
+                .map(|p| ModelPoint {
+                    speed_rpm: self.dim.speed_rpm(p.omega, self.omega_n_hz),
+                    dte_pp_um: self.dim.dte_um(p.steady.dte_pp),
+                    case: p.steady.impact.case(),
+                    period: p.steady.period,
+                    basin_fraction: None,
+                    kind: None,
+                })
+                .collect(),
+        )
+    }
+
+    /// Every attractor an `ic_per_axis` squared grid of initial conditions finds at each of
+    /// `speeds` (rpm), with its basin fraction.
+    fn attractors(&self, speeds: &[f64], ic_per_axis: usize) -> Result<Vec<ModelPoint>> {
+        let grid = IcGrid::new(-2.0, 2.0, ic_per_axis)?;
+        let mut all = Vec::new();
+        for &s in speeds {
+            let om = self.dim.omega(s, self.omega_n_hz);
+            let flow = flow_with_rtol(&self.model.at_omega(om)?, RK_RTOL)?;
+            let map = find_attractors(
+                flow.as_ref(),
+                &grid,
+                self.opts,
+                &crate::progress::NoProgress,
+            )?;
+            // A transient set that every trajectory of the grid left within the horizon is not
+            // something the rig would show while held at this speed.
+            all.extend(
+                map.attractors
+                    .iter()
+                    .filter(|a| a.basin_count > 0)
+                    .map(|a| ModelPoint {
+                        speed_rpm: s,
+                        dte_pp_um: self.dim.dte_um(a.steady.dte_pp),
+                        case: a.steady.impact.case(),
+                        period: a.steady.period,
+                        basin_fraction: Some(a.basin_fraction),
+                        kind: Some(a.kind),
+                    }),
+            );
+        }
+        Ok(all)
+    }
+}
+
+/// The measured curve against the up and down sweeps, point by point (um): each residual
+/// about either sweep, about the nearer one (`best`), and `best` split by whether the nearer
+/// sweep is period-1 there (the others as (measured, predicted)).
+struct Comparison {
+    up: Vec<f64>,
+    down: Vec<f64>,
+    best: Vec<f64>,
+    period1: Vec<f64>,
+    not_period1: Vec<(f64, f64)>,
+    residuals: Vec<(f64, f64)>,
+}
+
+impl Comparison {
+    fn of(measured: &[(f64, f64)], up: &[ModelPoint], down: &[ModelPoint]) -> Comparison {
+        let at = |branch: &[ModelPoint], s: f64| {
+            branch
+                .iter()
+                .find(|p| (p.speed_rpm - s).abs() <= 1e-6 * s.abs().max(1.0))
+                .map_or((f64::NAN, false), |p| (p.dte_pp_um, p.period == Some(1)))
+        };
+        let mut c = Comparison {
+            up: Vec::new(),
+            down: Vec::new(),
+            best: Vec::new(),
+            period1: Vec::new(),
+            not_period1: Vec::new(),
+            residuals: Vec::new(),
+        };
+        for &(s, y) in measured {
+            let ((fu, pu), (fd, pd)) = (at(up, s), at(down, s));
+            let (u, d) = (y - fu, y - fd);
+            let (best, f, p1) = if u.abs() <= d.abs() {
+                (u, fu, pu)
+            } else {
+                (d, fd, pd)
+            };
+            c.up.push(u);
+            c.down.push(d);
+            c.best.push(best);
+            if p1 {
+                c.period1.push(best);
+            } else {
+                c.not_period1.push((y, f));
+            }
+            c.residuals.push((s, best));
+        }
+        c
+    }
 }
