@@ -1,7 +1,9 @@
 //! `geardyn digitize`: a curve of one colour in a figure image (PNG) becomes a CSV data set.
 
 use super::common::{check_out_file, commit, print_text, stage, write_text};
-use super::digitize_parse::{columns, constants, number, numbers, pixel, stem_with};
+use super::digitize_parse::{
+    columns, constants, crop_box, marker_size, number, numbers, stem_with,
+};
 use super::limits::real;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
@@ -119,16 +121,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     )?;
     let color: Rgb = a.color.parse().context("--color")?;
     let crop = match &a.crop {
-        Some(t) => {
-            let [x0, y0, x1, y1] = numbers::<4>("--crop", t, "X0:Y0:X1:Y1")?.map(pixel);
-            let ctx = || format!("--crop '{t}'");
-            Some(PixelBox {
-                x0: x0.with_context(ctx)?,
-                y0: y0.with_context(ctx)?,
-                x1: x1.with_context(ctx)?,
-                y1: y1.with_context(ctx)?,
-            })
-        }
+        Some(t) => Some(crop_box(t)?),
         None => frame.as_ref().map(|f| {
             let (x0, y0, x1, y1) = f.interior();
             report.push_str(&format!(
@@ -137,18 +130,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             PixelBox { x0, y0, x1, y1 }
         }),
     };
-    let size = match &a.marker_size {
-        Some(t) => {
-            let [lo, hi] = numbers::<2>("--marker-size", t, "MIN:MAX")?.map(pixel);
-            let ctx = || format!("--marker-size '{t}'");
-            let (lo, hi) = (lo.with_context(ctx)?, hi.with_context(ctx)?);
-            if lo > hi {
-                bail!("--marker-size '{t}': MIN is larger than MAX");
-            }
-            Some((lo, hi))
-        }
-        None => None,
-    };
+    let size = a.marker_size.as_deref().map(marker_size).transpose()?;
     let marker_opts = a.max_area.is_some() || a.marker_size.is_some() || a.erode > 0;
     if a.mode == CliMode::Markers && a.multi {
         bail!("--multi applies to --mode line only");
@@ -201,20 +183,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         report.push_str(&format!("warning: {text}\n"));
     }
 
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let header: Vec<&str> = constants.iter().map(|(n, _)| n.as_str()).collect();
-    w.write_record(
-        header
-            .iter()
-            .copied()
-            .chain([x_name.as_str(), y_name.as_str()]),
-    )?;
-    for &(px, py) in &points {
-        let row = constants.iter().map(|(_, v)| number(*v));
-        w.write_record(row.chain([number(px), number(py)]))?;
-    }
-    let csv_text = String::from_utf8(w.into_inner()?)?;
-
+    let csv_text = csv_text(&constants, (&x_name, &y_name), &points)?;
     let mode_text = match a.mode {
         CliMode::Line if a.multi => "line (multi)",
         CliMode::Line => "line",
@@ -256,6 +225,22 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         text.push_str(&format!("wrote {}\n", p.display()));
     }
     print_text(&text)
+}
+
+/// The CSV of the extracted points: the `constants` columns, then x and y.
+fn csv_text(
+    constants: &[(String, f64)],
+    (x_name, y_name): (&str, &str),
+    points: &[(f64, f64)],
+) -> anyhow::Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let header = constants.iter().map(|(n, _)| n.as_str());
+    w.write_record(header.chain([x_name, y_name]))?;
+    for &(px, py) in points {
+        let row = constants.iter().map(|(_, v)| number(*v));
+        w.write_record(row.chain([number(px), number(py)]))?;
+    }
+    Ok(String::from_utf8(w.into_inner()?)?)
 }
 
 /// The extracted points over the searched box in data units, log axes as log10, so that the

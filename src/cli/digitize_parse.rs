@@ -1,7 +1,8 @@
 //! Parsing and formatting helpers of `geardyn digitize`: colon-separated numbers, pixel
-//! indices, column names, constant columns, CSV numbers and the check-file paths.
+//! indices, the crop box and marker size, column names, constant columns, CSV numbers and the check-file paths.
 
 use anyhow::{bail, Context};
+use geardyn::digitize::PixelBox;
 use std::path::{Path, PathBuf};
 
 /// Exactly `N` colon-separated finite numbers.
@@ -81,6 +82,29 @@ pub fn stem_with(out: &Path, suffix: &str) -> PathBuf {
     let mut name = out.file_stem().unwrap_or_default().to_os_string();
     name.push(suffix);
     out.with_file_name(name)
+}
+
+/// `--crop X0:Y0:X1:Y1` (pixels).
+pub fn crop_box(t: &str) -> anyhow::Result<PixelBox> {
+    let [x0, y0, x1, y1] = numbers::<4>("--crop", t, "X0:Y0:X1:Y1")?.map(pixel);
+    let ctx = || format!("--crop '{t}'");
+    Ok(PixelBox {
+        x0: x0.with_context(ctx)?,
+        y0: y0.with_context(ctx)?,
+        x1: x1.with_context(ctx)?,
+        y1: y1.with_context(ctx)?,
+    })
+}
+
+/// `--marker-size MIN:MAX` (pixels).
+pub fn marker_size(t: &str) -> anyhow::Result<(u32, u32)> {
+    let [lo, hi] = numbers::<2>("--marker-size", t, "MIN:MAX")?.map(pixel);
+    let ctx = || format!("--marker-size '{t}'");
+    let (lo, hi) = (lo.with_context(ctx)?, hi.with_context(ctx)?);
+    if lo > hi {
+        bail!("--marker-size '{t}': MIN is larger than MAX");
+    }
+    Ok((lo, hi))
 }
 
 #[cfg(test)]
