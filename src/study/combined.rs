@@ -142,37 +142,9 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         harmonics: HARMONICS,
         ..AftOptions::default()
     };
-    let kinds = [(true, false), (false, true), (true, true)];
-    let res: Vec<Result<super::Traced>> = kinds
-        .par_iter()
-        .map(|&(t, s)| {
-            let m = model(t, s)?;
-            let b =
-                branch_from_start(&m, OMEGA.0, OMEGA.1, &opts, &ContinuationOptions::default())?;
-            let at = branch_at(&m, &b, &omegas, &opts);
-            Ok((b, at))
-        })
-        .collect();
-    let mut res: Vec<super::Traced> = res.into_iter().collect::<Result<_>>()?;
-    let extra = seeded_branches(&res, &omegas, &opts)?;
-    for (k, list) in extra.1.into_iter().enumerate() {
-        for p in list {
-            let dup = res[2].1[k]
-                .iter()
-                .any(|o| (o.qa - p.qa).abs() <= 1e-7 * (1.0 + p.qa));
-            if !dup {
-                res[2].1[k].push(p);
-            }
-        }
-    }
-    let extra_branch = extra.0;
-    let names = [
-        "torque alone (AFT)",
-        "STE alone (AFT)",
-        "both simultaneously (AFT)",
-    ];
+    let (res, extra_branch) = traced(&omegas, &opts)?;
     let mut rows = Vec::new();
-    for ((branch, _), name) in res.iter().zip(names) {
+    for ((branch, _), name) in res.iter().zip(NAMES) {
         rows.extend(branch.iter().map(|p| StudyRow::from_hb(name, p)));
     }
     // Resonance windows from the single-excitation responses themselves: +-0.05 around the
@@ -186,105 +158,174 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
             .map(|p| p.omega)
     };
     let (peak_t, peak_h) = (peak_omega(0), peak_omega(1));
-    let near = |w: f64, c: Option<f64>| c.is_some_and(|c| (w - c).abs() <= 0.05);
-    let mut sup_pts = Vec::new();
-    let mut no_stable: Vec<f64> = Vec::new();
-    let (mut single, mut nearest) = (Vec::new(), Vec::new());
-    let (mut near_t, mut near_h) = (Vec::new(), Vec::new());
-    for (i, &w) in omegas.iter().enumerate() {
-        let (t, h, both) = (
-            stable(&res[0].1[i]),
-            stable(&res[1].1[i]),
-            stable(&res[2].1[i]),
-        );
-        let mut here = Vec::new();
-        for a in &t {
-            for b in &h {
-                let qa = qa_of_sum(&a.coeffs, &b.coeffs);
-                here.push(qa);
-                rows.push(StudyRow {
-                    series: "superposition of single-excitation AFT".into(),
-                    omega: w,
-                    qa,
-                    qm: None,
-                    case: None,
-                    stable: None,
-                    period: Some(1),
-                });
-                sup_pts.push((w, qa));
-            }
-        }
-        if both.is_empty() {
-            no_stable.push(w);
-        }
-        if here.len() == 1 && both.len() == 1 {
-            single.push(here[0] - both[0].qa);
-        }
-        // Every simultaneous stable solution against the nearest superposed one.
-        for s in &both {
-            let d = here
-                .iter()
-                .map(|q| q - s.qa)
-                .min_by(|a, b| a.abs().total_cmp(&b.abs()));
-            if let Some(d) = d {
-                nearest.push(d);
-                if near(w, peak_t) {
-                    near_t.push(d);
-                }
-                if near(w, peak_h) {
-                    near_h.push(d);
-                }
-            }
-        }
-    }
-    let max_abs = nearest.iter().fold(0.0f64, |m, d| m.max(d.abs()));
+    let cmp = Comparison::of(&res, &omegas, (peak_t, peak_h));
+    rows.extend(cmp.superposed.iter().map(|&(w, qa)| StudyRow {
+        series: "superposition of single-excitation AFT".into(),
+        omega: w,
+        qa,
+        qm: None,
+        case: None,
+        stable: None,
+        period: Some(1),
+    }));
+    let max_abs = cmp.nearest.iter().fold(0.0f64, |m, d| m.max(d.abs()));
     let summary = serde_json::json!({
         "study": "combined", "fm": FM, "zeta": ZETA, "fah": FAH, "fat": FAT,
         "omega_h_over_omega_t": 2, "harmonics": HARMONICS,
         "omega_range": [OMEGA.0, OMEGA.1], "points": n,
-        "single_valued_points": single.len(),
-        "rms_superposition_minus_simultaneous_single_valued": rms(&single),
-        "simultaneous_stable_solutions_compared": nearest.len(),
-        "rms_nearest_superposition_minus_simultaneous": rms(&nearest),
+        "single_valued_points": cmp.single.len(),
+        "rms_superposition_minus_simultaneous_single_valued": rms(&cmp.single),
+        "simultaneous_stable_solutions_compared": cmp.nearest.len(),
+        "rms_nearest_superposition_minus_simultaneous": rms(&cmp.nearest),
         "max_abs_nearest_superposition_minus_simultaneous": max_abs,
         "torque_alone_peak_omega_t": peak_t,
         "ste_alone_peak_omega_t": peak_h,
-        "rms_near_torque_peak": rms(&near_t),
-        "rms_near_ste_peak": rms(&near_h),
-        "omegas_without_stable_simultaneous_period1": no_stable,
+        "rms_near_torque_peak": rms(&cmp.near_torque),
+        "rms_near_ste_peak": rms(&cmp.near_ste),
+        "omegas_without_stable_simultaneous_period1": cmp.no_stable,
     });
+    Ok(StudyOutput {
+        name: "combined".into(),
+        figures: vec![figure(n, &res, &extra_branch, cmp.superposed)],
+        rows,
+        summary,
+    })
+}
+
+/// The three responses' series names: torque alone, STE alone, both.
+const NAMES: [&str; 3] = [
+    "torque alone (AFT)",
+    "STE alone (AFT)",
+    "both simultaneously (AFT)",
+];
+
+/// The torque-alone, STE-alone and simultaneous branches with their solutions at `omegas`
+/// (the simultaneous one's completed by the branches that superposed solutions seed), and the
+/// seeded branch.
+fn traced(omegas: &[f64], opts: &AftOptions) -> Result<(Vec<super::Traced>, Vec<HbPoint>)> {
+    let kinds = [(true, false), (false, true), (true, true)];
+    let res: Vec<Result<super::Traced>> = kinds
+        .par_iter()
+        .map(|&(t, s)| {
+            let m = model(t, s)?;
+            let b = branch_from_start(&m, OMEGA.0, OMEGA.1, opts, &ContinuationOptions::default())?;
+            let at = branch_at(&m, &b, omegas, opts);
+            Ok((b, at))
+        })
+        .collect();
+    let mut res: Vec<super::Traced> = res.into_iter().collect::<Result<_>>()?;
+    let extra = seeded_branches(&res, omegas, opts)?;
+    for (k, list) in extra.1.into_iter().enumerate() {
+        for p in list {
+            let dup = res[2].1[k]
+                .iter()
+                .any(|o| (o.qa - p.qa).abs() <= 1e-7 * (1.0 + p.qa));
+            if !dup {
+                res[2].1[k].push(p);
+            }
+        }
+    }
+    Ok((res, extra.0))
+}
+
+/// The superposition of the single-excitation solutions against the simultaneous ones at each
+/// Omega_T.
+struct Comparison {
+    /// (Omega_T, q_a) of every superposed pair of stable single-excitation solutions.
+    superposed: Vec<(f64, f64)>,
+    /// Omega_T without a stable simultaneous period-1 solution.
+    no_stable: Vec<f64>,
+    /// Superposed minus simultaneous where each is single-valued.
+    single: Vec<f64>,
+    /// Every stable simultaneous solution against the nearest superposed one, and those
+    /// within 0.05 of the torque-alone and STE-alone peaks.
+    nearest: Vec<f64>,
+    near_torque: Vec<f64>,
+    near_ste: Vec<f64>,
+}
+
+impl Comparison {
+    fn of(res: &[super::Traced], omegas: &[f64], peaks: (Option<f64>, Option<f64>)) -> Self {
+        let near = |w: f64, c: Option<f64>| c.is_some_and(|c| (w - c).abs() <= 0.05);
+        let mut c = Comparison {
+            superposed: Vec::new(),
+            no_stable: Vec::new(),
+            single: Vec::new(),
+            nearest: Vec::new(),
+            near_torque: Vec::new(),
+            near_ste: Vec::new(),
+        };
+        for (i, &w) in omegas.iter().enumerate() {
+            let (t, h, both) = (
+                stable(&res[0].1[i]),
+                stable(&res[1].1[i]),
+                stable(&res[2].1[i]),
+            );
+            let mut here = Vec::new();
+            for a in &t {
+                for b in &h {
+                    let qa = qa_of_sum(&a.coeffs, &b.coeffs);
+                    here.push(qa);
+                    c.superposed.push((w, qa));
+                }
+            }
+            if both.is_empty() {
+                c.no_stable.push(w);
+            }
+            if here.len() == 1 && both.len() == 1 {
+                c.single.push(here[0] - both[0].qa);
+            }
+            for s in &both {
+                let d = here
+                    .iter()
+                    .map(|q| q - s.qa)
+                    .min_by(|a, b| a.abs().total_cmp(&b.abs()));
+                if let Some(d) = d {
+                    c.nearest.push(d);
+                    if near(w, peaks.0) {
+                        c.near_torque.push(d);
+                    }
+                    if near(w, peaks.1) {
+                        c.near_ste.push(d);
+                    }
+                }
+            }
+        }
+        c
+    }
+}
+
+/// Fig. 29: the three branches, the seeded branch and the superposed points.
+fn figure(
+    n: usize,
+    res: &[super::Traced],
+    extra_branch: &[HbPoint],
+    superposed: Vec<(f64, f64)>,
+) -> Figure {
     let caption = format!(
         "F_m = {FM}, zeta = {ZETA}, F_ah = {FAH}, F_aT = {FAT}, Omega_h = 2 Omega_T; AFT H = {HARMONICS}, {n} frequencies"
     );
+    let tri_of = |branch: &[HbPoint]| -> Vec<(f64, f64, Option<bool>)> {
+        branch.iter().map(|p| (p.omega, p.qa, p.stable)).collect()
+    };
     let mut series = Vec::new();
     for (k, (branch, _)) in res.iter().enumerate() {
-        let tri: Vec<(f64, f64, Option<bool>)> =
-            branch.iter().map(|p| (p.omega, p.qa, p.stable)).collect();
-        series.extend(branch_series(&tri, names[k], [2, 3, 0][k]));
+        series.extend(branch_series(&tri_of(branch), NAMES[k], [2, 3, 0][k]));
     }
-    let tri: Vec<(f64, f64, Option<bool>)> = extra_branch
-        .iter()
-        .map(|p| (p.omega, p.qa, p.stable))
-        .collect();
     series.extend(branch_series(
-        &tri,
+        &tri_of(extra_branch),
         "both, branch seeded by superposition",
         5,
     ));
     series.push(
-        Series::markers("superposition (stable singles)", sup_pts)
+        Series::markers("superposition (stable singles)", superposed)
             .with_color(1)
             .with_marker(Marker::Square),
     );
-    Ok(StudyOutput {
-        name: "combined".into(),
-        figures: vec![Figure {
-            name: "fig29-combined".into(),
-            title: "Torque and STE excitation combined (Fig. 29)".into(),
-            panels: vec![panel("q_a versus Omega_T".into(), caption, "q_a", series)],
-            cols: 1,
-        }],
-        rows,
-        summary,
-    })
+    Figure {
+        name: "fig29-combined".into(),
+        title: "Torque and STE excitation combined (Fig. 29)".into(),
+        panels: vec![panel("q_a versus Omega_T".into(), caption, "q_a", series)],
+        cols: 1,
+    }
 }
