@@ -101,6 +101,100 @@ fn inverse_involute(target: f64) -> f64 {
     a
 }
 
+/// The centre distance and working pressure angle: as stated in `[geometry]`, or the
+/// zero-backlash one of the profile shifts (inv(alpha_w) = inv(alpha) + 2 tan(alpha)
+/// (x1 + x2) / (z1 + z2), a = a_0 cos(alpha) / cos(alpha_w)).
+fn working_centre_distance(
+    m: f64,
+    alpha: f64,
+    (z1, z2): (f64, f64),
+    (x1, x2): (f64, f64),
+    g: &GearGeometry,
+) -> Result<(f64, f64)> {
+    let a0 = m * (z1 + z2) / 2.0;
+    Ok(match g.centre_distance_mm {
+        Some(a_mm) => {
+            let a = a_mm * 1e-3;
+            let c = a0 * alpha.cos() / a;
+            check(
+                c < 1.0,
+                "geometry.centre_distance_mm",
+                a_mm,
+                "is not above the sum of the base radii: the teeth cannot mesh",
+            )?;
+            (a, c.acos())
+        }
+        None => {
+            let inv_w = involute(alpha) + 2.0 * alpha.tan() * (x1 + x2) / (z1 + z2);
+            let aw = inverse_involute(inv_w);
+            (a0 * alpha.cos() / aw.cos(), aw)
+        }
+    })
+}
+
+/// A gear's circles in order (base below tip, root above zero, bore below root) and a tooth
+/// that does not come to a point below its tip; an error names the tip-diameter, bore-diameter
+/// or profile-shift key given.
+fn check_body(b: &GearBody, [tip, bore, root]: [&'static str; 3]) -> Result<()> {
+    check(
+        b.tip_radius_m > b.base_radius_m,
+        tip,
+        2e3 * b.tip_radius_m,
+        "tip circle must lie outside the base circle",
+    )?;
+    check(
+        b.root_radius_m > 0.0,
+        root,
+        b.profile_shift,
+        "root circle radius is not positive",
+    )?;
+    check(
+        b.bore_radius_m < b.root_radius_m,
+        bore,
+        2e3 * b.bore_radius_m,
+        "bore must be smaller than the root circle",
+    )?;
+    // The tooth must be thicker than zero at the tip: half angle at r_a positive.
+    let phi_a = (b.base_radius_m / b.tip_radius_m).acos();
+    check(
+        b.half_base_angle - involute(phi_a) > 0.0,
+        tip,
+        2e3 * b.tip_radius_m,
+        "tooth comes to a point below this tip circle (pointed tooth)",
+    )?;
+    Ok(())
+}
+
+/// Contact on the involutes (above the base circle and the root circle of each gear: otherwise
+/// the tip of one gear digs into the other's fillet), and a transverse contact ratio of at
+/// least 1.
+fn check_contact(geo: &GearPairGeometry) -> Result<()> {
+    let (s_a, s_e) = (geo.start_of_contact(), geo.end_of_contact());
+    let lowest = |b: &GearBody| {
+        let r = b.root_radius_m.max(b.base_radius_m);
+        (r * r - b.base_radius_m * b.base_radius_m).sqrt()
+    };
+    check(
+        s_a >= lowest(&geo.pinion),
+        "geometry.gear_tip_diameter_mm",
+        2e3 * geo.gear.tip_radius_m,
+        "the gear's tip reaches below the pinion's involute (interference)",
+    )?;
+    check(
+        geo.line_of_action_length() - s_e >= lowest(&geo.gear),
+        "geometry.pinion_tip_diameter_mm",
+        2e3 * geo.pinion.tip_radius_m,
+        "the pinion's tip reaches below the gear's involute (interference)",
+    )?;
+    check(
+        geo.contact_ratio() >= 1.0,
+        "geometry.contact_ratio",
+        geo.contact_ratio(),
+        "transverse contact ratio below 1: the mesh would lose contact between pairs",
+    )?;
+    Ok(())
+}
+
 impl GearPairGeometry {
     /// The pair described by `[rig]` and `[geometry]`. Defaults: no profile shift, h_a* = 1,
     /// h_f* = 1.25, tip diameters from the rack, the zero-backlash centre distance
@@ -140,25 +234,7 @@ impl GearPairGeometry {
             hf,
             "must exceed the addendum coefficient (1.0 by default)",
         )?;
-        let a0 = m * (z1 + z2) / 2.0;
-        let (a, alpha_w) = match g.centre_distance_mm {
-            Some(a_mm) => {
-                let a = a_mm * 1e-3;
-                let c = a0 * alpha.cos() / a;
-                check(
-                    c < 1.0,
-                    "geometry.centre_distance_mm",
-                    a_mm,
-                    "is not above the sum of the base radii: the teeth cannot mesh",
-                )?;
-                (a, c.acos())
-            }
-            None => {
-                let inv_w = involute(alpha) + 2.0 * alpha.tan() * (x1 + x2) / (z1 + z2);
-                let aw = inverse_involute(inv_w);
-                (a0 * alpha.cos() / aw.cos(), aw)
-            }
-        };
+        let (a, alpha_w) = working_centre_distance(m, alpha, (z1, z2), (x1, x2), g)?;
         let body = |z: f64, x: f64, tip_d_mm: Option<f64>, bore_d_mm: Option<f64>| {
             let rf = m * (z / 2.0 - hf + x);
             GearBody {
@@ -179,47 +255,22 @@ impl GearPairGeometry {
         };
         let pinion = body(z1, x1, g.pinion_tip_diameter_mm, g.pinion_bore_diameter_mm);
         let gear = body(z2, x2, g.gear_tip_diameter_mm, g.gear_bore_diameter_mm);
-        for (b, tip, bore, root) in [
-            (
-                &pinion,
+        check_body(
+            &pinion,
+            [
                 "geometry.pinion_tip_diameter_mm",
                 "geometry.pinion_bore_diameter_mm",
                 "geometry.pinion_profile_shift",
-            ),
-            (
-                &gear,
+            ],
+        )?;
+        check_body(
+            &gear,
+            [
                 "geometry.gear_tip_diameter_mm",
                 "geometry.gear_bore_diameter_mm",
                 "geometry.gear_profile_shift",
-            ),
-        ] {
-            check(
-                b.tip_radius_m > b.base_radius_m,
-                tip,
-                2e3 * b.tip_radius_m,
-                "tip circle must lie outside the base circle",
-            )?;
-            check(
-                b.root_radius_m > 0.0,
-                root,
-                b.profile_shift,
-                "root circle radius is not positive",
-            )?;
-            check(
-                b.bore_radius_m < b.root_radius_m,
-                bore,
-                2e3 * b.bore_radius_m,
-                "bore must be smaller than the root circle",
-            )?;
-            // The tooth must be thicker than zero at the tip: half angle at r_a positive.
-            let phi_a = (b.base_radius_m / b.tip_radius_m).acos();
-            check(
-                b.half_base_angle - involute(phi_a) > 0.0,
-                tip,
-                2e3 * b.tip_radius_m,
-                "tooth comes to a point below this tip circle (pointed tooth)",
-            )?;
-        }
+            ],
+        )?;
         let geo = GearPairGeometry {
             pinion,
             gear,
@@ -232,31 +283,7 @@ impl GearPairGeometry {
             youngs_modulus_pa: g.youngs_modulus_gpa.unwrap_or(206.0) * 1e9,
             poisson_ratio: g.poisson_ratio.unwrap_or(0.3),
         };
-        // Contact must stay on the involutes (above the base circle and the root circle of
-        // each gear): otherwise the tip of one gear digs into the other's fillet.
-        let (s_a, s_e) = (geo.start_of_contact(), geo.end_of_contact());
-        let lowest = |b: &GearBody| {
-            let r = b.root_radius_m.max(b.base_radius_m);
-            (r * r - b.base_radius_m * b.base_radius_m).sqrt()
-        };
-        check(
-            s_a >= lowest(&geo.pinion),
-            "geometry.gear_tip_diameter_mm",
-            2e3 * geo.gear.tip_radius_m,
-            "the gear's tip reaches below the pinion's involute (interference)",
-        )?;
-        check(
-            geo.line_of_action_length() - s_e >= lowest(&geo.gear),
-            "geometry.pinion_tip_diameter_mm",
-            2e3 * geo.pinion.tip_radius_m,
-            "the pinion's tip reaches below the gear's involute (interference)",
-        )?;
-        check(
-            geo.contact_ratio() >= 1.0,
-            "geometry.contact_ratio",
-            geo.contact_ratio(),
-            "transverse contact ratio below 1: the mesh would lose contact between pairs",
-        )?;
+        check_contact(&geo)?;
         Ok(geo)
     }
 
