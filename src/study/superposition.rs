@@ -94,26 +94,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
     for (j, &a) in FAH.iter().enumerate() {
         models.push(model(vec![Term::new(j as u32 + 1, a)])?);
     }
-    let factory =
-        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
-    let grid = IcGrid::new(-2.0, 2.0, 2)?;
-    let sweeps: Vec<Result<Vec<SweepPoint>>> = models
-        .par_iter()
-        .map(|m| {
-            let plan = SweepPlan {
-                omegas: omegas.clone(),
-                branch: Branch::Up,
-                x0: [1.0 + FM, 0.0],
-                grid,
-                opts: SteadyOptions::default(),
-            };
-            sweep(&factory, m, &plan, &NoProgress)
-        })
-        .collect();
-    let sweeps: Vec<Vec<SweepPoint>> = sweeps.into_iter().collect::<Result<_>>()?;
-    if sweeps.iter().any(|s| s.len() != omegas.len()) {
-        return Err(GearError::Numerical("sweep lost a frequency".into()));
-    }
+    let sweeps = swept(&models, &omegas)?;
     let singles_models = &models[1..];
     let sup: Vec<Result<(f64, bool)>> = (0..omegas.len())
         .into_par_iter()
@@ -123,14 +104,8 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         })
         .collect();
     let sup: Vec<(f64, bool)> = sup.into_iter().collect::<Result<_>>()?;
-    let names = [
-        "simultaneous",
-        "1st harmonic alone",
-        "2nd harmonic alone",
-        "3rd harmonic alone",
-    ];
     let mut rows = Vec::new();
-    for (s, name) in sweeps.iter().zip(names) {
+    for (s, name) in sweeps.iter().zip(NAMES) {
         rows.extend(s.iter().map(|p| StudyRow {
             series: format!("simulation, {name}"),
             omega: p.omega,
@@ -150,6 +125,55 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         stable: None,
         period: None,
     }));
+    Ok(StudyOutput {
+        name: "superposition".into(),
+        figures: vec![figure(n, &omegas, &sweeps, &sup)],
+        rows,
+        summary: summary(n, &omegas, &sweeps, &sup),
+    })
+}
+
+/// The series names of the simultaneous response and of each harmonic alone.
+const NAMES: [&str; 4] = [
+    "simultaneous",
+    "1st harmonic alone",
+    "2nd harmonic alone",
+    "3rd harmonic alone",
+];
+
+/// Each model's exact-simulation sweep up `omegas`, carried from (1 + F_m, 0).
+fn swept(models: &[GearPair], omegas: &[f64]) -> Result<Vec<Vec<SweepPoint>>> {
+    let factory =
+        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
+    let grid = IcGrid::new(-2.0, 2.0, 2)?;
+    let sweeps: Vec<Result<Vec<SweepPoint>>> = models
+        .par_iter()
+        .map(|m| {
+            let plan = SweepPlan {
+                omegas: omegas.to_vec(),
+                branch: Branch::Up,
+                x0: [1.0 + FM, 0.0],
+                grid,
+                opts: SteadyOptions::default(),
+            };
+            sweep(&factory, m, &plan, &NoProgress)
+        })
+        .collect();
+    let sweeps: Vec<Vec<SweepPoint>> = sweeps.into_iter().collect::<Result<_>>()?;
+    if sweeps.iter().any(|s| s.len() != omegas.len()) {
+        return Err(GearError::Numerical("sweep lost a frequency".into()));
+    }
+    Ok(sweeps)
+}
+
+/// The superposition `sup` (q_a, all singles periodic) against the simultaneous sweep: overall
+/// and in windows of +-8% about Omega 1, 1/2, 1/3, with each harmonic alone there.
+fn summary(
+    n: usize,
+    omegas: &[f64],
+    sweeps: &[Vec<SweepPoint>],
+    sup: &[(f64, bool)],
+) -> serde_json::Value {
     let sim: Vec<f64> = sweeps[0].iter().map(|p| p.steady.qa).collect();
     let diff: Vec<f64> = sup.iter().zip(&sim).map(|(s, q)| s.0 - q).collect();
     let window = |j: usize| {
@@ -171,7 +195,7 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         })
     };
     let rel: Vec<f64> = diff.iter().zip(&sim).map(|(d, q)| d / q).collect();
-    let summary = serde_json::json!({
+    serde_json::json!({
         "study": "superposition", "fm": FM, "zeta": ZETA, "fah": FAH,
         "method": "exact simulation, carried sweep up from (1 + F_m, 0)",
         "omega_range": [OMEGA.0, OMEGA.1], "points": n,
@@ -181,7 +205,12 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         "all_single_responses_periodic": sup.iter().all(|s| s.1),
         "non_period1_simultaneous": sweeps[0].iter().filter(|p| p.steady.period != Some(1)).count(),
         "near_resonance": {"omega_1": window(1), "omega_1_2": window(2), "omega_1_3": window(3)},
-    });
+    })
+}
+
+/// Figs 26 and 27: each harmonic alone, and the superposition with phases, over the
+/// simultaneous response.
+fn figure(n: usize, omegas: &[f64], sweeps: &[Vec<SweepPoint>], sup: &[(f64, bool)]) -> Figure {
     let caption = format!(
         "F_m {FM}, zeta {ZETA}, F_ah1..3 = {}, {}, {}; sim. sweep up, {n} pts",
         FAH[0], FAH[1], FAH[2]
@@ -190,41 +219,35 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
         sweeps[i].iter().map(|p| (p.omega, p.steady.qa)).collect()
     };
     let mut fig26 = vec![Series::line("three harmonics simultaneously", line(0)).with_color(0)];
-    for (j, name) in names.iter().enumerate().skip(1) {
+    for (j, name) in NAMES.iter().enumerate().skip(1) {
         fig26.push(Series::dashed(*name, line(j)).with_color(j));
     }
     let fig27 = vec![
         Series::line("three harmonics simultaneously", line(0)).with_color(0),
         Series::line_markers(
             "superposition with phases",
-            omegas.iter().zip(&sup).map(|(&w, s)| (w, s.0)).collect(),
+            omegas.iter().zip(sup).map(|(&w, s)| (w, s.0)).collect(),
         )
         .with_color(1)
         .with_marker(Marker::Square),
     ];
-    Ok(StudyOutput {
-        name: "superposition".into(),
-        figures: vec![Figure {
-            name: "fig26-27-superposition".into(),
-            title: "STE harmonics: simultaneous vs separate (Fig. 26) and superposed (Fig. 27)"
-                .into(),
-            panels: vec![
-                panel(
-                    "Fig. 26: each harmonic alone".into(),
-                    caption.clone(),
-                    "q_a",
-                    fig26,
-                ),
-                panel(
-                    "Fig. 27: superposition with phases".into(),
-                    caption,
-                    "q_a",
-                    fig27,
-                ),
-            ],
-            cols: 2,
-        }],
-        rows,
-        summary,
-    })
+    Figure {
+        name: "fig26-27-superposition".into(),
+        title: "STE harmonics: simultaneous vs separate (Fig. 26) and superposed (Fig. 27)".into(),
+        panels: vec![
+            panel(
+                "Fig. 26: each harmonic alone".into(),
+                caption.clone(),
+                "q_a",
+                fig26,
+            ),
+            panel(
+                "Fig. 27: superposition with phases".into(),
+                caption,
+                "q_a",
+                fig27,
+            ),
+        ],
+        cols: 2,
+    }
 }
