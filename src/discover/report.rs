@@ -257,6 +257,15 @@ fn opt(v: Option<f64>, prec: usize) -> String {
     v.map_or("-".into(), |x| format!("{x:.prec$}"))
 }
 
+/// A bootstrap p-value to three decimals, or "<0.001" below that: the smallest p of 1999
+/// replicates, 1 / 2000, would otherwise print as 0.001.
+fn p_text(p: Option<f64>) -> String {
+    match p {
+        Some(p) if p < 0.001 => "<0.001".into(),
+        p => opt(p, 3),
+    }
+}
+
 /// A few lines for the terminal.
 pub fn summary_text(d: &Discovery) -> String {
     let mut s = format!(
@@ -288,7 +297,7 @@ pub fn summary_text(d: &Discovery) -> String {
             "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}{}{}\n",
             c.name,
             c.lr,
-            opt(c.p_value, 3),
+            p_text(c.p_value),
             c.estimate_name,
             opt(c.estimate, 4),
             opt(c.ci95.map(|x| x.0), 4),
