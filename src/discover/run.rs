@@ -1225,14 +1225,16 @@ pub fn discover_setup(
     let mut refits: Vec<Refitted> = Vec::new();
     let decision = rounds.settle(&refit, &mut cands, &mut refits)?;
     progress.advance(1);
-    progress.finish();
     let tests = TestsOfM0 {
         detection,
         detected_by_tests,
         significant_undetected,
         excluded,
     };
-    Ok(discovery_of(&rounds, &omega, decision, tests, cands))
+    let found = discovery_of(&rounds, &omega, decision, tests, cands);
+    progress.advance(1);
+    progress.finish();
+    Ok(found)
 }
 
 /// What the tests of M0 found, beside [`Rounds::detected`].

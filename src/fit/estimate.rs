@@ -620,10 +620,8 @@ fn sandwich_covariance(
     cov: &DMatrix<f64>,
     residual_dof: usize,
 ) -> DMatrix<f64> {
-    let psi = |z: f64| match c.noise.distribution {
-        Distribution::Gaussian => z,
-        Distribution::StudentT { dof } => (dof + 1.0) * z / (dof + z * z),
-    };
+    // The score function psi(z) = z w(z), w the reweighting's weight.
+    let psi = |z: f64| z * robust_weight(c.noise.distribution, z);
     let p = jf.ncols();
     let mut meat = DMatrix::zeros(p, p);
     for (i, zi) in z.iter().enumerate() {
