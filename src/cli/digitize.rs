@@ -8,9 +8,9 @@ use super::limits::real;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::digitize::{
-    calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_sizes,
+    calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_census, marker_sizes,
     parse_tick_values, read_png, suspect_points, write_png, AxisCalibration, DigitizeOptions,
-    MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, Suspicion,
+    MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, Suspicion,
 };
 use geardyn::plot::{write_xy, Marker, Series, XyPlot};
 use std::path::{Path, PathBuf};
@@ -165,7 +165,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         opts.mode = Mode::Markers(filter);
     }
 
-    let pixels = extract_pixels(&img, &opts)?;
+    // The report so far (calibration, marker sizes) explains most failures: it goes with the error.
+    let pixels = match extract_pixels(&img, &opts) {
+        Ok(p) => p,
+        Err(e) => bail!("{report}{e}"),
+    };
+    if let Mode::Markers(filter) = opts.mode {
+        report.push_str(&census_report(&marker_census(&img, &opts, &filter)?));
+    }
     let points = digitize(&img, &opts)?;
     let suspects = suspect_points(
         &img,
@@ -342,18 +349,23 @@ fn size_report(sizes: &MarkerSizes, used: Option<(u32, u32)>, measured: bool) ->
         .iter()
         .map(|(s, n)| format!("{s} px: {n}"))
         .collect();
-    let inside = |s: u32| used.is_some_and(|(lo, hi)| s >= lo && s <= hi);
-    let dropped: usize = sizes
-        .histogram
-        .iter()
-        .filter(|(s, _)| !inside(*s))
-        .map(|h| h.1)
-        .sum();
     let range = used.map_or("none".to_string(), |(lo, hi)| format!("{lo}:{hi} px"));
     format!(
-        "marker sizes found (blobs by bounding-box size): {}\nmarker size {} {range}; {dropped} blob(s) outside it left out\n",
+        "marker sizes found (blobs by the longer side of their bounding box): {}\nmarker size {} {range} (both sides of a marker must lie within it)\n",
         if hist.is_empty() { "none".into() } else { hist.join(", ") },
         if measured { "measured:" } else { "given:" },
+    )
+}
+
+/// How many markers were found, how many were put back together from pieces, and what was left
+/// out and why.
+fn census_report(c: &MarkerCensus) -> String {
+    format!(
+        "{} marker(s) from {} blob(s), {} of them put back together from pieces cut by another curve; {}\n",
+        c.points.len(),
+        c.blobs,
+        c.rejoined,
+        c.left_out_text()
     )
 }
 

@@ -40,6 +40,20 @@ struct Blob {
 }
 
 impl Blob {
+    /// The blob made of both: areas and pixel sums add, bounding boxes join.
+    fn union(&self, o: &Blob) -> Blob {
+        Blob {
+            area: self.area + o.area,
+            sum: (self.sum.0 + o.sum.0, self.sum.1 + o.sum.1),
+            min: (self.min.0.min(o.min.0), self.min.1.min(o.min.1)),
+            max: (self.max.0.max(o.max.0), self.max.1.max(o.max.1)),
+        }
+    }
+
+    fn box_area(&self) -> usize {
+        (self.max.0 - self.min.0 + 1) * (self.max.1 - self.min.1 + 1)
+    }
+
     fn accepted(&self, f: &MarkerFilter) -> bool {
         let (w, h) = (self.max.0 - self.min.0 + 1, self.max.1 - self.min.1 + 1);
         let size_ok = f.size.is_none_or(|(lo, hi)| {
@@ -95,20 +109,129 @@ pub(crate) fn marker_sizes(mask: &Mask, filter: &MarkerFilter) -> MarkerSizes {
     MarkerSizes { histogram, picked }
 }
 
-/// Pixel-space centroids (column, row) of the blobs of `mask` that pass `filter`, and the number
-/// of blobs found before filtering.
-pub(crate) fn marker_points(mask: &Mask, filter: &MarkerFilter) -> (Vec<(f64, f64)>, usize) {
-    let blobs = blobs(mask, filter.erode);
-    let (x0, y0) = (f64::from(mask.region.x.0), f64::from(mask.region.y.0));
-    let points = blobs
+/// What marker extraction found: the markers' pixel positions and why the other blobs were left
+/// out, so that a caller can say where the missing points went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MarkerCensus {
+    /// Pixel-space centres (column, row) of the markers that pass the filter.
+    pub points: Vec<(f64, f64)>,
+    /// Connected blobs of the colour found (after erosion), before any filtering.
+    pub blobs: usize,
+    /// Markers among `points` put back together from two or more pieces.
+    pub rejoined: usize,
+    /// Candidates left out for having fewer pixels than the minimum area.
+    pub too_small: usize,
+    /// Candidates left out for having more pixels than the maximum area.
+    pub too_large: usize,
+    /// Candidates left out because a side of their bounding box lies outside the size bounds.
+    pub off_size: usize,
+}
+
+impl MarkerCensus {
+    /// What was left out and why, e.g. "3 left out: 2 smaller than the minimum area, 1 with a
+    /// side outside the size bounds (a marker mostly hidden under another curve, or a line)".
+    pub fn left_out_text(&self) -> String {
+        let reasons: Vec<String> = [
+            (self.too_small, "smaller than the minimum area"),
+            (self.too_large, "larger than the maximum area"),
+            (
+                self.off_size,
+                "with a side outside the size bounds (a marker partly hidden under another \
+                 curve, or a line)",
+            ),
+        ]
         .iter()
-        .filter(|b| b.accepted(filter))
-        .map(|b| {
-            let n = b.area as f64;
-            (x0 + b.sum.0 / n, y0 + b.sum.1 / n)
-        })
+        .filter(|r| r.0 > 0)
+        .map(|(n, why)| format!("{n} {why}"))
         .collect();
-    (points, blobs.len())
+        let total = self.too_small + self.too_large + self.off_size;
+        if total == 0 {
+            "none left out".to_string()
+        } else {
+            format!("{total} left out: {}", reasons.join(", "))
+        }
+    }
+}
+
+/// The markers of `mask` under `filter`.
+///
+/// A marker drawn under another curve is cut into pieces by it (in geardyn's own reports the
+/// model lines cross every measured square). With size bounds `(lo, hi)` given, pieces that fail
+/// the size bounds on their own are joined, in column order, with neighbouring pieces as long as
+/// the joined bounding box stays within `hi` x `hi`; a blob that passes on its own is never
+/// joined, so a figure with clean markers gives the same points as without this step. A single
+/// blob is placed at its centroid; a rejoined marker at the centre of its bounding box, because
+/// the part hidden under the other curve would pull the centroid of the visible pixels aside.
+pub(crate) fn marker_census(mask: &Mask, filter: &MarkerFilter) -> MarkerCensus {
+    let blobs = blobs(mask, filter.erode);
+    let found = blobs.len();
+    let candidates = match filter.size {
+        Some((_, hi)) => rejoin(blobs, filter, hi as usize),
+        None => blobs.into_iter().map(|b| (b, 1)).collect(),
+    };
+    let (x0, y0) = (f64::from(mask.region.x.0), f64::from(mask.region.y.0));
+    let mut census = MarkerCensus {
+        points: Vec::new(),
+        blobs: found,
+        rejoined: 0,
+        too_small: 0,
+        too_large: 0,
+        off_size: 0,
+    };
+    for (b, pieces) in candidates {
+        if b.area < filter.min_area {
+            census.too_small += 1;
+        } else if filter.max_area.is_some_and(|m| b.area > m) {
+            census.too_large += 1;
+        } else if !b.accepted(filter) {
+            census.off_size += 1;
+        } else if pieces > 1 {
+            census.rejoined += 1;
+            let centre = |lo: usize, hi: usize| (lo + hi) as f64 / 2.0;
+            census
+                .points
+                .push((x0 + centre(b.min.0, b.max.0), y0 + centre(b.min.1, b.max.1)));
+        } else {
+            let n = b.area as f64;
+            census.points.push((x0 + b.sum.0 / n, y0 + b.sum.1 / n));
+        }
+    }
+    census
+}
+
+/// The blobs with the pieces of cut markers joined (see [`marker_census`]), each with its number
+/// of pieces, in column order.
+fn rejoin(mut blobs: Vec<Blob>, filter: &MarkerFilter, hi: usize) -> Vec<(Blob, usize)> {
+    blobs.sort_by_key(|b| (b.min.0, b.min.1));
+    let mut done: Vec<(Blob, usize)> = Vec::with_capacity(blobs.len());
+    // Groups of pieces that may still take another piece: their union spans at most `hi`.
+    let mut open: Vec<(Blob, usize)> = Vec::new();
+    for b in blobs {
+        // Pieces come in column order: a group starting more than `hi` columns before this
+        // piece can take no further piece.
+        let (closed, still): (Vec<_>, Vec<_>) =
+            open.into_iter().partition(|g| g.0.min.0 + hi < b.min.0);
+        done.extend(closed);
+        open = still;
+        if b.accepted(filter) {
+            done.push((b, 1));
+            continue;
+        }
+        let fits = |g: &Blob| {
+            let u = g.union(&b);
+            u.max.0 - u.min.0 < hi && u.max.1 - u.min.1 < hi
+        };
+        let best = open
+            .iter_mut()
+            .filter(|g| fits(&g.0))
+            .min_by_key(|g| g.0.union(&b).box_area());
+        match best {
+            Some(g) => *g = (g.0.union(&b), g.1 + 1),
+            None => open.push((b, 1)),
+        }
+    }
+    done.extend(open);
+    done
 }
 
 /// The 4-connected blobs of `mask` after erosion by `erode` pixels.
@@ -189,6 +312,10 @@ mod tests {
     use super::super::mask::Region;
     use super::*;
 
+    fn marker_points(m: &Mask, f: &MarkerFilter) -> Vec<(f64, f64)> {
+        marker_census(m, f).points
+    }
+
     fn mask(rows: &[&str]) -> Mask {
         let (w, h) = (rows[0].len() as u32, rows.len() as u32);
         Mask {
@@ -220,7 +347,7 @@ mod tests {
             min_area: 1,
             ..MarkerFilter::default()
         };
-        let (pts, n) = marker_points(&m, &all);
+        let MarkerCensus { points: pts, blobs: n, .. } = marker_census(&m, &all);
         assert_eq!(n, 7);
         assert_eq!(pts.len(), 7);
         assert_eq!(pts[0], (101.0, 51.0));
@@ -229,7 +356,7 @@ mod tests {
             min_area: 4,
             ..MarkerFilter::default()
         };
-        let (pts, _) = marker_points(&m, &big);
+        let pts = marker_points(&m, &big);
         // the 3x3 square, the dash (4), the 3x2 block and the bottom line (7).
         assert_eq!(pts.len(), 4);
 
@@ -238,7 +365,7 @@ mod tests {
             size: Some((2, 3)),
             ..MarkerFilter::default()
         };
-        let (pts, _) = marker_points(&m, &squares);
+        let pts = marker_points(&m, &squares);
         assert_eq!(pts, [(101.0, 51.0), (109.0, 55.5)]);
 
         let capped = MarkerFilter {
@@ -246,7 +373,7 @@ mod tests {
             max_area: Some(6),
             ..MarkerFilter::default()
         };
-        assert_eq!(marker_points(&m, &capped).0.len(), 2);
+        assert_eq!(marker_points(&m, &capped).len(), 2);
     }
 
     #[test]
@@ -275,12 +402,45 @@ mod tests {
             erode: 1,
             ..MarkerFilter::default()
         };
-        let (pts, n) = marker_points(&m, &f);
+        let MarkerCensus { points: pts, blobs: n, .. } = marker_census(&m, &f);
         assert_eq!(n, 1);
         assert_eq!(pts, [(105.0, 53.0)]);
         // Without erosion the line and the square are one blob, pulled towards the line.
-        let (pts, _) = marker_points(&m, &MarkerFilter::default());
+        let pts = marker_points(&m, &MarkerFilter::default());
         assert_eq!(pts.len(), 1);
         assert_ne!(pts[0], (105.0, 53.0));
+    }
+
+    #[test]
+    fn pieces_of_a_cut_marker_are_rejoined_and_whole_markers_are_not() {
+        // A 5 x 5 marker cut by a one-column line of another colour (column 3), and a whole
+        // 5 x 5 marker right beside it.
+        let m = mask(&[
+            "##.##..#####",
+            "##.##..#####",
+            "##.##..#####",
+            "##.##..#####",
+            "##.##..#####",
+        ]);
+        let f = MarkerFilter {
+            min_area: 4,
+            size: Some((4, 6)),
+            ..MarkerFilter::default()
+        };
+        let c = marker_census(&m, &f);
+        assert_eq!((c.blobs, c.rejoined, c.off_size), (3, 1, 0));
+        // The rejoined marker sits at its bounding box's centre, the whole one at its centroid.
+        assert_eq!(c.points, [(102.0, 52.0), (109.0, 52.0)]);
+        // Without size bounds nothing is rejoined: the pieces are too thin for no filter.
+        let c = marker_census(&m, &MarkerFilter::default());
+        assert_eq!((c.points.len(), c.rejoined), (3, 0));
+        // Bounds a piece cannot reach even when joined leave the pieces out, counted.
+        let small = MarkerFilter {
+            size: Some((2, 3)),
+            ..f
+        };
+        let c = marker_census(&m, &small);
+        assert_eq!((c.points.len(), c.off_size), (0, 3));
+        assert!(c.left_out_text().starts_with("3 left out"), "{}", c.left_out_text());
     }
 }

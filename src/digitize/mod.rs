@@ -50,7 +50,7 @@ pub use calibration::AxisCalibration;
 pub use checks::{suspect_points, Suspicion};
 pub use frame::{calibrate_from_ticks, find_frame, parse_tick_values, AxisLine, Frame};
 pub use image::{decode_png, read_png, RgbImage};
-pub use markers::{MarkerFilter, MarkerSizes};
+pub use markers::{MarkerCensus, MarkerFilter, MarkerSizes};
 pub use mask::{PixelBox, Rgb};
 pub use overlay::{check_image, write_png};
 
@@ -98,23 +98,37 @@ pub fn extract_pixels(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64
     match opts.mode {
         Mode::Line { multi } => Ok(line::column_points(&mask, multi)),
         Mode::Markers(filter) => {
-            let (points, blobs) = markers::marker_points(&mask, &filter);
-            if points.is_empty() {
+            let census = markers::marker_census(&mask, &filter);
+            if census.points.is_empty() {
                 return Err(GearError::Digitize(format!(
-                    "{blobs} blob(s) of colour {} found, but none passes the marker filter \
-                     (min area {} px, max area {}, size {}, erosion {} px)",
+                    "{} blob(s) of colour {} found, but none passes the marker filter \
+                     (min area {} px, max area {}, size {}, erosion {} px): {}",
+                    census.blobs,
                     opts.color,
                     filter.min_area,
                     filter.max_area.map_or("none".into(), |a| format!("{a} px")),
                     filter
                         .size
                         .map_or("any".into(), |(lo, hi)| format!("{lo} to {hi} px")),
-                    filter.erode
+                    filter.erode,
+                    census.left_out_text()
                 )));
             }
-            Ok(points)
+            Ok(census.points)
         }
     }
+}
+
+/// The markers found under `filter` and the counts of the blobs left out (see
+/// [`MarkerCensus`]); errors as [`extract_pixels`] does except when no blob passes the filter.
+pub fn marker_census(
+    img: &RgbImage,
+    opts: &DigitizeOptions,
+    filter: &MarkerFilter,
+) -> Result<MarkerCensus> {
+    let region = Region::new(img, opts.crop)?;
+    let mask = Mask::new(img, region, opts.color, opts.tolerance)?;
+    Ok(markers::marker_census(&mask, filter))
 }
 
 /// The blob sizes of the marker colour in the searched box (see [`MarkerSizes`]), for choosing
