@@ -66,5 +66,9 @@ fn markers_cut_by_model_lines_are_put_back_together() {
         assert!(dx.abs() < 2.0 && dy.abs() < 2.0, "{g:?} vs {t:?}");
         sum += dx.hypot(dy);
     }
-    assert!(sum / (got.len() as f64) < 1.0, "mean {} px", sum / got.len() as f64);
+    assert!(
+        sum / (got.len() as f64) < 1.0,
+        "mean {} px",
+        sum / got.len() as f64
+    );
 }

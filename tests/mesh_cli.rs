@@ -154,7 +154,7 @@ fn sweep_with_the_geometry_excitation_has_the_mesh_ste_as_its_quasi_static_dte()
         "--rig",
         "data/munro/rig.toml",
         "--load-n",
-        "1890",
+        "1890:3780:1890",
         "--tip-relief-design-load-n",
         "3780",
         "--json",
@@ -162,6 +162,11 @@ fn sweep_with_the_geometry_excitation_has_the_mesh_ste_as_its_quasi_static_dte()
         dir.path().join("mesh").to_str().unwrap(),
     ]);
     let ste_pp = mesh["loads"][0]["ste_pp_um"].as_f64().unwrap();
+    let k = |i: usize| {
+        mesh["loads"][i]["mesh_stiffness_mean_n_per_um"]
+            .as_f64()
+            .unwrap()
+    };
     let run = geardyn(&[
         "sweep",
         "--rig",
@@ -183,11 +188,26 @@ fn sweep_with_the_geometry_excitation_has_the_mesh_ste_as_its_quasi_static_dte()
     assert!(run.status.success(), "{err}");
     assert!(err.contains("excitation from the gear geometry"), "{err}");
     assert!(err.contains("k_h(F)"), "{err}");
+    assert!(err.contains("effective excitation"), "{err}");
+    // --omega-n-hz is the design load's; the load's natural frequency (in the CSV, mesh
+    // frequency over omega) has the same mass and the load's stiffness, and the console says so.
+    let f_n = 1600.0 * (k(0) / k(1)).sqrt();
+    assert!(
+        err.contains(&format!("= {f_n:.2} Hz")),
+        "f_n {f_n:.2} Hz: {err}"
+    );
     let csv = String::from_utf8_lossy(&run.stdout);
     let header: Vec<&str> = csv.lines().next().unwrap().split(',').collect();
     let row: Vec<&str> = csv.lines().nth(1).unwrap().split(',').collect();
     let col = header.iter().position(|h| *h == "dte_pp_um").unwrap();
     let dte: f64 = row[col].parse().unwrap();
+    let value = |name: &str| -> f64 {
+        row[header.iter().position(|h| *h == name).unwrap()]
+            .parse()
+            .unwrap()
+    };
+    let csv_f_n = value("mesh_freq_hz") / value("omega");
+    assert!((csv_f_n - f_n).abs() < 1e-6 * f_n, "{csv_f_n} vs {f_n}");
     assert!(
         (dte - ste_pp).abs() < 0.03 * ste_pp,
         "quasi-static pp DTE {dte} um, mesh STE pp {ste_pp} um"

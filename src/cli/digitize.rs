@@ -8,9 +8,9 @@ use super::limits::real;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::digitize::{
-    calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_census, marker_sizes,
-    parse_tick_values, read_png, suspect_points, write_png, AxisCalibration, DigitizeOptions,
-    MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, Suspicion,
+    calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_census,
+    marker_sizes, parse_tick_values, read_png, suspect_points, write_png, AxisCalibration,
+    DigitizeOptions, MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, Suspicion,
 };
 use geardyn::plot::{write_xy, Marker, Series, XyPlot};
 use std::path::{Path, PathBuf};

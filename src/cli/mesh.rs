@@ -144,7 +144,7 @@ fn table_text(r: &MeshAnalysis) -> String {
 
 fn summary(r: &MeshAnalysis) -> String {
     let mut s = format!(
-        "contact ratio {:.4}, mean mesh stiffness {:.1} N/um (ISO 6336-1 method B c_gamma_alpha b: {:.1} N/um; with the typical c' = 14: {:.1} N/um)\n\
+        "contact ratio {:.4}, mean mesh stiffness {:.1} N/um with every pair in contact (ISO 6336-1 method B c_gamma_alpha b: {:.1} N/um; with the typical c' = 14: {:.1} N/um, the k_h that sweep and validate use when rig.toml gives none)\n\
          tip relief {:.2} um over {:.2} mm ({}){}{}\n",
         r.contact_ratio,
         r.mesh_stiffness_mean_n_per_um,
@@ -160,14 +160,17 @@ fn summary(r: &MeshAnalysis) -> String {
             )),
         table_text(r)
     );
-    s.push_str("  load_n  ste_pp_um  k_mean_n_per_um  f_ah1   contact_loss\n");
+    // f_ah1 is the STE's own first harmonic over b; `--excitation geometry` with k(t) excites
+    // the model by the STE less its own deflection, whose first harmonic is larger.
+    s.push_str("  load_n  ste_pp_um  ste_e1_um  f_ah1 (e1/b)  k_mean_n_per_um  contact_loss\n");
     for l in &r.loads {
         s.push_str(&format!(
-            "{:>8.1}  {:>9.3}  {:>15.1}  {:.4}  {:>5.1}%\n",
+            "{:>8.1}  {:>9.3}  {:>9.3}  {:>12.4}  {:>15.1}  {:>11.1}%\n",
             l.load_n,
             l.ste_pp_um,
-            l.mesh_stiffness_mean_n_per_um,
+            l.harmonics.first().map_or(0.0, |h| h.ste_amplitude_um),
             l.f_ah1,
+            l.mesh_stiffness_mean_n_per_um,
             100.0 * l.contact_loss_fraction
         ));
     }

@@ -412,6 +412,30 @@ impl GeometryExcitation {
             p.excitation.mesh_stiffness_mean_n_per_um,
             100.0 * p.excitation.contact_loss_fraction
         )];
+        match self.stiffness {
+            StiffnessChoice::Geometry => out.extend([
+                format!(
+                    "    f_n = {} Hz at the design load {} N (k_h {:.1} N/µm), scaled to this \
+                     load's stiffness with the same mass: {} Hz × √({:.1} / {:.1}) = {:.2} Hz",
+                    num(p.omega_n_design_hz),
+                    num(p.design_load_n),
+                    p.design_stiffness_n_per_um,
+                    num(p.omega_n_design_hz),
+                    p.excitation.mesh_stiffness_mean_n_per_um,
+                    p.design_stiffness_n_per_um,
+                    p.op.omega_n_hz,
+                ),
+                "    effective excitation (the model's STE terms below): the loaded STE less the \
+                 static deflection F̄_m / k(t) that the model's own k(t) makes, so that the two \
+                 add up to the loaded STE; these are not the STE's own harmonics (geardyn mesh \
+                 lists those)"
+                    .to_string(),
+            ]),
+            StiffnessChoice::Constant => out.push(
+                "    STE harmonics of the tooth-contact model (k = 1: the excitation is the STE)"
+                    .to_string(),
+            ),
+        }
         let model = &p.model;
         for s in model.ste.iter().take(self.harmonics) {
             let k =

@@ -347,7 +347,11 @@ mod tests {
             min_area: 1,
             ..MarkerFilter::default()
         };
-        let MarkerCensus { points: pts, blobs: n, .. } = marker_census(&m, &all);
+        let MarkerCensus {
+            points: pts,
+            blobs: n,
+            ..
+        } = marker_census(&m, &all);
         assert_eq!(n, 7);
         assert_eq!(pts.len(), 7);
         assert_eq!(pts[0], (101.0, 51.0));
@@ -402,7 +406,11 @@ mod tests {
             erode: 1,
             ..MarkerFilter::default()
         };
-        let MarkerCensus { points: pts, blobs: n, .. } = marker_census(&m, &f);
+        let MarkerCensus {
+            points: pts,
+            blobs: n,
+            ..
+        } = marker_census(&m, &f);
         assert_eq!(n, 1);
         assert_eq!(pts, [(105.0, 53.0)]);
         // Without erosion the line and the square are one blob, pulled towards the line.
@@ -441,6 +449,10 @@ mod tests {
         };
         let c = marker_census(&m, &small);
         assert_eq!((c.points.len(), c.off_size), (0, 3));
-        assert!(c.left_out_text().starts_with("3 left out"), "{}", c.left_out_text());
+        assert!(
+            c.left_out_text().starts_with("3 left out"),
+            "{}",
+            c.left_out_text()
+        );
     }
 }

@@ -413,6 +413,13 @@ pub struct GeometryOperatingPoint {
     pub excitation: GeometryExcitation,
     /// The relief depth used, um.
     pub relief_um: f64,
+    /// Natural frequency at the rig's design load, Hz (`op.omega_n_hz` is it scaled to this
+    /// load's stiffness when the geometry's stiffness is used).
+    pub omega_n_design_hz: f64,
+    /// The rig's design load, N.
+    pub design_load_n: f64,
+    /// Mean loaded mesh stiffness of the geometry at the design load, N/um.
+    pub design_stiffness_n_per_um: f64,
 }
 
 impl GearMesh {
@@ -457,6 +464,9 @@ impl GearMesh {
             model: m.model,
             excitation,
             relief_um,
+            omega_n_design_hz,
+            design_load_n: rig.design_load_n,
+            design_stiffness_n_per_um: k_design,
         })
     }
 }
