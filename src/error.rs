@@ -17,7 +17,7 @@ pub enum GearError {
     Unsupported(String),
     /// Malformed input data, located by file, line and field (line 0: the file as a whole, a
     /// key it lacks, or a check over several lines).
-    #[error("{location}: field '{field}': {message}", location = located(file, *line))]
+    #[error("{location}: {what}{message}", location = located(file, *line), what = field_part(field))]
     Data {
         file: PathBuf,
         line: usize,
@@ -70,6 +70,15 @@ impl GearError {
 }
 
 /// `file:line`, or the file alone when no line applies (line 0).
+/// "field 'F': ", or nothing when the problem is the file as a whole.
+fn field_part(field: &str) -> String {
+    if field == crate::data::WHOLE_FILE {
+        String::new()
+    } else {
+        format!("field '{field}': ")
+    }
+}
+
 fn located(file: &Path, line: usize) -> String {
     match line {
         0 => file.display().to_string(),

@@ -92,13 +92,18 @@ fn assert_located<T: std::fmt::Debug>(
             assert_eq!(name.as_deref(), Some(file), "{case}: {text}");
             assert_eq!((l, fd.as_str()), (line, field), "{case}: {text}");
             assert!(!message.is_empty(), "{case}");
-            // Line 0 (a missing file or table) is not printed: the file alone is named.
-            let place = match line {
-                0 => format!("{file}: field"),
-                n => format!("{file}:{n}: field"),
+            // Line 0 (a missing file or table) is not printed: the file alone is named; a
+            // problem of the whole file names no field.
+            let at = match line {
+                0 => format!("{file}: "),
+                n => format!("{file}:{n}: "),
+            };
+            let place = match field {
+                WHOLE_FILE => at,
+                _ => format!("{at}field '{field}'"),
             };
             assert!(text.contains(&place), "{case}: {text}");
-            assert!(text.contains(&format!("'{field}'")), "{case}: {text}");
+            assert!(!text.contains("'(file)'"), "{case}: {text}");
         }
         other => panic!("{case}: expected GearError::Data, got {other:?}"),
     }

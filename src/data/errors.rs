@@ -39,6 +39,14 @@ pub(crate) fn line_of_offset(text: &str, offset: usize) -> usize {
 /// A missing or unreadable file, or bytes that are not UTF-8 (reported at the line of the first
 /// bad byte), give a located [`GearError::Data`].
 pub(crate) fn read_text(path: &Path) -> Result<String> {
+    if path.is_dir() {
+        return Err(data_error(
+            path,
+            0,
+            WHOLE_FILE,
+            "is a folder; the file in it was expected",
+        ));
+    }
     let bytes = std::fs::read(path).map_err(|e| {
         let what = match e.kind() {
             std::io::ErrorKind::NotFound => "file not found".to_string(),
