@@ -218,6 +218,17 @@ impl Rounds<'_> {
             self.refit(&rivals, cands, refits);
             decision = self.decision(cands, refits)?;
         }
+        // Say why a significant candidate has no estimate (a failed refit says so already).
+        for c in cands.iter_mut() {
+            if significant(c, alpha) && c.estimate.is_none() && c.note.is_none() {
+                c.note = Some(format!(
+                    "not refitted: the {} highest-scoring significant candidates and the \
+                     largest LR are refitted first, and the answer ({}) needed no further refit",
+                    self.opts.refit_top.max(1),
+                    decision.effect
+                ));
+            }
+        }
         Ok(decision)
     }
 
@@ -226,9 +237,15 @@ impl Rounds<'_> {
     pub fn refit(&self, list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>) {
         let fits: Vec<Result<(Refitted, Option<OtherStart>)>> =
             list.par_iter().map(|&c| self.refit_one(c)).collect();
-        // A refit that failed leaves its candidate unrefitted.
-        for (r, other) in fits.into_iter().flatten() {
-            let c = r.cand;
+        // A refit that failed leaves its candidate unrefitted, with the reason as its note.
+        for (&c, fit) in list.iter().zip(fits) {
+            let (r, other) = match fit {
+                Ok(f) => f,
+                Err(e) => {
+                    cands[c].note = Some(format!("refit failed: {e}"));
+                    continue;
+                }
+            };
             let cand = LIBRARY[c];
             let delta = &r.fit.effect.delta;
             cands[c].other_start = other;
