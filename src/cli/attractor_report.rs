@@ -74,7 +74,7 @@ pub fn line(i: usize, at: &Attractor, map: &AttractorMap, m: &Model, omega: f64)
         }
     }
     if let Some(l) = s.lyapunov.filter(|_| s.period.is_none()) {
-        t.push_str(&format!(", lyapunov {l:.4}"));
+        t.push_str(&format!(", lyapunov {l:.4} per unit time"));
         if let Some(k) = map.floquet_match(i) {
             t.push_str(&format!(
                 " (the Floquet rate of #{k}: a slow approach to that orbit)"
@@ -95,7 +95,7 @@ pub fn line(i: usize, at: &Attractor, map: &AttractorMap, m: &Model, omega: f64)
                 .map(|&(k, n)| format!("{n} to #{k}"))
                 .collect();
             t.push_str(&format!(
-                "\n      escape rate {:.3e} per period (95% {:.3e}-{:.3e}), mean lifetime {:.0} \
+                "\n      escape rate {:.3e} per period (95% {:.3e} .. {:.3e}), mean lifetime {:.0} \
                  periods; {} of {} followed from period {} to {} escaped ({})",
                 r.rate,
                 r.rate_ci95.0,

@@ -299,7 +299,8 @@ impl NoiseArgs {
 
 /// The speed grid of a study's sets from `--grid` and `--speed-step`: uniform (1000-5000 rpm in
 /// steps of `step_rpm`) or nonuniform (81 speeds drawn at random in 1000-5000 rpm, one fixed
-/// draw, so that every seed and every study sees the same gaps and clusters).
+/// draw, so that every seed and every study sees the same gaps and clusters; 79 remain once
+/// speeds within 1 rpm of another are merged).
 pub fn parse_grid(grid: &str, step_rpm: f64) -> anyhow::Result<geardyn::validate::SpeedGrid> {
     use geardyn::validate::SpeedGrid;
     match grid {

@@ -105,7 +105,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 .map_or(String::new(), |d| format!(", D_L {d:.4}")),
             match (s.floquet_rate, s.lyapunov) {
                 (Some(r), _) => format!(", floquet rate {r:.5}"),
-                (None, Some(l)) => format!(", lyapunov {l:.5}"),
+                (None, Some(l)) => format!(", lyapunov {l:.5} per unit time"),
                 (None, None) => String::new(),
             }
         );

@@ -9,8 +9,8 @@ use geardyn::report::{
     data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
 };
 use geardyn::validate::{
-    validate_kubo, validate_munro, GeometryOptions, KuboFitPath, KuboOptions, LoadResult,
-    MunroOptions, ReliefRule, SteMode,
+    validate_kubo, validate_munro, GeometryOptions, KuboFitPath, KuboOptions, KuboValidation,
+    LoadResult, MunroOptions, ReliefRule, SteMode,
 };
 use std::path::PathBuf;
 
@@ -176,10 +176,7 @@ fn load_line(l: &LoadResult) -> String {
             ),
             (n, None) => format!(" ({n} speeds chaotic or subharmonic)"),
         },
-        l.jump_error_rpm
-            .map_or("- (no jump in the data)".to_string(), |e| format!(
-                "{e:.0} rpm"
-            ))
+        l.jump_error_text(" rpm")
     )
 }
 
@@ -264,12 +261,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let r = validate_kubo(&data, &opts, &Bar::new())?;
             let written = write_kubo_report(&data, &r, &d.fits, &d.reports.join("kubo"))?;
             let s = format!(
-                "zeta {:.4}, omega_n {:.1} Hz ({}), model inside the envelope at {:.0}% of speeds, jump error {}\n",
+                "zeta {:.4}, omega_n {:.1} Hz ({}), model inside the envelope at {:.0}% of speeds, transition error {}\n{}",
                 r.zeta,
                 r.omega_n_hz,
                 r.parameter_source,
                 100.0 * r.inside_fraction,
-                r.jump_error_rpm.map_or("-".to_string(), |e| format!("{e:.0} rpm"))
+                r.jump_error_rpm.map_or("-".to_string(), |e| format!("{e:.0} rpm")),
+                kubo_intervals(&r)
             );
             (written, data_kind_banner(&data.rig), s)
         }
@@ -301,6 +299,28 @@ fn data_dir(given: Option<&std::path::Path>, name: &str) -> anyhow::Result<PathB
     Ok(d)
 }
 
+/// One line per fitted Kubo parameter: its value with the covariance (inverse Fisher) and the
+/// profile-likelihood 95% intervals (nothing when zeta and omega_n were given).
+fn kubo_intervals(r: &KuboValidation) -> String {
+    let Some(fit) = &r.fit else {
+        return String::new();
+    };
+    let mut s = String::new();
+    for (i, name) in fit.names.iter().enumerate() {
+        let cov = fit.ci95[i];
+        let digits = interval_digits(cov.0, cov.1, 1);
+        let profile = r.ci95_profile.get(i).map_or("-".to_string(), |p| {
+            let end = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.digits$}"));
+            format!("{} .. {}", end(p.lower), end(p.upper))
+        });
+        s.push_str(&format!(
+            "  {name} {:.digits$}: 95% covariance {:.digits$} .. {:.digits$}, profile {profile}\n",
+            fit.params[i], cov.0, cov.1
+        ));
+    }
+    s
+}
+
 /// A value and its 95% interval, with the interval's digits.
 fn value_ci(v: f64, ci: (f64, f64), min_digits: usize) -> String {
     let d = interval_digits(ci.0, ci.1, min_digits);
@@ -310,5 +330,5 @@ fn value_ci(v: f64, ci: (f64, f64), min_digits: usize) -> String {
 /// A 95% interval with enough digits to see whether a value lies inside it.
 fn ci_text((a, b): (f64, f64), min_digits: usize) -> String {
     let digits = interval_digits(a, b, min_digits);
-    format!("95% {a:.digits$} .. {b:.digits$}")
+    format!("95% covariance {a:.digits$} .. {b:.digits$}")
 }

@@ -25,7 +25,8 @@ pub struct Args {
     #[command(flatten)]
     noise: NoiseArgs,
     /// Speed grid: uniform (1000-5000 rpm in --speed-step steps) or nonuniform (81 speeds
-    /// drawn at random in 1000-5000 rpm, fixed draw).
+    /// drawn at random in 1000-5000 rpm, one fixed draw; 79 remain once speeds within 1 rpm of
+    /// another are merged).
     #[arg(long, default_value = "uniform")]
     grid: String,
     /// Step of the uniform grid, rpm, in [1, 4000].

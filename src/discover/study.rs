@@ -41,6 +41,15 @@ impl Hidden {
         }
     }
 
+    /// The name `parse` reads: "none", "sensor_peak" or the candidate's.
+    pub fn name(self) -> &'static str {
+        match self {
+            Hidden::None => "none",
+            Hidden::SensorPeak => "sensor_peak",
+            Hidden::Library(c) => c.name(),
+        }
+    }
+
     /// The discovery answer that counts as correct.
     pub fn expected(self) -> &'static str {
         match self {
@@ -556,4 +565,22 @@ fn calibration(outcomes: &[SeedOutcome]) -> Vec<TestCalibration> {
             }
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn every_hidden_effect_reads_back_from_its_name() {
+        let all = [Hidden::None, Hidden::SensorPeak].into_iter().chain(
+            super::super::effects::LIBRARY
+                .iter()
+                .map(|c| Hidden::Library(*c)),
+        );
+        for h in all {
+            assert_eq!(Hidden::parse(h.name()), Some(h), "{}", h.name());
+        }
+        assert_eq!(Hidden::parse("None"), None);
+    }
 }

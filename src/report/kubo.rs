@@ -99,9 +99,9 @@ pub fn write_kubo_report(
         &[
             "inside envelope",
             "RMS outside envelope",
-            "jump measured (rpm)",
-            "jump model up (rpm)",
-            "jump error (rpm)",
+            "transition measured (rpm)",
+            "transition model up (rpm)",
+            "transition error (rpm)",
         ],
         &[vec![
             format!("{:.0}%", 100.0 * r.inside_fraction),
@@ -115,8 +115,8 @@ pub fn write_kubo_report(
     page.definitions(&[
         ("inside envelope", "share of the measured speeds where the model's D_L (speed-up sweep) lies between the envelope's minimum and maximum."),
         ("RMS outside envelope", "root mean square distance of the model's D_L from the nearer envelope edge, over the speeds where it lies outside (dimensionless, as D_L)."),
-        ("jump measured / model up (rpm)", "speed of the steepest step of the envelope's mean, and of the model's speed-up sweep."),
-        ("jump error (rpm)", "model jump minus measured jump."),
+        ("transition measured / model up (rpm)", "Kubo's transition frequency as a speed: the first steep step of the envelope's mean (larger than 6 median steps and a quarter of the largest step), and of the model's speed-up sweep; a jump or the steep flank of the resonance alike."),
+        ("transition error (rpm)", "model transition minus measured transition."),
     ]);
     if let Some(t) = &data.rig.source.truth {
         page.heading("Truth of the synthetic data (recorded in rig.toml, never read by the fit)");

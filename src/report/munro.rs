@@ -116,6 +116,7 @@ fn load_json(l: &LoadResult) -> serde_json::Value {
         "jump_up_rpm": l.jump_up_rpm,
         "jump_down_rpm": l.jump_down_rpm,
         "jump_error_rpm": l.jump_error_rpm,
+        "jump_error_resolution_rpm": l.jump_error_resolution_rpm,
     })
 }
 
@@ -248,7 +249,6 @@ fn geometry_section(
     if any_stepped(&g.fit.ci95_profile) {
         page.paragraph(STEPPED_NOTE);
     }
-    let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));
     let p1 = |l: &LoadResult| l.rms_period1_um.map_or("-".into(), |v| format!("{v:.3}"));
     let rows: Vec<Vec<String>> = r
         .loads
@@ -267,8 +267,8 @@ fn geometry_section(
                 format!("{:.3}", l.rms_um),
                 p1(c),
                 p1(l),
-                opt(c.jump_error_rpm),
-                opt(l.jump_error_rpm),
+                c.jump_error_text(""),
+                l.jump_error_text(""),
             ])
         })
         .collect();
@@ -368,7 +368,7 @@ fn errors_per_load(page: &mut Page, r: &MunroValidation) {
                 },
                 opt(l.jump_measured_rpm),
                 opt(l.jump_up_rpm),
-                opt(l.jump_error_rpm),
+                l.jump_error_text(""),
             ]
         })
         .collect();
@@ -400,8 +400,8 @@ fn errors_per_load(page: &mut Page, r: &MunroValidation) {
         ("RMS down (um)", "the same against the speed-down sweep alone; large where the down sweep stays on the upper branch of a jump that the data do not follow."),
         ("RMS period-1 (um)", "RMS best over the speeds where the model's steady state is period-1 (one mesh period), where pp DTE is a single number."),
         ("not period-1: points, pp ranges (um)", "number of speeds where the model is subharmonic or chaotic, and the pp DTE ranges there of the data and of the model."),
-        ("jump measured / model up (rpm)", "speed of the steepest step of the data, and of the model's speed-up sweep; - where there is none."),
-        ("jump error (rpm)", "model jump minus measured jump."),
+        ("jump measured / model up (rpm)", "speed of the first jump of the data, and of the model's speed-up sweep (a step larger than 6 median steps with the curve smooth on one side and keeping its new level on the other, not part of a steep flank); - where there is none."),
+        ("jump error (rpm)", "model jump minus measured jump, ± how finely the grids place it (half the data's speed step at its jump plus half the model sweep's at its jump)."),
     ]);
 }
 

@@ -124,7 +124,7 @@ pub fn describe(a: &Attractor) -> String {
     };
     let escape = match &a.escape {
         Some(r) if r.escapes > 0 => format!(
-            ", escape rate {:.2e}/period (95% {:.2e}-{:.2e})",
+            ", escape rate {:.2e}/period (95% {:.2e} .. {:.2e})",
             r.rate, r.rate_ci95.0, r.rate_ci95.1
         ),
         Some(r) => format!(
@@ -160,7 +160,7 @@ pub fn escape_text(m: &AttractorMap, a: &Attractor) -> Option<String> {
         })
         .collect();
     Some(format!(
-        "{} of {} trajectories followed from period {} to {} left it ({}): escape rate {:.2e} per period (95% {:.2e}-{:.2e}), mean lifetime {:.0} periods",
+        "{} of {} trajectories followed from period {} to {} left it ({}): escape rate {:.2e} per period (95% {:.2e} .. {:.2e}), mean lifetime {:.0} periods",
         r.escapes,
         r.entered,
         r.start_periods,

@@ -29,7 +29,7 @@ fn dop853_text(rk: Option<&AttractorMap>) -> String {
             .and_then(|a| a.escape.as_ref())
     }) {
         Some(r) => format!(
-            "the DOP853 flow (rtol 1e-11) on the same grid measures {:.2e} per period (95% {:.2e}-{:.2e}, {} escapes)",
+            "the DOP853 flow (rtol 1e-11) on the same grid measures {:.2e} per period (95% {:.2e} .. {:.2e}, {} escapes)",
             r.rate, r.rate_ci95.0, r.rate_ci95.1, r.escapes
         ),
         None => "the DOP853 flow (rtol 1e-11) does not find the set to be a transient".into(),
@@ -244,7 +244,7 @@ fn dop853_check(pt: Point, m: &AttractorMap, conf: &Confirmations) -> String {
         .find_map(|a| a.escape.as_ref().filter(|r| r.escapes > 0))
     {
         t.push_str(&format!(
-            "; escape rate {:.2e} (95% {:.2e}-{:.2e})",
+            "; escape rate {:.2e} (95% {:.2e} .. {:.2e})",
             r.rate, r.rate_ci95.0, r.rate_ci95.1
         ));
     }

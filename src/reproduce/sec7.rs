@@ -121,7 +121,7 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
                     l.not_period1_points,
                     l.jump_measured_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
                     l.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0} rpm")),
-                    l.jump_error_rpm.map_or("-".into(), |v| format!("{v:.0} rpm"))
+                    l.jump_error_text(" rpm")
                 ),
                 l.jump_up_rpm.is_some(),
             ),
@@ -143,7 +143,7 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
         "Fig. 23",
         "Kubo: predictions mostly outside the measured envelope, but the transition frequency and jump amplitude are predicted accurately",
         format!(
-            "{}: zeta {:.3}, model inside the envelope at {:.0}% of speeds, jump measured {}, predicted {}",
+            "{}: zeta {:.3}, model inside the envelope at {:.0}% of speeds, transition (first steep step) measured {}, predicted {}",
             kind_text(kk),
             k.zeta,
             100.0 * k.inside_fraction,
@@ -151,7 +151,7 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
             k.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0} rpm"))
         ),
         measured(kk, k.jump_error_rpm.is_some_and(|e| e.abs() < 200.0)),
-        why(kk, format!("jump error {}", k.jump_error_rpm.map_or("-".into(), |e| format!("{e:.0} rpm")))),
+        why(kk, format!("transition error {}", k.jump_error_rpm.map_or("-".into(), |e| format!("{e:.0} rpm")))),
     ));
     out
 }

@@ -97,6 +97,16 @@ pub fn jump_location(curve: &[(f64, f64)], factor: f64) -> Option<f64> {
     })
 }
 
+/// Speed spacing of the step of `curve` (sorted by speed) whose midpoint is `x`, as
+/// [`jump_location`] and [`transition_location`] return it: a jump lies somewhere within that
+/// step, so its speed is known to half of it.
+pub fn step_width_at(curve: &[(f64, f64)], x: f64) -> Option<f64> {
+    curve
+        .windows(2)
+        .find(|w| (0.5 * (w[0].0 + w[1].0) - x).abs() <= 1e-9 * x.abs().max(1.0))
+        .map(|w| w[1].0 - w[0].0)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

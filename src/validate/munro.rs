@@ -9,7 +9,7 @@
 //! zeta, omega_n (and the relief depth when asked) fitted to the design-load curve alone. The
 //! geometry path is run beside the per-curve one, so that both are reported side by side.
 
-use super::curve_metrics::{jump_location, min_max, rms};
+use super::curve_metrics::{jump_location, min_max, rms, step_width_at};
 use super::design_fit::{
     fit_design_geometry, fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA,
 };
@@ -159,6 +159,9 @@ pub struct LoadResult {
     pub jump_down_rpm: Option<f64>,
     /// Model up-jump minus measured jump, rpm.
     pub jump_error_rpm: Option<f64>,
+    /// How finely the grids place that error, rpm: half the data's speed step at its jump plus
+    /// half the model sweep's at its jump (each jump lies somewhere within its step).
+    pub jump_error_resolution_rpm: Option<f64>,
     /// Residuals (measured minus best branch) at the measured speeds.
     pub residuals: Vec<(f64, f64)>,
 }
@@ -636,6 +639,11 @@ fn predict_load(
         not_period1_measured_um: min_max(cmp.not_period1.iter().map(|p| p.0)),
         not_period1_model_um: min_max(cmp.not_period1.iter().map(|p| p.1)),
         jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
+        jump_error_resolution_rpm: jump_measured.zip(jump_up).and_then(|(m, u)| {
+            let data_step = step_width_at(&measured, m)?;
+            let model_step = step_width_at(&curve_of(&up), u)?;
+            Some(0.5 * (data_step + model_step))
+        }),
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
         jump_down_rpm: jump_down,
@@ -666,6 +674,21 @@ struct Sweep<'a> {
     model: &'a GearPair,
     omega_n_hz: f64,
     opts: &'a SteadyOptions,
+}
+
+impl LoadResult {
+    /// The jump error as "8 ± 25" followed by `unit` (in rpm, with the grids' resolution), or
+    /// why there is none.
+    pub fn jump_error_text(&self, unit: &str) -> String {
+        match (self.jump_measured_rpm, self.jump_error_rpm) {
+            (None, _) => "- (no jump in the data)".to_string(),
+            (Some(_), None) => "- (no jump in the model's speed-up sweep)".to_string(),
+            (Some(_), Some(e)) => match self.jump_error_resolution_rpm {
+                Some(r) => format!("{e:.0} ± {r:.0}{unit}"),
+                None => format!("{e:.0}{unit}"),
+            },
+        }
+    }
 }
 
 impl Sweep<'_> {
