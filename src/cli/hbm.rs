@@ -121,6 +121,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     qm: s.qm,
                     impact: s.case,
                     stable: s.stable,
+                    branch: None,
                 });
             }
             method.name().to_string()
@@ -162,6 +163,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     qm: p.qm,
                     impact: p.case,
                     stable: p.stable,
+                    branch: None,
                 });
             }
             format!(

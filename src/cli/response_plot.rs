@@ -3,7 +3,7 @@
 use super::model_args::{num, Model};
 use geardyn::model::{Impact, OperatingPoint};
 use geardyn::plot::{write_panels, Marker, Series, XyPlot};
-use geardyn::sim::SweepPoint;
+use geardyn::sim::{Branch, SweepPoint};
 use std::path::{Path, PathBuf};
 
 /// The sweep CSV (columns in docs/output-columns.md): `omega,qa,qm,case,period,impact,...`,
@@ -80,6 +80,8 @@ pub struct ResponseRow {
     pub impact: Impact,
     /// Known stability (None: not assessed).
     pub stable: Option<bool>,
+    /// The carried sweep the point belongs to (None: not from a carried sweep).
+    pub branch: Option<Branch>,
 }
 
 impl From<&SweepPoint> for ResponseRow {
@@ -90,6 +92,7 @@ impl From<&SweepPoint> for ResponseRow {
             qm: p.steady.qm,
             impact: p.steady.impact,
             stable: Some(true),
+            branch: Some(p.branch),
         }
     }
 }
@@ -125,6 +128,22 @@ pub fn write_response_plot(
                     .with_marker([Marker::Square, Marker::Triangle, Marker::Circle][i])
             })
             .collect();
+        // Up and down sweeps in one figure: a line through each, in sweep order, tells the
+        // branches apart where they differ (the markers give the impact case).
+        let path = |b: Branch| -> Vec<(f64, f64)> {
+            rows.iter()
+                .filter(|p| p.branch == Some(b))
+                .map(|p| (x(p), y(pick(p))))
+                .collect()
+        };
+        let (up, down) = (path(Branch::Up), path(Branch::Down));
+        if !up.is_empty() && !down.is_empty() {
+            let lines = [
+                Series::line("speed up", up).with_color(4),
+                Series::dashed("speed down", down).with_color(5),
+            ];
+            series.splice(0..0, lines);
+        }
         let unstable: Vec<(f64, f64)> = rows
             .iter()
             .filter(|p| p.stable == Some(false))
