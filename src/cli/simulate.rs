@@ -97,7 +97,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             s.period.map_or("none".to_string(), |p| p.to_string()),
             s.motion.name(),
             s.impact.name(),
-            s.impact.case(),
+            s.impact.roman(),
             s.qa,
             s.qm,
             s.dte_pp,

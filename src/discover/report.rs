@@ -164,11 +164,17 @@ fn residual_plot(
         }
     }
     for (k, c) in curves.iter().enumerate() {
+        // An excluded point breaks the line (NaN): no segment bridges the speeds left out.
         let pts: Vec<(f64, f64)> = c
             .points
             .iter()
-            .filter(|p| p.3)
-            .map(|p| (p.1, p.2))
+            .map(|p| {
+                if p.3 {
+                    (p.1, p.2)
+                } else {
+                    (f64::NAN, f64::NAN)
+                }
+            })
             .collect();
         let label = format!(
             "{:.0} N ({})",

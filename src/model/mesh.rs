@@ -90,6 +90,16 @@ impl Impact {
         }
     }
 
+    /// The paper's case number in roman numerals, as its text and figures write it ("I", "II",
+    /// "III"); [`Impact::case`] is the number for CSV and JSON.
+    pub fn roman(self) -> &'static str {
+        match self {
+            Impact::None => "I",
+            Impact::Single => "II",
+            Impact::Double => "III",
+        }
+    }
+
     /// Name used in JSON and CSV outputs ("none", "single", "double").
     pub fn name(self) -> &'static str {
         match self {

@@ -395,27 +395,50 @@ fn vline_labels<'a, DB: DrawingBackend>(
         .vlines
         .iter()
         .filter(|(x, _)| x.is_finite() && *x >= x0 && *x <= x1);
-    for (k, (x, label)) in lines.enumerate() {
-        if label.is_empty() {
-            continue;
-        }
+    let mut sorted: Vec<&(f64, String)> = lines.filter(|(_, l)| !l.is_empty()).collect();
+    sorted.sort_by(|a, b| a.0.total_cmp(&b.0));
+    // Pixel extents of the labels in each row so far: a label goes to the first row where it
+    // clears the last one by 4 pixels (the least crowded row when none does).
+    let mut row_ends: Vec<f64> = Vec::new();
+    let px_per_x = f64::from(view.px.0) / (x1 - x0);
+    for (x, label) in sorted {
         let right_side = (x - x0) / (x1 - x0) > 0.85;
         let hpos = if right_side { HPos::Right } else { HPos::Left };
         let style = TextStyle::from((FONT, sz.legend * 0.9).into_font())
             .color(&MUTED)
             .pos(Pos::new(hpos, VPos::Top));
         let size = area.estimate_text_size(label, &style).map_err(msg)?;
+        let at = (x - x0) * px_per_x;
+        let (left, right) = if right_side {
+            (at - 4.0 - f64::from(size.0), at - 4.0)
+        } else {
+            (at + 4.0, at + 4.0 + f64::from(size.0))
+        };
+        let row = match row_ends.iter().position(|&end| left > end + 4.0) {
+            Some(r) => r,
+            None if row_ends.len() < MAX_VLINE_ROWS => {
+                row_ends.push(f64::NEG_INFINITY);
+                row_ends.len() - 1
+            }
+            None => (0..row_ends.len())
+                .min_by(|&a, &b| row_ends[a].total_cmp(&row_ends[b]))
+                .unwrap_or(0),
+        };
+        row_ends[row] = row_ends[row].max(right);
         out.push(VLabel {
             x: *x,
             text: label,
             style,
-            offset: (if right_side { -4 } else { 4 }, 4 + (k as i32 % 2) * row_h),
+            offset: (if right_side { -4 } else { 4 }, 4 + row as i32 * row_h),
             size,
             right_side,
         });
     }
     Ok(out)
 }
+
+/// Rows of marked-line labels stacked at the top of a plot before labels may overlap.
+const MAX_VLINE_ROWS: usize = 4;
 
 /// Data points covering the marked lines' labels, so the legend can avoid them.
 fn vline_label_cover<DB: DrawingBackend>(

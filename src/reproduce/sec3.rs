@@ -770,25 +770,28 @@ fn phase_planes(stem: &str, title: &str, maps: &[(Point, &AttractorMap)]) -> Res
     for (pt, m) in maps {
         let flow = flow_of(pt)?;
         let mut series = Vec::new();
-        for (i, a) in m.attractors.iter().enumerate() {
+        for a in &m.attractors {
             // One closed orbit, or 12 forcing periods of non-periodic motion.
             let n = a.steady.period.map_or(12, |p| p as usize);
             let s = orbit_samples(&flow, &a.steady, n)?;
             let label = format!("{} {:.1}%", name(a), 100.0 * a.basin_fraction);
             let pts: Vec<(f64, f64)> = s.iter().map(|x| (x.q, x.v)).collect();
-            series.push(if a.steady.period.is_none() {
-                Series::markers(label, pts)
-                    .with_color(i)
-                    .with_marker(crate::plot::Marker::Dot)
-            } else {
-                Series::line(label, pts).with_color(i)
+            // The colour is the impact regime in every panel (case I, II, III as in the
+            // response figures); a subharmonic is dashed, non-periodic motion dotted.
+            let colour = usize::from(a.steady.impact.case() - 1);
+            series.push(match a.steady.period {
+                None => Series::markers(label, pts)
+                    .with_color(colour)
+                    .with_marker(crate::plot::Marker::Dot),
+                Some(1) => Series::line(label, pts).with_color(colour),
+                Some(_) => Series::dashed(label, pts).with_color(colour),
             });
         }
         panels.push(XyPlot {
             title: format!("Omega_h = {}", pt.omega),
             caption: Some(format!("{}, {}x{} ICs", pt.caption(), m.grid.n, m.grid.n)),
-            x_label: "q".into(),
-            y_label: "q'".into(),
+            x_label: "q (dimensionless)".into(),
+            y_label: "q' (dimensionless)".into(),
             series,
             ..XyPlot::default()
         });
@@ -796,7 +799,7 @@ fn phase_planes(stem: &str, title: &str, maps: &[(Point, &AttractorMap)]) -> Res
     Ok(Artifact::Panels {
         dir: DIR.into(),
         stem: stem.into(),
-        title: title.into(),
+        title: format!("{title} (colour: impact regime; dashed: subharmonic)"),
         panels,
         cols: 3,
     })
@@ -938,12 +941,12 @@ fn impact_regimes(pt: Point, m: &AttractorMap) -> Result<Artifact> {
         panels.push(XyPlot {
             title: format!(
                 "case {}: {}",
-                a.steady.impact.case(),
+                a.steady.impact.roman(),
                 impact_name(a.steady.impact)
             ),
             caption: Some(pt.caption()),
-            x_label: "t".into(),
-            y_label: "q".into(),
+            x_label: "t (dimensionless)".into(),
+            y_label: "q (dimensionless)".into(),
             series: vec![
                 Series::line("q(t)", s.iter().map(|x| (x.t, x.q)).collect()),
                 Series::dashed("q = 1", vec![(t0, 1.0), (t1, 1.0)]).with_color(7),

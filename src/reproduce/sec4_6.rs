@@ -368,7 +368,7 @@ fn off_branch_text(c: &Comparison, d: &[(f64, &ComparePoint)]) -> Option<String>
                 .points
                 .iter()
                 .filter(|q| q.source == Source::DfExact && q.omega == p.omega)
-                .map(|q| format!("case {} q_a {:.3}", q.case.case(), q.qa))
+                .map(|q| format!("case {} q_a {:.3}", q.case.roman(), q.qa))
                 .collect();
             let aft = c.gaps.matched.iter().any(|m| {
                 m.omega == p.omega && (m.sim_qa - p.qa).abs() <= 1e-9 * (1.0 + p.qa)

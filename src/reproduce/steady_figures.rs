@@ -70,11 +70,16 @@ pub fn steady_figures(
         series,
         ..XyPlot::default()
     };
+    // The drawn orbit starts where the transient from the caption's initial conditions ended.
+    let t_label = format!(
+        "t after a transient of {} forcing periods (dimensionless)",
+        s.transient_periods
+    );
     Ok(SteadyFigures {
         history: base(
             "Time history of q",
-            "t (dimensionless)",
-            "q",
+            &t_label,
+            "q (dimensionless)",
             vec![Series::line(
                 "q(t)",
                 samples.iter().map(|x| (x.t, x.q)).collect(),
@@ -82,8 +87,8 @@ pub fn steady_figures(
         ),
         phase: base(
             "Phase plane",
-            "q",
-            "q'",
+            "q (dimensionless)",
+            "q' (dimensionless)",
             vec![
                 Series::line("trajectory", samples.iter().map(|x| (x.q, x.v)).collect()),
                 Series::markers(
@@ -94,8 +99,8 @@ pub fn steady_figures(
         ),
         poincare: base(
             "Poincaré map (stroboscopic, phase 0)",
-            "q",
-            "q'",
+            "q (dimensionless)",
+            "q' (dimensionless)",
             vec![Series::markers("section points", section)],
         ),
         csv,

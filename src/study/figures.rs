@@ -72,7 +72,7 @@ pub fn case_markers(rows: &[(f64, f64, Impact, Option<bool>)], prefix: &str) -> 
                 .filter(|r| r.2 == imp && r.3 != Some(false))
                 .map(|r| (r.0, r.1))
                 .collect();
-            Series::markers(format!("{prefix}case {}", imp.case()), pts)
+            Series::markers(format!("{prefix}case {}", imp.roman()), pts)
                 .with_color(i)
                 .with_marker([Marker::Square, Marker::Triangle, Marker::Circle][i])
         })
@@ -93,13 +93,13 @@ pub fn case_markers(rows: &[(f64, f64, Impact, Option<bool>)], prefix: &str) -> 
     out
 }
 
-/// A panel with the given series.
+/// A panel with the given series against Omega_h; `y_label` names a dimensionless quantity.
 pub fn panel(title: String, caption: String, y_label: &str, series: Vec<Series>) -> XyPlot {
     XyPlot {
         title,
         caption: Some(caption),
-        x_label: "Omega".into(),
-        y_label: y_label.into(),
+        x_label: "Ω_h (dimensionless)".into(),
+        y_label: format!("{y_label} (dimensionless)"),
         series,
         ..XyPlot::default()
     }
