@@ -10,6 +10,7 @@ use geardyn::hb::{
     continue_branch, df_response_forced, forced_transition_frequencies, AftOptions,
     ContinuationOptions, DfMethod,
 };
+use geardyn::model::GearPair;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -69,6 +70,21 @@ fn hbm_record(m: &Model, omega: f64, qa: f64, qm: f64, middle: [String; 7]) -> V
     row
 }
 
+/// One method's solutions: a CSV record and a plot row each, and the method's name for the
+/// caption.
+struct Solved {
+    records: Vec<Vec<String>>,
+    rows: Vec<ResponseRow>,
+    method: String,
+}
+
+impl Solved {
+    fn push(&mut self, record: Vec<String>, row: ResponseRow) {
+        self.records.push(record);
+        self.rows.push(row);
+    }
+}
+
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let m = a.model.resolve()?;
@@ -76,125 +92,23 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     m.print_conversion(omegas[0]);
     // Every method gets the model's checks (F_m, F_ah, zeta) before any work.
     let model = m.at(omegas[0])?;
-    let mut w = csv::Writer::from_writer(Vec::new());
-    let mut header: Vec<&str> = Vec::new();
-    if m.rig.is_some() {
-        header.extend(["speed_rpm", "mesh_freq_hz"]);
-    }
-    header.extend([
-        "omega", "qa", "qm", "case", "impact", "phase", "stable", "method",
-    ]);
-    header.extend(["fold", "period_doubling"]);
-    if m.rig.is_some() {
-        header.extend(["qa_um", "qm_um"]);
-    }
-    w.write_record(&header)?;
-    let mut rows = Vec::new();
     let transitions = forced_transition_frequencies(m.fm, m.forcing(), m.zeta)?;
-    let method_name = match a.method {
-        Method::DfExact | Method::DfTruncated => {
-            let method = if a.method == Method::DfExact {
-                DfMethod::Exact
-            } else {
-                DfMethod::Truncated
-            };
-            let sols = df_response_forced(m.fm, m.forcing(), m.zeta, &omegas, method)?;
-            for s in &sols {
-                w.write_record(hbm_record(
-                    &m,
-                    s.omega,
-                    s.qa,
-                    s.qm,
-                    [
-                        s.case.case().to_string(),
-                        s.case.name().to_string(),
-                        format!("{:.10}", s.phase),
-                        s.stable.map_or(String::new(), |b| b.to_string()),
-                        method.name().to_string(),
-                        String::new(),
-                        String::new(),
-                    ],
-                ))?;
-                rows.push(ResponseRow {
-                    omega: s.omega,
-                    qa: s.qa,
-                    qm: s.qm,
-                    impact: s.case,
-                    stable: s.stable,
-                    branch: None,
-                });
-            }
-            method.name().to_string()
-        }
-        Method::Aft => {
-            let opts = AftOptions {
-                harmonics: a.harmonics,
-                subharmonic: a.subharmonic as u32,
-                ..AftOptions::default()
-            };
-            let last = omegas[omegas.len() - 1];
-            let pts = continue_branch(
-                &model,
-                omegas[0],
-                last,
-                &opts,
-                &ContinuationOptions::default(),
-                &Bar::new(),
-            )?;
-            for p in &pts {
-                w.write_record(hbm_record(
-                    &m,
-                    p.omega,
-                    p.qa,
-                    p.qm,
-                    [
-                        p.case.case().to_string(),
-                        p.case.name().to_string(),
-                        String::new(),
-                        p.stable.map_or(String::new(), |b| b.to_string()),
-                        format!("aft-h{}-nu{}", a.harmonics, a.subharmonic),
-                        p.fold.to_string(),
-                        p.period_doubling.to_string(),
-                    ],
-                ))?;
-                rows.push(ResponseRow {
-                    omega: p.omega,
-                    qa: p.qa,
-                    qm: p.qm,
-                    impact: p.case,
-                    stable: p.stable,
-                    branch: None,
-                });
-            }
-            format!(
-                "AFT H = {}, ν = {}, continuation",
-                a.harmonics, a.subharmonic
-            )
-        }
+    let solved = match a.method {
+        Method::DfExact => solve_df(&m, &omegas, DfMethod::Exact)?,
+        Method::DfTruncated => solve_df(&m, &omegas, DfMethod::Truncated)?,
+        Method::Aft => solve_aft(&a, &m, &model, &omegas)?,
     };
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record(header(&m))?;
+    for r in &solved.records {
+        w.write_record(r)?;
+    }
     let csv_text = String::from_utf8(w.into_inner()?)?;
-    let fmt = |v: f64| match &m.rig {
-        Some(op) => format!("{:.0} rpm (Ω_h {v:.4})", op.speed_rpm(v)),
-        None => format!("{v:.4}"),
-    };
-    let caption = format!(
-        "{}, {}; case I ends / resumes at {} (eq. 14)",
-        m.caption(),
-        method_name,
-        if transitions.is_empty() {
-            "none".to_string()
-        } else {
-            transitions
-                .iter()
-                .map(|&t| fmt(t))
-                .collect::<Vec<_>>()
-                .join(", ")
-        }
-    );
+    let caption = caption(&m, &solved.method, &transitions);
     let stage = stage("--out", &a.out)?;
     let d = stage.dir().to_path_buf();
     let mut written = write_response_plot(
-        &rows,
+        &solved.rows,
         m.rig.as_ref(),
         "Frequency response (harmonic balance)",
         &caption,
@@ -208,4 +122,133 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         eprintln!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// The CSV header: the rig's speed columns first and its lengths last when there is a rig.
+fn header(m: &Model) -> Vec<&'static str> {
+    let mut header: Vec<&str> = Vec::new();
+    if m.rig.is_some() {
+        header.extend(["speed_rpm", "mesh_freq_hz"]);
+    }
+    header.extend([
+        "omega", "qa", "qm", "case", "impact", "phase", "stable", "method",
+    ]);
+    header.extend(["fold", "period_doubling"]);
+    if m.rig.is_some() {
+        header.extend(["qa_um", "qm_um"]);
+    }
+    header
+}
+
+/// The describing-function solutions (Sec. 4) at every frequency.
+fn solve_df(m: &Model, omegas: &[f64], method: DfMethod) -> anyhow::Result<Solved> {
+    let sols = df_response_forced(m.fm, m.forcing(), m.zeta, omegas, method)?;
+    let mut out = Solved {
+        records: Vec::new(),
+        rows: Vec::new(),
+        method: method.name().to_string(),
+    };
+    for s in &sols {
+        let record = hbm_record(
+            m,
+            s.omega,
+            s.qa,
+            s.qm,
+            [
+                s.case.case().to_string(),
+                s.case.name().to_string(),
+                format!("{:.10}", s.phase),
+                s.stable.map_or(String::new(), |b| b.to_string()),
+                method.name().to_string(),
+                String::new(),
+                String::new(),
+            ],
+        );
+        let row = ResponseRow {
+            omega: s.omega,
+            qa: s.qa,
+            qm: s.qm,
+            impact: s.case,
+            stable: s.stable,
+            branch: None,
+        };
+        out.push(record, row);
+    }
+    Ok(out)
+}
+
+/// The multi-harmonic (AFT) branch continued over the frequency range, with its stability,
+/// folds and period doublings.
+fn solve_aft(a: &Args, m: &Model, model: &GearPair, omegas: &[f64]) -> anyhow::Result<Solved> {
+    let opts = AftOptions {
+        harmonics: a.harmonics,
+        subharmonic: a.subharmonic as u32,
+        ..AftOptions::default()
+    };
+    let last = omegas[omegas.len() - 1];
+    let pts = continue_branch(
+        model,
+        omegas[0],
+        last,
+        &opts,
+        &ContinuationOptions::default(),
+        &Bar::new(),
+    )?;
+    let mut out = Solved {
+        records: Vec::new(),
+        rows: Vec::new(),
+        method: format!(
+            "AFT H = {}, ν = {}, continuation",
+            a.harmonics, a.subharmonic
+        ),
+    };
+    for p in &pts {
+        let record = hbm_record(
+            m,
+            p.omega,
+            p.qa,
+            p.qm,
+            [
+                p.case.case().to_string(),
+                p.case.name().to_string(),
+                String::new(),
+                p.stable.map_or(String::new(), |b| b.to_string()),
+                format!("aft-h{}-nu{}", a.harmonics, a.subharmonic),
+                p.fold.to_string(),
+                p.period_doubling.to_string(),
+            ],
+        );
+        let row = ResponseRow {
+            omega: p.omega,
+            qa: p.qa,
+            qm: p.qm,
+            impact: p.case,
+            stable: p.stable,
+            branch: None,
+        };
+        out.push(record, row);
+    }
+    Ok(out)
+}
+
+/// The plot caption: the model, the method and where case I ends or resumes (eq. 14).
+fn caption(m: &Model, method: &str, transitions: &[f64]) -> String {
+    let fmt = |v: f64| match &m.rig {
+        Some(op) => format!("{:.0} rpm (Ω_h {v:.4})", op.speed_rpm(v)),
+        None => format!("{v:.4}"),
+    };
+    format!(
+        "{}, {}; case I ends / resumes at {} (eq. 14)",
+        m.caption(),
+        method,
+        if transitions.is_empty() {
+            "none".to_string()
+        } else {
+            transitions
+                .iter()
+                .map(|&t| fmt(t))
+                .collect::<Vec<_>>()
+                .join(", ")
+        }
+    )
 }

@@ -83,22 +83,8 @@ pub fn continue_from(
     check_omega("omega_end", omega_end)?;
     check_steps(cont)?;
     let mut ctx = Context::new(model, opts)?;
-    ctx.check_coeffs(&start.coeffs)?;
-    if start.subharmonic != opts.subharmonic {
-        return Err(GearError::param(
-            "subharmonic",
-            start.subharmonic as f64,
-            "the start point was computed with another subharmonic order",
-        ));
-    }
+    check_start(&ctx, start, omega_end, opts)?;
     let (w0, span) = (start.omega, omega_end - start.omega);
-    if span == 0.0 {
-        return Err(GearError::param(
-            "omega_end",
-            omega_end,
-            "the end frequency must differ from the start frequency",
-        ));
-    }
     let dir = span.signum();
     let n = ctx.aft.dim();
     let mut y = DVector::from_iterator(n + 1, start.coeffs.iter().copied().chain([w0]));
@@ -137,27 +123,8 @@ pub fn continue_from(
                 continue;
             }
         };
-        let mut fold_here = false;
-        if t[n] * tn[n] < 0.0 {
-            // The fold is inserted as its own point unless it coincides with an end of the step.
-            let near =
-                |a: &DVector<f64>, b: &DVector<f64>| (a - b).amax() <= 1e-9 * (1.0 + b.amax());
-            match locate_fold(&mut ctx, &y, &t, ds) {
-                Some(f) if near(&f.y, &y) => {
-                    if let Some(last) = points.last_mut() {
-                        last.fold = true;
-                    }
-                }
-                Some(f) if !near(&f.y, &cn.y) => {
-                    let mut p = ctx_point(&ctx, &f);
-                    p.fold = true;
-                    points.push(p);
-                }
-                _ => fold_here = true,
-            }
-        }
-        let yn = &cn.y;
-        let wn = yn[n];
+        let fold_here = t[n] * tn[n] < 0.0 && mark_fold(&mut ctx, (&y, &t, ds), &cn, &mut points);
+        let wn = cn.y[n];
         if (wn - omega_end) * dir >= 0.0 || (wn - w0) * dir < 0.0 {
             // Past an end of the range: finish with the solution exactly at that end.
             let end = if (wn - omega_end) * dir >= 0.0 {
@@ -165,23 +132,13 @@ pub fn continue_from(
             } else {
                 w0
             };
-            let s = (end - y[n]) / (wn - y[n]);
-            let guess = &y + s * (yn - &y);
-            if let Ok((x, res)) = ctx.newton(&guess.as_slice()[..n], end) {
-                points.push(ctx.point(x, end, res));
-            }
+            points.extend(point_at_end(&mut ctx, &y, &cn.y, end));
             break;
         }
         let mut p = ctx_point(&ctx, &cn);
         p.fold = fold_here;
-        if let (Some(before), Some(after)) =
-            (points.last().and_then(below_minus_one), below_minus_one(&p))
-        {
-            if before != after && t[n] * tn[n] > 0.0 {
-                if let Some(q) = locate_period_doubling(&mut ctx, &y, &t, ds, before) {
-                    points.push(q);
-                }
-            }
+        if t[n] * tn[n] > 0.0 {
+            points.extend(period_doubling_between(&mut ctx, (&y, &t, ds), &points, &p));
         }
         points.push(p);
         let frac = (((wn - w0) / span).clamp(0.0, 1.0) * 1000.0) as u64;
@@ -191,17 +148,101 @@ pub fn continue_from(
         }
         y = cn.y;
         t = tn;
-        ds = if iterations <= 3 {
-            (1.5 * ds).min(cont.max_step)
-        } else if iterations >= 6 {
-            0.5 * ds
-        } else {
-            ds
-        };
+        ds = next_step(ds, iterations, cont);
     }
     progress.finish();
     mark_period_doubling(&mut points);
     Ok(points)
+}
+
+/// `start` must fit the model's harmonics and subharmonic order and lie off `omega_end`.
+fn check_start(ctx: &Context, start: &HbPoint, omega_end: f64, opts: &AftOptions) -> Result<()> {
+    ctx.check_coeffs(&start.coeffs)?;
+    if start.subharmonic != opts.subharmonic {
+        return Err(GearError::param(
+            "subharmonic",
+            start.subharmonic as f64,
+            "the start point was computed with another subharmonic order",
+        ));
+    }
+    if omega_end == start.omega {
+        return Err(GearError::param(
+            "omega_end",
+            omega_end,
+            "the end frequency must differ from the start frequency",
+        ));
+    }
+    Ok(())
+}
+
+/// A fold between the last point and the next (`cn`): located and inserted as its own point,
+/// or marked on the last point when it coincides with it; true when it coincides with the next
+/// point instead (or cannot be located), which is then marked.
+fn mark_fold(
+    ctx: &mut Context,
+    (y, t, ds): (&DVector<f64>, &DVector<f64>, f64),
+    cn: &Corrected,
+    points: &mut Vec<HbPoint>,
+) -> bool {
+    let near = |a: &DVector<f64>, b: &DVector<f64>| (a - b).amax() <= 1e-9 * (1.0 + b.amax());
+    match locate_fold(ctx, y, t, ds) {
+        Some(f) if near(&f.y, y) => {
+            if let Some(last) = points.last_mut() {
+                last.fold = true;
+            }
+            false
+        }
+        Some(f) if !near(&f.y, &cn.y) => {
+            let mut p = ctx_point(ctx, &f);
+            p.fold = true;
+            points.push(p);
+            false
+        }
+        _ => true,
+    }
+}
+
+/// The solution exactly at `end`, from the chord between `y` and the step past it `yn` (none
+/// when Newton fails there).
+fn point_at_end(
+    ctx: &mut Context,
+    y: &DVector<f64>,
+    yn: &DVector<f64>,
+    end: f64,
+) -> Option<HbPoint> {
+    let n = y.len() - 1;
+    let s = (end - y[n]) / (yn[n] - y[n]);
+    let guess = y + s * (yn - y);
+    ctx.newton(&guess.as_slice()[..n], end)
+        .ok()
+        .map(|(x, res)| ctx.point(x, end, res))
+}
+
+/// The period doubling between the last point and `p` when a Floquet multiplier crossed -1
+/// between them (located by bisection).
+fn period_doubling_between(
+    ctx: &mut Context,
+    (y, t, ds): (&DVector<f64>, &DVector<f64>, f64),
+    points: &[HbPoint],
+    p: &HbPoint,
+) -> Option<HbPoint> {
+    let before = points.last().and_then(below_minus_one)?;
+    let after = below_minus_one(p)?;
+    if before == after {
+        return None;
+    }
+    locate_period_doubling(ctx, y, t, ds, before)
+}
+
+/// The next arclength step: longer after an easy corrector, shorter after a hard one.
+fn next_step(ds: f64, iterations: usize, cont: &ContinuationOptions) -> f64 {
+    if iterations <= 3 {
+        (1.5 * ds).min(cont.max_step)
+    } else if iterations >= 6 {
+        0.5 * ds
+    } else {
+        ds
+    }
 }
 
 /// Unit tangent of R(x, Omega) = 0 at y: the solution z of [dR/dx dR/dOmega; r^T] z = e_last,

@@ -169,6 +169,52 @@ pub struct MeshAnalysis {
 /// Run the model for `rig` + `geometry` (see [`MeshAnalysis`]).
 pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result<MeshAnalysis> {
     let geo = GearPairGeometry::from_rig(rig, geometry)?;
+    check_options(opts)?;
+    let model = MeshModel::with_profile(geo.clone(), &opts.profile)?;
+    let (relief, designed) = chosen_relief(&model, &geo, opts)?;
+    relief.validate(&geo)?;
+    let half_backlash_um = rig.backlash_mm / 2.0 * 1e3;
+    let loads = opts
+        .loads_n
+        .iter()
+        .map(|&load_n| load_result(&model, &relief, load_n, opts, half_backlash_um))
+        .collect::<Result<Vec<_>>>()?;
+    let harris = harris_map(&model, &relief, &opts.harris_loads_n, opts.samples)?;
+    let iso = Dimensional::from_rig(&Rig {
+        mesh_stiffness_n_per_um: None,
+        contact_ratio: Some(geo.contact_ratio()),
+        ..rig.clone()
+    })?;
+    let mm = 1e3;
+    let iso_b = geo.iso6336();
+    Ok(MeshAnalysis {
+        contact_ratio: geo.contact_ratio(),
+        mesh_stiffness_mean_n_per_um: model.mean_mesh_stiffness_n_per_um(opts.samples),
+        iso6336_mesh_stiffness_n_per_um: iso_b.c_gamma_alpha * geo.face_width_m * mm,
+        iso6336: iso_b,
+        iso6336_typical_mesh_stiffness_n_per_um: iso.mesh_stiffness_n_per_m * 1e-6,
+        geometry: GeometrySummary::of(&geo),
+        relief: ReliefSummary {
+            amount_um: relief.amount_m * 1e6,
+            length_mm: relief.length_m * mm,
+            shape: relief.shape,
+            designed_for_load_n: designed,
+            table_points: (opts.profile.pinion.len(), opts.profile.gear.len()),
+        },
+        loads,
+        harris,
+        pair_stiffness: model
+            .stiffness
+            .points
+            .iter()
+            .map(|p| (p.roll_m * mm, p.stiffness_n_per_m * 1e-6))
+            .collect(),
+        relief_profile_um: model.relief_profile_um(&relief, opts.samples),
+    })
+}
+
+/// At least 16 positions per mesh period and at least one load.
+fn check_options(opts: &MeshOptions) -> Result<()> {
     if opts.samples < 16 {
         return Err(GearError::param(
             "samples",
@@ -179,9 +225,18 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
     if opts.loads_n.is_empty() {
         return Err(GearError::param("load_n", 0.0, "no load given"));
     }
-    let model = MeshModel::with_profile(geo.clone(), &opts.profile)?;
-    let length = |l: Option<f64>| l.map_or(TipRelief::long_length(&geo), |mm| mm * 1e-3);
-    let (relief, designed) = match opts.relief {
+    Ok(())
+}
+
+/// The tip relief: as given, or sized for minimum STE pp at the design load (Harris's rule;
+/// then also that load).
+fn chosen_relief(
+    model: &MeshModel,
+    geo: &GearPairGeometry,
+    opts: &MeshOptions,
+) -> Result<(TipRelief, Option<f64>)> {
+    let length = |l: Option<f64>| l.map_or(TipRelief::long_length(geo), |mm| mm * 1e-3);
+    Ok(match opts.relief {
         ReliefChoice::Given {
             amount_um,
             length_mm,
@@ -204,63 +259,57 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
                 length_m: length(length_mm),
                 shape,
             };
-            template.validate(&geo)?;
+            template.validate(geo)?;
             let probe = TipRelief {
                 amount_m: 1e-6,
                 ..template
             };
-            probe.validate(&geo)?;
+            probe.validate(geo)?;
             (
-                design_relief(&model, &template, load_n, opts.samples)?.0,
+                design_relief(model, &template, load_n, opts.samples)?.0,
                 Some(load_n),
             )
         }
-    };
-    relief.validate(&geo)?;
-    let half_backlash_um = rig.backlash_mm / 2.0 * 1e3;
-    let loads = opts
-        .loads_n
+    })
+}
+
+/// STE, stiffness, contact loss and harmonics at one load.
+fn load_result(
+    model: &MeshModel,
+    relief: &TipRelief,
+    load_n: f64,
+    opts: &MeshOptions,
+    half_backlash_um: f64,
+) -> Result<LoadResult> {
+    let w = model.waveform(load_n, relief, opts.samples)?;
+    let harmonics = mesh_harmonics(&w, opts.harmonics)?;
+    let ks = &w.stiffness_n_per_um;
+    let lost = w
+        .pairs
         .iter()
-        .map(|&load_n| {
-            let w = model.waveform(load_n, &relief, opts.samples)?;
-            let harmonics = mesh_harmonics(&w, opts.harmonics)?;
-            let ks = &w.stiffness_n_per_um;
-            let lost = w
-                .pairs
-                .iter()
-                .filter(|p| p.iter().any(|q| q.load_n == 0.0))
-                .count();
-            Ok(LoadResult {
-                load_n,
-                ste_pp_um: w.ste_pp_um(),
-                ste_mean_um: super::ste::mean(&w.ste_um),
-                ste_half_pp_um: w.ste_pp_um() / 2.0,
-                mesh_stiffness_mean_n_per_um: w.mean_stiffness_n_per_um(),
-                mesh_stiffness_min_n_per_um: ks.iter().copied().fold(f64::INFINITY, f64::min),
-                mesh_stiffness_max_n_per_um: ks.iter().copied().fold(0.0, f64::max),
-                contact_loss_fraction: lost as f64 / w.pairs.len() as f64,
-                f_ah1: harmonics[0].ste_amplitude_um / half_backlash_um,
-                harmonics,
-                waveform: w,
-            })
-        })
-        .collect::<Result<Vec<_>>>()?;
-    let harris = harris_map(&model, &relief, &opts.harris_loads_n, opts.samples)?;
-    let iso = Dimensional::from_rig(&Rig {
-        mesh_stiffness_n_per_um: None,
-        contact_ratio: Some(geo.contact_ratio()),
-        ..rig.clone()
-    })?;
-    let mm = 1e3;
-    let iso_b = geo.iso6336();
-    let (sc_lo, sc_hi) = geo.single_contact_zone();
-    Ok(MeshAnalysis {
-        contact_ratio: geo.contact_ratio(),
-        mesh_stiffness_mean_n_per_um: model.mean_mesh_stiffness_n_per_um(opts.samples),
-        iso6336_mesh_stiffness_n_per_um: iso_b.c_gamma_alpha * geo.face_width_m * mm,
-        iso6336: iso_b,
-        iso6336_typical_mesh_stiffness_n_per_um: iso.mesh_stiffness_n_per_m * 1e-6,
-        geometry: GeometrySummary {
+        .filter(|p| p.iter().any(|q| q.load_n == 0.0))
+        .count();
+    Ok(LoadResult {
+        load_n,
+        ste_pp_um: w.ste_pp_um(),
+        ste_mean_um: super::ste::mean(&w.ste_um),
+        ste_half_pp_um: w.ste_pp_um() / 2.0,
+        mesh_stiffness_mean_n_per_um: w.mean_stiffness_n_per_um(),
+        mesh_stiffness_min_n_per_um: ks.iter().copied().fold(f64::INFINITY, f64::min),
+        mesh_stiffness_max_n_per_um: ks.iter().copied().fold(0.0, f64::max),
+        contact_loss_fraction: lost as f64 / w.pairs.len() as f64,
+        f_ah1: harmonics[0].ste_amplitude_um / half_backlash_um,
+        harmonics,
+        waveform: w,
+    })
+}
+
+impl GeometrySummary {
+    /// The pair's geometry in millimetres and degrees.
+    fn of(geo: &GearPairGeometry) -> GeometrySummary {
+        let mm = 1e3;
+        let (sc_lo, sc_hi) = geo.single_contact_zone();
+        GeometrySummary {
             contact_ratio: geo.contact_ratio(),
             base_pitch_mm: geo.base_pitch() * mm,
             path_of_contact_mm: geo.path_of_contact() * mm,
@@ -279,22 +328,6 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
             gear_bore_diameter_mm: 2.0 * geo.gear.bore_radius_m * mm,
             youngs_modulus_gpa: geo.youngs_modulus_pa * 1e-9,
             poisson_ratio: geo.poisson_ratio,
-        },
-        relief: ReliefSummary {
-            amount_um: relief.amount_m * 1e6,
-            length_mm: relief.length_m * mm,
-            shape: relief.shape,
-            designed_for_load_n: designed,
-            table_points: (opts.profile.pinion.len(), opts.profile.gear.len()),
-        },
-        loads,
-        harris,
-        pair_stiffness: model
-            .stiffness
-            .points
-            .iter()
-            .map(|p| (p.roll_m * mm, p.stiffness_n_per_m * 1e-6))
-            .collect(),
-        relief_profile_um: model.relief_profile_um(&relief, opts.samples),
-    })
+        }
+    }
 }

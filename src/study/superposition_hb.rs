@@ -10,7 +10,7 @@ use super::figures::{branch_series, panel, Figure};
 use super::output::{StudyOutput, StudyRow};
 use crate::error::Result;
 use crate::hb::{
-    continue_branch, df_solutions, AftOptions, ContinuationOptions, DfMethod, DfSolution,
+    continue_branch, df_solutions, AftOptions, ContinuationOptions, DfMethod, DfSolution, HbPoint,
 };
 use crate::model::{GearPair, Term};
 use crate::plot::{Marker, Series};
@@ -56,7 +56,42 @@ fn alone(j: usize, omega: f64) -> Result<Vec<DfSolution>> {
 /// Run the study on `n` frequencies.
 pub fn run(n: usize) -> Result<StudyOutput> {
     let omegas = super::grid(OMEGA.0, OMEGA.1, n)?;
-    let per_omega: Vec<Result<PerOmega>> = omegas
+    let per_omega = superposed(&omegas)?;
+    let aft = simultaneous()?;
+    let (rows, single_points, sup_points) = study_rows(&omegas, &per_omega, &aft);
+    let diffs = single_valued_differences(&omegas, &per_omega, &aft);
+    let rms = if diffs.is_empty() {
+        f64::NAN
+    } else {
+        (diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len() as f64).sqrt()
+    };
+    let multivalued: Vec<f64> = omegas
+        .iter()
+        .zip(&per_omega)
+        .filter(|(_, (_, s))| s.len() > 1)
+        .map(|(w, _)| *w)
+        .collect();
+    let summary = serde_json::json!({
+        "study": "superposition-hb", "figure": 28, "fm": FM, "zeta": ZETA, "fah": FAH,
+        "method": "df-exact per harmonic (eq. 5 at j Omega), superposed with phases; AFT H = 15 for the simultaneous response",
+        "omega_range": [OMEGA.0, OMEGA.1], "points": n,
+        "superposition_multivalued_omega": multivalued.first().zip(multivalued.last()).map(|(a, b)| [*a, *b]),
+        "rms_superposition_minus_simultaneous_single_valued": rms,
+        "single_valued_points_compared": diffs.len(),
+        "aft_folds": aft.iter().filter(|p| p.fold).map(|p| p.omega).collect::<Vec<_>>(),
+    });
+    Ok(StudyOutput {
+        name: "superposition-hb".into(),
+        figures: vec![figure(n, sup_points, single_points, &aft)],
+        rows,
+        summary,
+    })
+}
+
+/// At each frequency, in parallel: the stable solutions of each harmonic alone and the q_a of
+/// every combination of them superposed.
+fn superposed(omegas: &[f64]) -> Result<Vec<PerOmega>> {
+    omegas
         .par_iter()
         .map(|&w| {
             let singles: Vec<Vec<DfSolution>> =
@@ -75,9 +110,11 @@ pub fn run(n: usize) -> Result<StudyOutput> {
             }
             Ok((singles, sup))
         })
-        .collect();
-    let per_omega: Vec<(Vec<Vec<DfSolution>>, Vec<f64>)> =
-        per_omega.into_iter().collect::<Result<_>>()?;
+        .collect()
+}
+
+/// The simultaneous response to the three harmonics: the AFT (H = 15) continuation.
+fn simultaneous() -> Result<Vec<HbPoint>> {
     let model = GearPair {
         zeta: ZETA,
         mean_force: FM,
@@ -87,18 +124,28 @@ pub fn run(n: usize) -> Result<StudyOutput> {
         stiffness: Vec::new(),
     }
     .validated()?;
-    let aft = continue_branch(
+    continue_branch(
         &model,
         OMEGA.0,
         OMEGA.1,
         &AftOptions::default(),
         &ContinuationOptions::default(),
         &NoProgress,
-    )?;
+    )
+}
+
+/// The study's rows (each harmonic alone, the superposed values, the AFT branch) and the
+/// points of each harmonic alone and of the superposition for the figure.
+#[allow(clippy::type_complexity)]
+fn study_rows(
+    omegas: &[f64],
+    per_omega: &[PerOmega],
+    aft: &[HbPoint],
+) -> (Vec<StudyRow>, [Vec<(f64, f64)>; 3], Vec<(f64, f64)>) {
     let mut rows = Vec::new();
     let mut sup_points = Vec::new();
     let mut single_points: [Vec<(f64, f64)>; 3] = Default::default();
-    for (&w, (singles, sup)) in omegas.iter().zip(&per_omega) {
+    for (&w, (singles, sup)) in omegas.iter().zip(per_omega) {
         for (j, sols) in singles.iter().enumerate() {
             for s in sols {
                 single_points[j].push((w, s.qa));
@@ -130,10 +177,14 @@ pub fn run(n: usize) -> Result<StudyOutput> {
         aft.iter()
             .map(|p| StudyRow::from_hb("AFT H = 15, three harmonics simultaneously", p)),
     );
-    // Where both are single-valued, compare the superposition with the simultaneous AFT branch
-    // (interpolated along the continuation between neighbouring points on the same side).
+    (rows, single_points, sup_points)
+}
+
+/// Where both are single-valued, the superposition less the simultaneous AFT branch
+/// (interpolated along the continuation between neighbouring points on the same side).
+fn single_valued_differences(omegas: &[f64], per_omega: &[PerOmega], aft: &[HbPoint]) -> Vec<f64> {
     let mut diffs = Vec::new();
-    for (&w, (_, sup)) in omegas.iter().zip(&per_omega) {
+    for (&w, (_, sup)) in omegas.iter().zip(per_omega) {
         let near: Vec<f64> = aft
             .windows(2)
             .filter(|s| (s[0].omega - w) * (s[1].omega - w) <= 0.0 && s[0].omega != s[1].omega)
@@ -143,26 +194,16 @@ pub fn run(n: usize) -> Result<StudyOutput> {
             diffs.push(sup[0] - near[0]);
         }
     }
-    let rms = if diffs.is_empty() {
-        f64::NAN
-    } else {
-        (diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len() as f64).sqrt()
-    };
-    let multivalued: Vec<f64> = omegas
-        .iter()
-        .zip(&per_omega)
-        .filter(|(_, (_, s))| s.len() > 1)
-        .map(|(w, _)| *w)
-        .collect();
-    let summary = serde_json::json!({
-        "study": "superposition-hb", "figure": 28, "fm": FM, "zeta": ZETA, "fah": FAH,
-        "method": "df-exact per harmonic (eq. 5 at j Omega), superposed with phases; AFT H = 15 for the simultaneous response",
-        "omega_range": [OMEGA.0, OMEGA.1], "points": n,
-        "superposition_multivalued_omega": multivalued.first().zip(multivalued.last()).map(|(a, b)| [*a, *b]),
-        "rms_superposition_minus_simultaneous_single_valued": rms,
-        "single_valued_points_compared": diffs.len(),
-        "aft_folds": aft.iter().filter(|p| p.fold).map(|p| p.omega).collect::<Vec<_>>(),
-    });
+    diffs
+}
+
+/// Fig. 28: the superposition, each harmonic alone and the simultaneous AFT branch.
+fn figure(
+    n: usize,
+    sup_points: Vec<(f64, f64)>,
+    single_points: [Vec<(f64, f64)>; 3],
+    aft: &[HbPoint],
+) -> Figure {
     let caption = format!(
         "F_m {FM}, zeta {ZETA}, F_ah1..3 = {}, {}, {}; {n} pts",
         FAH[0], FAH[1], FAH[2]
@@ -186,15 +227,10 @@ pub fn run(n: usize) -> Result<StudyOutput> {
         "AFT, three harmonics simultaneously",
         5,
     ));
-    Ok(StudyOutput {
-        name: "superposition-hb".into(),
-        figures: vec![Figure {
-            name: "fig28-superposition-hb".into(),
-            title: "Fig. 28: superposed df-exact solutions, 3 STE harmonics".into(),
-            panels: vec![panel("q_a".into(), caption, "q_a", series)],
-            cols: 1,
-        }],
-        rows,
-        summary,
-    })
+    Figure {
+        name: "fig28-superposition-hb".into(),
+        title: "Fig. 28: superposed df-exact solutions, 3 STE harmonics".into(),
+        panels: vec![panel("q_a".into(), caption, "q_a", series)],
+        cols: 1,
+    }
 }
