@@ -69,7 +69,6 @@ impl GearError {
     }
 }
 
-/// `file:line`, or the file alone when no line applies (line 0).
 /// "field 'F': ", or nothing when the problem is the file as a whole.
 fn field_part(field: &str) -> String {
     if field == crate::data::WHOLE_FILE {
@@ -79,6 +78,7 @@ fn field_part(field: &str) -> String {
     }
 }
 
+/// `file:line`, or the file alone when no line applies (line 0).
 fn located(file: &Path, line: usize) -> String {
     match line {
         0 => file.display().to_string(),

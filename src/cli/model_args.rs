@@ -415,8 +415,8 @@ impl GeometryExcitation {
         match self.stiffness {
             StiffnessChoice::Geometry => out.extend([
                 format!(
-                    "    f_n = {} Hz at the design load {} N (k_h {:.1} N/µm), scaled to this \
-                     load's stiffness with the same mass: {} Hz × √({:.1} / {:.1}) = {:.2} Hz",
+                    "    f_n = {} Hz at the design load {} N (k_h {:.3} N/µm), scaled to this \
+                     load's stiffness with the same mass: {} Hz × √({:.3} / {:.3}) = {:.2} Hz",
                     num(p.omega_n_design_hz),
                     num(p.design_load_n),
                     p.design_stiffness_n_per_um,
@@ -431,10 +431,14 @@ impl GeometryExcitation {
                  lists those)"
                     .to_string(),
             ]),
-            StiffnessChoice::Constant => out.push(
-                "    STE harmonics of the tooth-contact model (k = 1: the excitation is the STE)"
-                    .to_string(),
-            ),
+            StiffnessChoice::Constant => out.push(format!(
+                "    constant mesh stiffness (--mesh-stiffness constant): k_h = {:.3} N/µm as \
+                 above, not the tooth-contact model's {:.3} N/µm, and f_n = {} Hz as given; the \
+                 model's STE terms below are the loaded STE's own harmonics",
+                p.op.dim.mesh_stiffness_n_per_m * 1e-6,
+                p.excitation.mesh_stiffness_mean_n_per_um,
+                num(p.op.omega_n_hz)
+            )),
         }
         let model = &p.model;
         for s in model.ste.iter().take(self.harmonics) {

@@ -140,7 +140,7 @@ pub fn write_response_plot(
         if !up.is_empty() && !down.is_empty() {
             let lines = [
                 Series::line("speed up", up).with_color(4),
-                Series::dashed("speed down", down).with_color(5),
+                Series::dashed("speed down", down).with_color(6),
             ];
             series.splice(0..0, lines);
         }

@@ -3,7 +3,7 @@
 use super::common::{check_out_dir, print_json, print_text, with_omega, SolverArgs};
 use super::geometry_excitation::ExcitationArgs;
 use super::limits::{real, STATE};
-use super::model_args::{num, Frequency, ModelArgs, SteadyInRigUnits};
+use super::model_args::{Frequency, ModelArgs, SteadyInRigUnits};
 use clap::Args as ClapArgs;
 use geardyn::sim::steady_state;
 use serde_json::json;
@@ -51,7 +51,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let caption = format!(
                 "{}, Ω_h = {}, q(0) = {}, q'(0) = {}",
                 m.caption(),
-                num(omega),
+                geardyn::sim::to_significant(omega, 6),
                 a.q0,
                 a.v0
             );

@@ -266,7 +266,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 r.omega_n_hz,
                 r.parameter_source,
                 100.0 * r.inside_fraction,
-                r.jump_error_rpm.map_or("-".to_string(), |e| format!("{e:.0} rpm")),
+                r.transition_error_text(" rpm"),
                 kubo_intervals(&r)
             );
             (written, data_kind_banner(&data.rig), s)
@@ -308,7 +308,13 @@ fn kubo_intervals(r: &KuboValidation) -> String {
     let mut s = String::new();
     for (i, name) in fit.names.iter().enumerate() {
         let cov = fit.ci95[i];
-        let digits = interval_digits(cov.0, cov.1, 1);
+        // At least the digits of the summary line above (zeta 4, omega_n 1).
+        let least = match name.as_str() {
+            "zeta" => 4,
+            "ste_um" => 3,
+            _ => 1,
+        };
+        let digits = interval_digits(cov.0, cov.1, least);
         let profile = r.ci95_profile.get(i).map_or("-".to_string(), |p| {
             let end = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.digits$}"));
             format!("{} .. {}", end(p.lower), end(p.upper))

@@ -9,12 +9,14 @@ use crate::study::figures::{branch_series, panel};
 pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
     let s = &c.settings;
     let torque = crate::model::GearPair::torque_caption(s.fat);
+    // Four digits: F_m and F_ah of a rig come from a division and print as 0.14166321519832273.
+    let short = |x: f64| crate::sim::to_significant(x, 4);
     let caption = format!(
         "F_m = {}, F_ah = {} (F_hat = {}){torque}, ζ = {}, AFT H = {}, IC grid {}:{}:{}",
-        s.fm,
-        s.fah,
-        crate::sim::to_significant(s.fm / s.fah, 4),
-        s.zeta,
+        short(s.fm),
+        short(s.fah),
+        short(s.fm / s.fah),
+        short(s.zeta),
         s.harmonics,
         s.grid.lo,
         s.grid.hi,

@@ -34,17 +34,37 @@ pub(crate) fn line_of_offset(text: &str, offset: usize) -> usize {
         .count()
 }
 
+/// A data set's folder must exist and be a folder (not its rig.toml or a CSV file).
+pub(crate) fn check_data_folder(dir: &Path) -> Result<()> {
+    if dir.is_dir() {
+        return Ok(());
+    }
+    let why = if dir.exists() {
+        "is a file; a data set is a folder with rig.toml and CSV curves (`geardyn init-data DIR` \
+         writes one)"
+    } else {
+        "data folder not found"
+    };
+    Err(data_error(dir, 0, WHOLE_FILE, why))
+}
+
 /// Read a whole file as UTF-8 text, without a leading byte-order mark.
 ///
 /// A missing or unreadable file, or bytes that are not UTF-8 (reported at the line of the first
 /// bad byte), give a located [`GearError::Data`].
 pub(crate) fn read_text(path: &Path) -> Result<String> {
     if path.is_dir() {
+        let rig = path.join("rig.toml");
+        let hint = if rig.is_file() {
+            format!("; did you mean {}?", rig.display())
+        } else {
+            String::new()
+        };
         return Err(data_error(
             path,
             0,
             WHOLE_FILE,
-            "is a folder; the file in it was expected",
+            format!("is a folder, not a file{hint}"),
         ));
     }
     let bytes = std::fs::read(path).map_err(|e| {

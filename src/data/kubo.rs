@@ -6,6 +6,7 @@
 
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::CurveOrder;
+use super::errors::check_data_folder;
 use super::rig::{load_rig, RigFile};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
@@ -46,6 +47,7 @@ pub struct KuboData {
 const MAX_FACTOR: f64 = 100.0;
 
 pub fn load_kubo(dir: &Path) -> Result<KuboData> {
+    check_data_folder(dir)?;
     let rig = load_rig(&dir.join("rig.toml"))?;
     let mut points = Vec::new();
     let mut order = CurveOrder::default();

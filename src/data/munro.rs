@@ -7,6 +7,7 @@
 
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::{CurveOrder, LoadGroups};
+use super::errors::check_data_folder;
 use super::rig::{load_rig, RigFile};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
@@ -91,6 +92,7 @@ pub const MAX_DTE_UM: f64 = 1000.0;
 /// Load a Munro data set: `dir/rig.toml` and every `dir/*.csv` (sorted by name). Every failure
 /// is one [`crate::GearError::Data`] naming the file, line and field.
 pub fn load_munro(dir: &Path) -> Result<MunroData> {
+    check_data_folder(dir)?;
     let rig = load_rig(&dir.join("rig.toml"))?;
     let mut points = Vec::new();
     let mut order = CurveOrder::default();

@@ -222,8 +222,10 @@ impl Rounds<'_> {
         for c in cands.iter_mut() {
             if significant(c, alpha) && c.estimate.is_none() && c.note.is_none() {
                 c.note = Some(format!(
-                    "not refitted: the {} highest-scoring significant candidates and the \
-                     largest LR are refitted first, and the answer ({}) needed no further refit",
+                    "not refitted: its score statistic {:.1} ranks below the {} significant \
+                     candidates refitted first (by score, and the largest LR), and the answer \
+                     ({}) needed no further refit",
+                    c.score,
                     self.opts.refit_top.max(1),
                     decision.effect
                 ));

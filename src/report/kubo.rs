@@ -65,6 +65,7 @@ pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
             "jump_measured_rpm": r.jump_measured_rpm,
             "jump_up_rpm": r.jump_up_rpm,
             "jump_error_rpm": r.jump_error_rpm,
+            "jump_error_resolution_rpm": r.jump_error_resolution_rpm,
         }],
         "provenance": {
             "geardyn": env!("CARGO_PKG_VERSION"),
@@ -108,7 +109,7 @@ pub fn write_kubo_report(
             format!("{:.3}", r.outside_rms),
             opt(r.jump_measured_rpm),
             opt(r.jump_up_rpm),
-            opt(r.jump_error_rpm),
+            r.transition_error_text(""),
         ]],
     );
     page.paragraph("Columns:");
@@ -116,7 +117,7 @@ pub fn write_kubo_report(
         ("inside envelope", "share of the measured speeds where the model's D_L (speed-up sweep) lies between the envelope's minimum and maximum."),
         ("RMS outside envelope", "root mean square distance of the model's D_L from the nearer envelope edge, over the speeds where it lies outside (dimensionless, as D_L)."),
         ("transition measured / model up (rpm)", "Kubo's transition frequency as a speed: the first steep step of the envelope's mean (larger than 6 median steps and a quarter of the largest step), and of the model's speed-up sweep; a jump or the steep flank of the resonance alike."),
-        ("transition error (rpm)", "model transition minus measured transition."),
+        ("transition error (rpm)", "model transition minus measured transition, ± how finely the grids place it (half the envelope's speed step at its transition plus half the model sweep's at its own)."),
     ]);
     if let Some(t) = &data.rig.source.truth {
         page.heading("Truth of the synthetic data (recorded in rig.toml, never read by the fit)");

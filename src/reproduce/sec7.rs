@@ -151,7 +151,7 @@ fn claims(m: &MunroValidation, mk: DataKind, k: &KuboValidation, kk: DataKind) -
             k.jump_up_rpm.map_or("none".into(), |v| format!("{v:.0} rpm"))
         ),
         measured(kk, k.jump_error_rpm.is_some_and(|e| e.abs() < 200.0)),
-        why(kk, format!("transition error {}", k.jump_error_rpm.map_or("-".into(), |e| format!("{e:.0} rpm")))),
+        why(kk, format!("transition error {}", k.transition_error_text(" rpm"))),
     ));
     out
 }

@@ -677,7 +677,7 @@ struct Sweep<'a> {
 }
 
 impl LoadResult {
-    /// The jump error as "8 ± 25" followed by `unit` (in rpm, with the grids' resolution), or
+    /// The jump error as "8 ± 42" followed by `unit` (in rpm, with the grids' resolution), or
     /// why there is none.
     pub fn jump_error_text(&self, unit: &str) -> String {
         match (self.jump_measured_rpm, self.jump_error_rpm) {
