@@ -24,17 +24,6 @@ fn curve(x: f64) -> f64 {
 const X_PX: f64 = 4000.0 / 564.0;
 const Y_PX: f64 = 30.0 / 361.0;
 
-fn read_csv(path: &Path) -> Vec<(f64, f64)> {
-    let text = std::fs::read_to_string(path).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            (v[0], v[1])
-        })
-        .collect()
-}
-
 fn run(out: &Path, extra: &[&str]) -> std::process::Output {
     run_ticks(out, "1500:5500:500", extra)
 }
@@ -83,8 +72,8 @@ fn markers_with_tick_values_only_match_the_truth_and_the_legend_marker_is_caught
     let stdout = String::from_utf8_lossy(&r.stdout);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(stdout.contains("x axis: 9 tick marks") && stdout.contains("y axis: 7 tick marks"));
-    let got = read_csv(&out);
-    let truth = read_csv(&data("matplotlib_truth.csv"));
+    let got = common::read_xy_csv(&out);
+    let truth = common::read_xy_csv(&data("matplotlib_truth.csv"));
     assert_eq!(got.len(), 22, "21 markers and the legend's");
     // Every true marker is found within 0.6 px on both axes (matplotlib snaps markers to whole
     // pixels: up to half a pixel, plus the centroid of an anti-aliased edge).
@@ -111,7 +100,7 @@ fn line_with_tick_values_only_follows_the_curve() {
     // ...and a crop below the legend leaves the curve alone.
     let r = run(&out, &["--color", "d62728", "--crop", "102:114:718:443"]);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
-    let got = read_csv(&out);
+    let got = common::read_xy_csv(&out);
     assert!(got.len() > 400, "{} points", got.len());
     // Within 1.2 px of the true curve, along y plus the slope's share of a 1.2 px x error:
     // matplotlib snaps tick marks to whole pixels but not the line (the ticks lie up to 0.43 px

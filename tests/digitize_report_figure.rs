@@ -14,17 +14,6 @@ fn data(name: &str) -> PathBuf {
         .join(name)
 }
 
-fn read_csv(path: &Path) -> Vec<(f64, f64)> {
-    let text = std::fs::read_to_string(path).unwrap();
-    text.lines()
-        .skip(1)
-        .map(|l| {
-            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
-            (v[v.len() - 2], v[v.len() - 1])
-        })
-        .collect()
-}
-
 /// Pixels per data unit: the x ticks 1000..5000 rpm span 808 px, the y ticks 0..70 um 347 px.
 const X_PER_RPM: f64 = 808.0 / 4000.0;
 const Y_PER_UM: f64 = 347.0 / 70.0;
@@ -54,8 +43,8 @@ fn markers_cut_by_model_lines_are_put_back_together() {
     let stdout = String::from_utf8_lossy(&r.stdout);
     assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
     assert!(stdout.contains("put back together"), "{stdout}");
-    let got = read_csv(&out);
-    let truth = read_csv(&data("geardyn_report_1890_truth.csv"));
+    let got = common::read_xy_csv(&out);
+    let truth = common::read_xy_csv(&data("geardyn_report_1890_truth.csv"));
     assert_eq!(got.len(), truth.len(), "every marker found once");
     // Sorted by speed, the i-th point is the i-th marker. A marker whose edge lies under a
     // 3 px line loses up to half of that from its bounding box, so a point may be off by up to

@@ -93,8 +93,7 @@ pub struct DigitizeOptions {
 /// Errors when the crop box leaves the image, the tolerance is not a finite non-negative number,
 /// no pixel of the colour is found, or (marker mode) no blob passes the filter.
 pub fn extract_pixels(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64, f64)>> {
-    let region = Region::new(img, opts.crop)?;
-    let mask = Mask::new(img, region, opts.color, opts.tolerance)?;
+    let mask = colour_mask(img, opts)?;
     match opts.mode {
         Mode::Line { multi } => Ok(line::column_points(&mask, multi)),
         Mode::Markers(filter) => {
@@ -119,6 +118,12 @@ pub fn extract_pixels(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64
     }
 }
 
+/// The pixels of the curve's colour in the searched box.
+fn colour_mask(img: &RgbImage, opts: &DigitizeOptions) -> Result<Mask> {
+    let region = Region::new(img, opts.crop)?;
+    Mask::new(img, region, opts.color, opts.tolerance)
+}
+
 /// The markers found under `filter` and the counts of the blobs left out (see
 /// [`MarkerCensus`]); errors as [`extract_pixels`] does except when no blob passes the filter.
 pub fn marker_census(
@@ -126,8 +131,7 @@ pub fn marker_census(
     opts: &DigitizeOptions,
     filter: &MarkerFilter,
 ) -> Result<MarkerCensus> {
-    let region = Region::new(img, opts.crop)?;
-    let mask = Mask::new(img, region, opts.color, opts.tolerance)?;
+    let mask = colour_mask(img, opts)?;
     Ok(markers::marker_census(&mask, filter))
 }
 
@@ -138,8 +142,7 @@ pub fn marker_sizes(
     opts: &DigitizeOptions,
     filter: &MarkerFilter,
 ) -> Result<MarkerSizes> {
-    let region = Region::new(img, opts.crop)?;
-    let mask = Mask::new(img, region, opts.color, opts.tolerance)?;
+    let mask = colour_mask(img, opts)?;
     Ok(markers::marker_sizes(&mask, filter))
 }
 

@@ -79,3 +79,16 @@ pub fn with_period(list: &[Value], p: u64) -> Vec<&Value> {
         .filter(|a| a["period"].as_u64() == Some(p))
         .collect()
 }
+
+/// The (x, y) pairs of a digitized CSV: the last two columns of every row after the header
+/// (constant columns such as load_n come first).
+pub fn read_xy_csv(path: &std::path::Path) -> Vec<(f64, f64)> {
+    let text = std::fs::read_to_string(path).unwrap();
+    text.lines()
+        .skip(1)
+        .map(|l| {
+            let v: Vec<f64> = l.split(',').map(|v| v.parse().unwrap()).collect();
+            (v[v.len() - 2], v[v.len() - 1])
+        })
+        .collect()
+}
