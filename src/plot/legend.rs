@@ -16,6 +16,8 @@ const INSET: i32 = 6;
 const PAD: i32 = 8;
 /// Clearance in pixels kept between the box and any drawn point (lines are 2 px wide).
 const CLEAR: f64 = 3.0;
+/// Gap between the columns of a widened legend, pixels.
+const COLUMN_GAP: i32 = 16;
 /// Font scale of the notes under the entries.
 const NOTE_SCALE: f64 = 0.85;
 
@@ -23,7 +25,13 @@ const NOTE_SCALE: f64 = 0.85;
 pub(crate) struct Legend {
     entries: Vec<(String, LegendSample)>,
     notes: Vec<String>,
+    /// The notes before wrapping, for another box width.
+    raw_notes: Vec<String>,
     glyph_w: i32,
+    /// Width of the widest entry (sample and label), pixels.
+    entry_w: i32,
+    /// Entries per column (all of them in one column unless [`Legend::widened`]).
+    rows: usize,
     row_h: i32,
     note_h: i32,
     text: TextStyle<'static>,
@@ -76,14 +84,68 @@ impl Legend {
             2 * PAD + row_h * entries.len() as i32 + note_h * wrapped.len() as i32,
         );
         Ok(Legend {
+            rows: entries.len(),
             entries,
             notes: wrapped,
+            raw_notes: notes.to_vec(),
             glyph_w,
+            entry_w: inner_w,
             row_h,
             note_h,
             text: text.pos(Pos::new(HPos::Left, VPos::Center)),
             note: note.pos(Pos::new(HPos::Left, VPos::Center)),
             size,
+        })
+    }
+
+    /// The legend laid out in as many columns (filled top to bottom) as fit in `max_w` pixels,
+    /// its notes wrapped to the box's width: for a strip below a plot, where one tall column
+    /// would take height the plot needs.
+    pub fn widened<DB: DrawingBackend>(
+        &self,
+        area: &DrawingArea<DB, Shift>,
+        sz: &Sizes,
+        max_w: i32,
+    ) -> Result<Legend, String> {
+        let n = self.entries.len();
+        let fit = (max_w - 2 * PAD + COLUMN_GAP) / (self.entry_w + COLUMN_GAP).max(1);
+        let cols = (fit.max(1) as usize).min(n.max(1));
+        let rows = n.div_ceil(cols);
+        // As few columns as hold that many rows: no column is left empty.
+        let cols = if rows == 0 { 1 } else { n.div_ceil(rows) };
+        let entries_w = cols as i32 * self.entry_w + (cols as i32 - 1) * COLUMN_GAP;
+        let note_w = entries_w
+            .max((sz.legend * 16.0) as i32)
+            .min(max_w - 2 * PAD);
+        let mut notes = Vec::new();
+        for raw in &self.raw_notes {
+            notes.extend(wrap(
+                area,
+                raw,
+                sz.legend * NOTE_SCALE,
+                note_w.max(1) as u32,
+            )?);
+        }
+        let mut widest_note = 0;
+        for t in &notes {
+            widest_note =
+                widest_note.max(area.estimate_text_size(t, &self.note).map_err(msg)?.0 as i32);
+        }
+        Ok(Legend {
+            entries: self.entries.clone(),
+            notes: notes.clone(),
+            raw_notes: self.raw_notes.clone(),
+            glyph_w: self.glyph_w,
+            entry_w: self.entry_w,
+            rows,
+            row_h: self.row_h,
+            note_h: self.note_h,
+            text: self.text.clone(),
+            note: self.note.clone(),
+            size: (
+                2 * PAD + entries_w.max(widest_note),
+                2 * PAD + self.row_h * rows as i32 + self.note_h * notes.len() as i32,
+            ),
         })
     }
 
@@ -149,14 +211,16 @@ impl Legend {
             RGBColor(0xA0, 0xA0, 0xA0).stroke_width(1),
         ))
         .map_err(msg)?;
-        let mut y = y0 + PAD;
-        for (label, sample) in &self.entries {
-            let mid = y + self.row_h / 2;
-            sample.draw(area, (x0 + PAD, mid))?;
-            area.draw_text(label, &self.text, (x0 + PAD + self.glyph_w + 8, mid))
+        let rows = self.rows.max(1);
+        for (i, (label, sample)) in self.entries.iter().enumerate() {
+            let (col, row) = ((i / rows) as i32, (i % rows) as i32);
+            let x = x0 + PAD + col * (self.entry_w + COLUMN_GAP);
+            let mid = y0 + PAD + row * self.row_h + self.row_h / 2;
+            sample.draw(area, (x, mid))?;
+            area.draw_text(label, &self.text, (x + self.glyph_w + 8, mid))
                 .map_err(msg)?;
-            y += self.row_h;
         }
+        let mut y = y0 + PAD + self.row_h * rows.min(self.entries.len()) as i32;
         for n in &self.notes {
             area.draw_text(n, &self.note, (x0 + PAD, y + self.note_h / 2))
                 .map_err(msg)?;

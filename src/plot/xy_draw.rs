@@ -138,15 +138,21 @@ pub(crate) fn draw_xy<DB: DrawingBackend>(
         drawn.extend(vline_label_cover(&area, plot, &guess, sz).unwrap_or_default());
         l.place(&drawn, &guess)
     });
-    // Outside: a strip to the right of the plot or below it, whichever leaves the larger plot
-    // (a strip may take at most half the width or height).
-    let below = legend.as_ref().is_some_and(|l| {
-        let (lw, lh) = (f64::from(l.size.0 + 12), f64::from(l.size.1 + 8));
+    // Outside: a strip to the right of the plot (one column) or below it (as many columns as
+    // the width holds), whichever leaves the larger plot (a strip may take at most half the
+    // width or height).
+    let wide = match (&legend, placement) {
+        (Some(l), Some(Placement::Outside)) => Some(l.widened(&area, sz, w as i32 - 16)?),
+        _ => None,
+    };
+    let below = legend.as_ref().zip(wide.as_ref()).is_some_and(|(l, wl)| {
+        let (lw, lh) = (f64::from(l.size.0 + 12), f64::from(wl.size.1 + 8));
         let (w, h) = (f64::from(w), f64::from(h));
         let right = (w - lw.min(w / 2.0)) * h * if lw > w / 2.0 { 0.5 } else { 1.0 };
         let under = w * (h - lh.min(h / 2.0)) * if lh > h / 2.0 { 0.5 } else { 1.0 };
         under > right
     });
+    let legend = if below { wide } else { legend };
     let (chart_area, side) = match (&legend, placement) {
         (Some(l), Some(Placement::Outside)) if below => {
             let strip = (l.size.1 + 8).min(h as i32 / 2);
