@@ -270,3 +270,52 @@ pub(crate) fn occupancy<'a>(
     }
     out
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plot::style::{Marker, SeriesStyle};
+
+    fn legend(area: &DrawingArea<SVGBackend<'_>, Shift>, n: usize) -> Legend {
+        let sz = Sizes::scaled(1.0);
+        let entries = (0..n)
+            .map(|i| {
+                let sample = LegendSample {
+                    width: 35,
+                    style: SeriesStyle::Line,
+                    marker: Marker::Circle,
+                    size: 4,
+                    line: 2,
+                    color: RGBColor(0, 0, 0),
+                };
+                (format!("series number {i}"), sample)
+            })
+            .collect();
+        let notes = [
+            "a note long enough to be wrapped to several lines in a narrow legend box \
+                      but to fewer in a wide one"
+                .to_string(),
+        ];
+        Legend::measure(area, entries, &notes, &sz).unwrap()
+    }
+
+    #[test]
+    fn a_widened_legend_keeps_every_entry_in_fewer_rows_and_no_more_height() {
+        assert!(crate::plot::style::ensure_font());
+        let mut svg = String::new();
+        let area = SVGBackend::with_string(&mut svg, (1200, 800)).into_drawing_area();
+        let sz = Sizes::scaled(1.0);
+        let one = legend(&area, 7);
+        assert_eq!(one.rows, 7);
+        let wide = one.widened(&area, &sz, 1000).unwrap();
+        assert_eq!(wide.entries.len(), 7);
+        // Columns of the widest entry fit side by side; 7 entries in 4 rows at most.
+        let cols = 7usize.div_ceil(wide.rows);
+        assert!(cols >= 2 && wide.rows <= 4, "{} rows", wide.rows);
+        assert!(wide.size.0 <= 1000 && wide.size.1 < one.size.1);
+        assert!(wide.notes.len() <= one.notes.len());
+        // Too narrow for two columns: one column, as measured.
+        let narrow = one.widened(&area, &sz, one.size.0).unwrap();
+        assert_eq!(narrow.rows, 7);
+    }
+}
