@@ -73,7 +73,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let d = stage.dir().to_path_buf();
     let mut written = write_panels(
         "Harmonic balance vs digital simulation",
-        &compare_panels(&c),
+        &compare_panels(&c, m.rig.as_ref()),
         2,
         &d.join("compare"),
     )?;

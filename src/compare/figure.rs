@@ -1,12 +1,14 @@
 //! Overlay of every method (Figs 11-13): q_a and q_m versus Omega.
 
 use super::{Comparison, Source};
+use crate::model::OperatingPoint;
 use crate::plot::{Marker, Series, XyPlot};
 use crate::study::figures::{branch_series, panel};
 
 /// Two panels (q_a, q_m): df-exact markers, the AFT branch (stable solid, unstable dashed),
-/// sweeps up and down and every attractor (non-period-1 attractors as crosses).
-pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
+/// sweeps up and down and every attractor (non-period-1 attractors as crosses). With the rig's
+/// operating point `units`, against the pinion speed in rpm with b q_a and b q_m in µm.
+pub fn compare_panels(c: &Comparison, units: Option<&OperatingPoint>) -> Vec<XyPlot> {
     let s = &c.settings;
     let torque = crate::model::GearPair::torque_caption(s.fat);
     // Four digits: F_m and F_ah of a rig come from a division and print as 0.14166321519832273.
@@ -22,12 +24,14 @@ pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
         s.grid.hi,
         s.grid.n
     );
+    let x = |omega: f64| units.map_or(omega, |op| op.speed_rpm(omega));
+    let y = |v: f64| units.map_or(v, |op| op.micrometres(v));
     let make = |label: &str, pick: fn(&super::ComparePoint) -> f64| {
         let of = |src: Source, f: &dyn Fn(&super::ComparePoint) -> bool| -> Vec<(f64, f64)> {
             c.points
                 .iter()
                 .filter(|p| p.source == src && f(p))
-                .map(|p| (p.omega, pick(p)))
+                .map(|p| (x(p.omega), y(pick(p))))
                 .collect()
         };
         let mut series = vec![
@@ -39,7 +43,7 @@ pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
             .points
             .iter()
             .filter(|p| p.source == Source::Aft)
-            .map(|p| (p.omega, pick(p), p.stable))
+            .map(|p| (x(p.omega), y(pick(p)), p.stable))
             .collect();
         series.extend(branch_series(&branch, "HB AFT", 0));
         series.push(
@@ -68,9 +72,13 @@ pub fn compare_panels(c: &Comparison) -> Vec<XyPlot> {
             .with_color(4)
             .with_marker(Marker::Cross),
         );
-        let p = panel(label.to_string(), caption.clone(), label, series);
+        let mut p = panel(label.to_string(), caption.clone(), label, series);
+        if units.is_some() {
+            p.x_label = "pinion speed n (rpm)".into();
+            p.y_label = format!("{label} (µm)");
+        }
         match (s.omegas.first(), s.omegas.last()) {
-            (Some(&lo), Some(&hi)) if hi > lo => p.with_x_range(lo, hi),
+            (Some(&lo), Some(&hi)) if hi > lo => p.with_x_range(x(lo), x(hi)),
             _ => p,
         }
     };

@@ -127,7 +127,7 @@ pub(crate) fn build(
             dir: DIR.into(),
             stem: stem.into(),
             title: title.into(),
-            panels: compare_panels(c),
+            panels: compare_panels(c, None),
             cols: 2,
         });
     }
@@ -143,10 +143,15 @@ pub(crate) fn build(
                 .collect(),
             gaps: c.gaps.clone(),
         };
-        fig13.extend(compare_panels(&carried).into_iter().take(1).map(|mut p| {
-            p.series.retain(|s| !s.points.is_empty());
-            p
-        }));
+        fig13.extend(
+            compare_panels(&carried, None)
+                .into_iter()
+                .take(1)
+                .map(|mut p| {
+                    p.series.retain(|s| !s.points.is_empty());
+                    p
+                }),
+        );
     }
     figs.push(Artifact::Panels {
         dir: DIR.into(),
