@@ -10,7 +10,8 @@ use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::digitize::{
     calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_census,
     marker_sizes, parse_tick_values, read_png, suspect_points, write_png, AxisCalibration,
-    DigitizeOptions, MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, Suspicion,
+    DigitizeOptions, Frame, MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, RgbImage,
+    Suspicion,
 };
 use geardyn::plot::{write_xy, Marker, Series, XyPlot};
 use std::path::{Path, PathBuf};
@@ -102,42 +103,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let img = read_png(&a.image)?;
     let frame = find_frame(&img);
     let mut report = String::new();
-    let x = calibration(
-        "x",
-        (a.x_cal.as_deref(), a.x_ticks.as_deref()),
-        a.x_log,
-        frame.as_ref().map(|f| f.x_ticks.clone()),
-        &mut report,
-    )?;
-    // Rows grow downwards and the y values upwards: the bottom tick takes the first value.
-    let y = calibration(
-        "y",
-        (a.y_cal.as_deref(), a.y_ticks.as_deref()),
-        a.y_log,
-        frame
-            .as_ref()
-            .map(|f| f.y_ticks.iter().rev().copied().collect()),
-        &mut report,
-    )?;
+    let (x, y) = axes(&a, frame.as_ref(), &mut report)?;
     let color: Rgb = a.color.parse().context("--color")?;
-    let crop = match &a.crop {
-        Some(t) => Some(crop_box(t)?),
-        None => frame.as_ref().map(|f| {
-            let (x0, y0, x1, y1) = f.interior();
-            report.push_str(&format!(
-                "searched inside the plot frame: columns {x0}..{x1}, rows {y0}..{y1} (--crop to change)\n"
-            ));
-            PixelBox { x0, y0, x1, y1 }
-        }),
-    };
+    let crop = search_box(&a, frame.as_ref(), &mut report)?;
     let size = a.marker_size.as_deref().map(marker_size).transpose()?;
-    let marker_opts = a.max_area.is_some() || a.marker_size.is_some() || a.erode > 0;
-    if a.mode == CliMode::Markers && a.multi {
-        bail!("--multi applies to --mode line only");
-    }
-    if a.mode == CliMode::Line && marker_opts {
-        bail!("--max-area, --marker-size and --erode apply to --mode markers only");
-    }
+    check_mode_flags(&a)?;
     let (x_name, y_name) = columns(&a.columns)?;
     let constants = constants(&a.constants, [&x_name, &y_name])?;
     let mut opts = DigitizeOptions {
@@ -151,18 +121,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // Half-height of the window searched for text beside a point: about a marker's half size.
     let mut text_window = 6;
     if a.mode == CliMode::Markers {
-        let mut filter = MarkerFilter {
-            min_area: a.min_area,
-            max_area: a.max_area,
-            size,
-            erode: a.erode,
-        };
-        let sizes = marker_sizes(&img, &opts, &filter)?;
-        let picked = size.or(sizes.picked);
-        report.push_str(&size_report(&sizes, picked, size.is_none()));
-        filter.size = picked;
+        let picked;
+        (opts.mode, picked) = markers_mode(&a, size, &img, &opts, &mut report)?;
         text_window = picked.map_or(6, |p| p.1 / 2 + 1);
-        opts.mode = Mode::Markers(filter);
     }
 
     // The report so far (calibration, marker sizes) explains most failures: it goes with the error.
@@ -196,32 +157,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         CliMode::Line => "line",
         CliMode::Markers => "markers",
     };
-    let names = (x_name, y_name);
     let plot = check_plot(
         &a.image,
-        names,
+        (x_name, y_name),
         &opts,
         &points,
         (img.width, img.height),
         mode_text,
     );
-    // Everything is computed before the first file is written; the CSV and its check plot are
-    // staged beside the output folder and moved into it together.
-    let folder = a
-        .out
-        .parent()
-        .filter(|p| !p.as_os_str().is_empty())
-        .unwrap_or(Path::new("."));
-    let file_name = a.out.file_name().unwrap_or_default();
-    let stage = stage("--out", folder)?;
-    let staged_out = stage.dir().join(file_name);
-    let check = stem_with(&staged_out, "_check").with_extension("png");
     let marked: Vec<(f64, f64)> = suspects.iter().map(|s| s.0).collect();
-    write_png(&check_image(&img, frame.as_ref(), &pixels, &marked), &check)?;
-    let mut written = vec![staged_out.clone(), check];
-    written.extend(write_xy(&plot, &stem_with(&staged_out, "_plot"))?);
-    write_text(&staged_out, &csv_text)?;
-    let written = commit(stage, &written)?;
+    let check = check_image(&img, frame.as_ref(), &pixels, &marked);
+    let written = write_outputs(&a.out, &csv_text, &check, &plot)?;
     let mut text = format!(
         "{report}extracted {} points from {} (colour {color}, tolerance {}, mode {mode_text})\n",
         points.len(),
@@ -232,6 +178,108 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         text.push_str(&format!("wrote {}\n", p.display()));
     }
     print_text(&text)
+}
+
+/// Both axes' calibrations (--A-cal or --A-ticks against the tick marks found); what was done
+/// is added to `report`.
+fn axes(
+    a: &Args,
+    frame: Option<&Frame>,
+    report: &mut String,
+) -> anyhow::Result<(AxisCalibration, AxisCalibration)> {
+    let x = calibration(
+        "x",
+        (a.x_cal.as_deref(), a.x_ticks.as_deref()),
+        a.x_log,
+        frame.map(|f| f.x_ticks.clone()),
+        report,
+    )?;
+    // Rows grow downwards and the y values upwards: the bottom tick takes the first value.
+    let y = calibration(
+        "y",
+        (a.y_cal.as_deref(), a.y_ticks.as_deref()),
+        a.y_log,
+        frame.map(|f| f.y_ticks.iter().rev().copied().collect()),
+        report,
+    )?;
+    Ok((x, y))
+}
+
+/// The pixel box searched: --crop, else the inside of the plot frame found (said in `report`),
+/// else the whole image.
+fn search_box(
+    a: &Args,
+    frame: Option<&Frame>,
+    report: &mut String,
+) -> anyhow::Result<Option<PixelBox>> {
+    Ok(match &a.crop {
+        Some(t) => Some(crop_box(t)?),
+        None => frame.map(|f| {
+            let (x0, y0, x1, y1) = f.interior();
+            report.push_str(&format!(
+                "searched inside the plot frame: columns {x0}..{x1}, rows {y0}..{y1} (--crop to change)\n"
+            ));
+            PixelBox { x0, y0, x1, y1 }
+        }),
+    })
+}
+
+/// Options of one mode given with the other are refused.
+fn check_mode_flags(a: &Args) -> anyhow::Result<()> {
+    let marker_opts = a.max_area.is_some() || a.marker_size.is_some() || a.erode > 0;
+    if a.mode == CliMode::Markers && a.multi {
+        bail!("--multi applies to --mode line only");
+    }
+    if a.mode == CliMode::Line && marker_opts {
+        bail!("--max-area, --marker-size and --erode apply to --mode markers only");
+    }
+    Ok(())
+}
+
+/// Marker mode with its filter: the size given (`size`), or the most common blob size measured (the
+/// histogram goes to `report` either way); also the size range used.
+fn markers_mode(
+    a: &Args,
+    size: Option<(u32, u32)>,
+    img: &RgbImage,
+    opts: &DigitizeOptions,
+    report: &mut String,
+) -> anyhow::Result<(Mode, Option<(u32, u32)>)> {
+    let mut filter = MarkerFilter {
+        min_area: a.min_area,
+        max_area: a.max_area,
+        size,
+        erode: a.erode,
+    };
+    let sizes = marker_sizes(img, opts, &filter)?;
+    let picked = size.or(sizes.picked);
+    report.push_str(&size_report(&sizes, picked, size.is_none()));
+    filter.size = picked;
+    Ok((Mode::Markers(filter), picked))
+}
+
+/// Writes the CSV, its check image and its plot beside each other. Everything is computed
+/// before the first file is written; the files are staged beside the output folder and moved
+/// into it together.
+fn write_outputs(
+    out: &Path,
+    csv_text: &str,
+    check: &RgbImage,
+    plot: &XyPlot,
+) -> anyhow::Result<Vec<PathBuf>> {
+    let folder = out
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let file_name = out.file_name().unwrap_or_default();
+    let stage = stage("--out", folder)?;
+    let staged_out = stage.dir().join(file_name);
+    let check_path = stem_with(&staged_out, "_check").with_extension("png");
+    write_png(check, &check_path)?;
+    let mut written = vec![staged_out.clone(), check_path];
+    written.extend(write_xy(plot, &stem_with(&staged_out, "_plot"))?);
+    write_text(&staged_out, csv_text)?;
+    commit(stage, &written)
 }
 
 /// The CSV of the extracted points: the `constants` columns, then x and y.
