@@ -8,10 +8,9 @@ use super::limits::real;
 use anyhow::{bail, Context};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::digitize::{
-    calibrate_from_ticks, check_image, digitize, extract_pixels, find_frame, marker_census,
-    marker_sizes, parse_tick_values, read_png, suspect_points, write_png, AxisCalibration,
-    DigitizeOptions, Frame, MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, RgbImage,
-    Suspicion,
+    calibrate_from_ticks, check_image, extract, find_frame, marker_sizes, parse_tick_values,
+    read_png, suspect_points, to_data, write_png, AxisCalibration, DigitizeOptions, Extraction,
+    Frame, MarkerCensus, MarkerFilter, MarkerSizes, Mode, PixelBox, Rgb, RgbImage, Suspicion,
 };
 use geardyn::plot::{write_xy, Marker, Series, XyPlot};
 use std::path::{Path, PathBuf};
@@ -127,14 +126,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     }
 
     // The report so far (calibration, marker sizes) explains most failures: it goes with the error.
-    let pixels = match extract_pixels(&img, &opts) {
-        Ok(p) => p,
+    let Extraction { pixels, census } = match extract(&img, &opts) {
+        Ok(found) => found,
         Err(e) => bail!("{report}{e}"),
     };
-    if let Mode::Markers(filter) = opts.mode {
-        report.push_str(&census_report(&marker_census(&img, &opts, &filter)?));
+    if let Some(c) = &census {
+        report.push_str(&census_report(c));
     }
-    let points = digitize(&img, &opts)?;
+    let points = to_data(&opts, &pixels);
     let suspects = suspect_points(
         &img,
         &pixels,

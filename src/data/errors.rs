@@ -54,18 +54,7 @@ pub(crate) fn check_data_folder(dir: &Path) -> Result<()> {
 /// bad byte), give a located [`GearError::Data`].
 pub(crate) fn read_text(path: &Path) -> Result<String> {
     if path.is_dir() {
-        let rig = path.join("rig.toml");
-        let hint = if rig.is_file() {
-            format!("; did you mean {}?", rig.display())
-        } else {
-            String::new()
-        };
-        return Err(data_error(
-            path,
-            0,
-            WHOLE_FILE,
-            format!("is a folder, not a file{hint}"),
-        ));
+        return Err(data_error(path, 0, WHOLE_FILE, "is a folder, not a file"));
     }
     let bytes = std::fs::read(path).map_err(|e| {
         let what = match e.kind() {

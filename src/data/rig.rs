@@ -475,8 +475,22 @@ fn parse_error(doc: &TomlDoc, text: &str, e: &toml::de::Error) -> GearError {
 }
 
 /// Read and validate every table of a `rig.toml`.
+/// The text of a rig.toml; a data set's folder given instead (`--rig data/munro`) names the
+/// file meant.
+fn read_rig_text(path: &Path) -> Result<String> {
+    let inside = path.join("rig.toml");
+    if path.is_dir() && inside.is_file() {
+        let hint = format!(
+            "is a folder, not a file; did you mean {}?",
+            inside.display()
+        );
+        return Err(data_error(path, 0, WHOLE_FILE, hint));
+    }
+    read_text(path)
+}
+
 fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
-    let text = read_text(path)?;
+    let text = read_rig_text(path)?;
     let doc = TomlDoc::new(path, &text);
     let t: RigToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
     let rig = RigFile {
@@ -507,7 +521,7 @@ pub fn load_gear_pair(path: &Path) -> Result<(Rig, Option<SteTable>)> {
         #[serde(default)]
         ste: Option<SteTable>,
     }
-    let text = read_text(path)?;
+    let text = read_rig_text(path)?;
     let doc = TomlDoc::new(path, &text);
     let t: GearPairToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
     if let Some(p) = t.rig.first_problem() {

@@ -93,9 +93,27 @@ pub struct DigitizeOptions {
 /// Errors when the crop box leaves the image, the tolerance is not a finite non-negative number,
 /// no pixel of the colour is found, or (marker mode) no blob passes the filter.
 pub fn extract_pixels(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64, f64)>> {
+    Ok(extract(img, opts)?.pixels)
+}
+
+/// What [`extract`] found.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Extraction {
+    /// Points of the curve in pixel coordinates (column, row), in the order found.
+    pub pixels: Vec<(f64, f64)>,
+    /// In marker mode, the markers found, the blobs rejoined and those left out, by reason.
+    pub census: Option<MarkerCensus>,
+}
+
+/// As [`extract_pixels`], with the marker census in marker mode, from the same one pass over
+/// the image.
+pub fn extract(img: &RgbImage, opts: &DigitizeOptions) -> Result<Extraction> {
     let mask = colour_mask(img, opts)?;
     match opts.mode {
-        Mode::Line { multi } => Ok(line::column_points(&mask, multi)),
+        Mode::Line { multi } => Ok(Extraction {
+            pixels: line::column_points(&mask, multi),
+            census: None,
+        }),
         Mode::Markers(filter) => {
             let census = markers::marker_census(&mask, &filter);
             if census.points.is_empty() {
@@ -113,7 +131,10 @@ pub fn extract_pixels(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64
                     census.left_out_text()
                 )));
             }
-            Ok(census.points)
+            Ok(Extraction {
+                pixels: census.points.clone(),
+                census: Some(census),
+            })
         }
     }
 }
@@ -122,17 +143,6 @@ pub fn extract_pixels(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64
 fn colour_mask(img: &RgbImage, opts: &DigitizeOptions) -> Result<Mask> {
     let region = Region::new(img, opts.crop)?;
     Mask::new(img, region, opts.color, opts.tolerance)
-}
-
-/// The markers found under `filter` and the counts of the blobs left out (see
-/// [`MarkerCensus`]); errors as [`extract_pixels`] does except when no blob passes the filter.
-pub fn marker_census(
-    img: &RgbImage,
-    opts: &DigitizeOptions,
-    filter: &MarkerFilter,
-) -> Result<MarkerCensus> {
-    let mask = colour_mask(img, opts)?;
-    Ok(markers::marker_census(&mask, filter))
 }
 
 /// The blob sizes of the marker colour in the searched box (see [`MarkerSizes`]), for choosing
@@ -153,12 +163,18 @@ pub fn marker_sizes(
 pub fn digitize(img: &RgbImage, opts: &DigitizeOptions) -> Result<Vec<(f64, f64)>> {
     opts.x.validate()?;
     opts.y.validate()?;
-    let mut points: Vec<(f64, f64)> = extract_pixels(img, opts)?
-        .into_iter()
-        .map(|(c, r)| (opts.x.to_value(c), opts.y.to_value(r)))
+    Ok(to_data(opts, &extract_pixels(img, opts)?))
+}
+
+/// Pixel points (column, row) in data units through the calibrations of `opts`, sorted by x
+/// (then y).
+pub fn to_data(opts: &DigitizeOptions, pixels: &[(f64, f64)]) -> Vec<(f64, f64)> {
+    let mut points: Vec<(f64, f64)> = pixels
+        .iter()
+        .map(|&(c, r)| (opts.x.to_value(c), opts.y.to_value(r)))
         .collect();
     points.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    Ok(points)
+    points
 }
 
 #[cfg(test)]

@@ -22,6 +22,7 @@ const COLUMN_GAP: i32 = 16;
 const NOTE_SCALE: f64 = 0.85;
 
 /// A measured legend: its entries, its notes wrapped to the box, and the box size in pixels.
+#[derive(Clone)]
 pub(crate) struct Legend {
     entries: Vec<(String, LegendSample)>,
     notes: Vec<String>,
@@ -48,8 +49,8 @@ pub(crate) enum Placement {
 }
 
 impl Legend {
-    /// Measures the legend of `entries` and `notes` (notes wrapped to the entries' width, at
-    /// least `min_note_w` pixels).
+    /// Measures the legend of `entries` and `notes`, one column of entries with the notes
+    /// wrapped to their width (at least 16 font sizes).
     pub fn measure<DB: DrawingBackend>(
         area: &DrawingArea<DB, Shift>,
         entries: Vec<(String, LegendSample)>,
@@ -63,39 +64,27 @@ impl Legend {
         for (label, _) in &entries {
             text_w = text_w.max(area.estimate_text_size(label, &text).map_err(msg)?.0 as i32);
         }
-        let inner_w = if entries.is_empty() {
+        let entry_w = if entries.is_empty() {
             0
         } else {
             glyph_w + 8 + text_w
         };
-        let note_w = inner_w.max((sz.legend * 16.0) as i32);
-        let mut wrapped = Vec::new();
-        for n in notes {
-            wrapped.extend(wrap(area, n, sz.legend * NOTE_SCALE, note_w as u32)?);
-        }
-        let mut widest_note = 0;
-        for n in &wrapped {
-            widest_note = widest_note.max(area.estimate_text_size(n, &note).map_err(msg)?.0 as i32);
-        }
-        let row_h = (sz.legend * 1.35) as i32;
-        let note_h = (sz.legend * NOTE_SCALE * 1.3) as i32;
-        let size = (
-            2 * PAD + inner_w.max(widest_note),
-            2 * PAD + row_h * entries.len() as i32 + note_h * wrapped.len() as i32,
-        );
-        Ok(Legend {
-            rows: entries.len(),
+        let rows = entries.len();
+        let legend = Legend {
             entries,
-            notes: wrapped,
+            notes: Vec::new(),
             raw_notes: notes.to_vec(),
             glyph_w,
-            entry_w: inner_w,
-            row_h,
-            note_h,
+            entry_w,
+            rows,
+            row_h: (sz.legend * 1.35) as i32,
+            note_h: (sz.legend * NOTE_SCALE * 1.3) as i32,
             text: text.pos(Pos::new(HPos::Left, VPos::Center)),
             note: note.pos(Pos::new(HPos::Left, VPos::Center)),
-            size,
-        })
+            size: (0, 0),
+        };
+        let note_w = entry_w.max((sz.legend * 16.0) as i32);
+        legend.arranged(area, sz, rows, note_w)
     }
 
     /// The legend laid out in as many columns (filled top to bottom) as fit in `max_w` pixels,
@@ -109,14 +98,33 @@ impl Legend {
     ) -> Result<Legend, String> {
         let n = self.entries.len();
         let fit = (max_w - 2 * PAD + COLUMN_GAP) / (self.entry_w + COLUMN_GAP).max(1);
-        let cols = (fit.max(1) as usize).min(n.max(1));
-        let rows = n.div_ceil(cols);
-        // As few columns as hold that many rows: no column is left empty.
-        let cols = if rows == 0 { 1 } else { n.div_ceil(rows) };
-        let entries_w = cols as i32 * self.entry_w + (cols as i32 - 1) * COLUMN_GAP;
-        let note_w = entries_w
+        let rows = n.div_ceil((fit.max(1) as usize).min(n.max(1)));
+        let note_w = self
+            .entries_width(rows)
             .max((sz.legend * 16.0) as i32)
             .min(max_w - 2 * PAD);
+        self.clone().arranged(area, sz, rows, note_w)
+    }
+
+    /// Width of the entries in columns of `rows` (as few columns as hold them all).
+    fn entries_width(&self, rows: usize) -> i32 {
+        let cols = if rows == 0 {
+            1
+        } else {
+            self.entries.len().div_ceil(rows) as i32
+        };
+        cols * self.entry_w + (cols - 1) * COLUMN_GAP
+    }
+
+    /// This legend with its entries in columns of `rows` and its notes wrapped to `note_w`
+    /// pixels, and the box size that makes.
+    fn arranged<DB: DrawingBackend>(
+        mut self,
+        area: &DrawingArea<DB, Shift>,
+        sz: &Sizes,
+        rows: usize,
+        note_w: i32,
+    ) -> Result<Legend, String> {
         let mut notes = Vec::new();
         for raw in &self.raw_notes {
             notes.extend(wrap(
@@ -131,22 +139,13 @@ impl Legend {
             widest_note =
                 widest_note.max(area.estimate_text_size(t, &self.note).map_err(msg)?.0 as i32);
         }
-        Ok(Legend {
-            entries: self.entries.clone(),
-            notes: notes.clone(),
-            raw_notes: self.raw_notes.clone(),
-            glyph_w: self.glyph_w,
-            entry_w: self.entry_w,
-            rows,
-            row_h: self.row_h,
-            note_h: self.note_h,
-            text: self.text.clone(),
-            note: self.note.clone(),
-            size: (
-                2 * PAD + entries_w.max(widest_note),
-                2 * PAD + self.row_h * rows as i32 + self.note_h * notes.len() as i32,
-            ),
-        })
+        self.size = (
+            2 * PAD + self.entries_width(rows).max(widest_note),
+            2 * PAD + self.row_h * rows as i32 + self.note_h * notes.len() as i32,
+        );
+        self.rows = rows;
+        self.notes = notes;
+        Ok(self)
     }
 
     pub fn is_empty(&self) -> bool {

@@ -100,11 +100,36 @@ pub fn jump_location(curve: &[(f64, f64)], factor: f64) -> Option<f64> {
 /// Speed spacing of the step of `curve` (sorted by speed) whose midpoint is `x`, as
 /// [`jump_location`] and [`transition_location`] return it: a jump lies somewhere within that
 /// step, so its speed is known to half of it.
-pub fn step_width_at(curve: &[(f64, f64)], x: f64) -> Option<f64> {
+fn step_width_at(curve: &[(f64, f64)], x: f64) -> Option<f64> {
     curve
         .windows(2)
         .find(|w| (0.5 * (w[0].0 + w[1].0) - x).abs() <= 1e-9 * x.abs().max(1.0))
         .map(|w| w[1].0 - w[0].0)
+}
+
+/// The model's step location `at_model` on `model` less the measured one `at_measured` on
+/// `measured` (None unless both curves have one), and how finely the two grids place that
+/// difference: half of each curve's speed step there.
+pub fn location_error(
+    (measured, at_measured): (&[(f64, f64)], Option<f64>),
+    (model, at_model): (&[(f64, f64)], Option<f64>),
+) -> (Option<f64>, Option<f64>) {
+    let Some((m, u)) = at_measured.zip(at_model) else {
+        return (None, None);
+    };
+    let resolution = step_width_at(measured, m)
+        .zip(step_width_at(model, u))
+        .map(|(a, b)| 0.5 * (a + b));
+    (Some(u - m), resolution)
+}
+
+/// A location error as "8 ± 42" followed by `unit`, or without the ± when the resolution is
+/// unknown.
+pub fn location_error_text(error: f64, resolution: Option<f64>, unit: &str) -> String {
+    match resolution {
+        Some(r) => format!("{error:.0} ± {r:.0}{unit}"),
+        None => format!("{error:.0}{unit}"),
+    }
 }
 
 #[cfg(test)]
@@ -168,5 +193,22 @@ mod tests {
         .map(|(i, &v)| (i as f64, v))
         .collect();
         assert_eq!(jump_location(&down, 6.0), Some(5.5));
+    }
+
+    #[test]
+    fn a_location_error_carries_half_of_each_grid_step() {
+        let measured: Vec<(f64, f64)> = (0..10).map(|i| (1000.0 + 50.0 * i as f64, 0.0)).collect();
+        let model: Vec<(f64, f64)> = (0..20).map(|i| (1000.0 + 25.0 * i as f64, 0.0)).collect();
+        // Midpoints of the 1200-1250 rpm step of the data and the 1250-1275 step of the model.
+        let (e, r) = location_error((&measured, Some(1225.0)), (&model, Some(1262.5)));
+        assert_eq!((e, r), (Some(37.5), Some(37.5)));
+        assert_eq!(location_error_text(37.5, r, " rpm"), "38 ± 38 rpm");
+        // A location that is no step's midpoint has no resolution; no model location, no error.
+        let (e, r) = location_error((&measured, Some(1230.0)), (&model, Some(1262.5)));
+        assert_eq!((e, r), (Some(32.5), None));
+        assert_eq!(
+            location_error((&measured, Some(1225.0)), (&model, None)),
+            (None, None)
+        );
     }
 }

@@ -11,7 +11,7 @@
 //! and, above the resonance, the describing-function solution has contact as the only steady
 //! state; refit until the selection repeats.
 
-use super::curve_metrics::{rms, step_width_at, transition_location};
+use super::curve_metrics::{location_error, location_error_text, rms, transition_location};
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::kubo_swept::fit_whole_curve;
@@ -147,11 +147,9 @@ impl KuboValidation {
     /// The transition error as "-125 ± 75" followed by `unit` (rpm, with the grids'
     /// resolution), or "-" when the envelope or the model has no transition.
     pub fn transition_error_text(&self, unit: &str) -> String {
-        match (self.jump_error_rpm, self.jump_error_resolution_rpm) {
-            (Some(e), Some(r)) => format!("{e:.0} ± {r:.0}{unit}"),
-            (Some(e), None) => format!("{e:.0}{unit}"),
-            (None, _) => "-".to_string(),
-        }
+        self.jump_error_rpm.map_or("-".to_string(), |e| {
+            location_error_text(e, self.jump_error_resolution_rpm, unit)
+        })
     }
 }
 
@@ -270,9 +268,8 @@ pub fn validate_kubo(
     let jump_measured = transition_location(&mid, 6.0);
     let up_curve: Vec<(f64, f64)> = up.iter().map(|u| (u.0, u.1)).collect();
     let jump_up = transition_location(&up_curve, 6.0);
-    let resolution = jump_measured
-        .zip(jump_up)
-        .and_then(|(m, u)| Some(0.5 * (step_width_at(&mid, m)? + step_width_at(&up_curve, u)?)));
+    let (jump_error_rpm, jump_error_resolution_rpm) =
+        location_error((&mid, jump_measured), (&up_curve, jump_up));
     Ok(KuboValidation {
         fit: par.fit,
         ci95_profile: par.profile,
@@ -292,8 +289,8 @@ pub fn validate_kubo(
             .collect(),
         inside_fraction: inside as f64 / data.points.len().max(1) as f64,
         outside_rms: rms(&outside),
-        jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
-        jump_error_resolution_rpm: resolution,
+        jump_error_rpm,
+        jump_error_resolution_rpm,
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
         up,

@@ -9,7 +9,7 @@
 //! zeta, omega_n (and the relief depth when asked) fitted to the design-load curve alone. The
 //! geometry path is run beside the per-curve one, so that both are reported side by side.
 
-use super::curve_metrics::{jump_location, min_max, rms, step_width_at};
+use super::curve_metrics::{jump_location, location_error, location_error_text, min_max, rms};
 use super::design_fit::{
     fit_design_geometry, fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA,
 };
@@ -620,7 +620,10 @@ fn predict_load(
             .collect::<Vec<_>>()
     };
     let jump_measured = jump_location(&measured, 6.0);
-    let jump_up = jump_location(&curve_of(&up), 6.0);
+    let up_curve = curve_of(&up);
+    let jump_up = jump_location(&up_curve, 6.0);
+    let (jump_error_rpm, jump_error_resolution_rpm) =
+        location_error((&measured, jump_measured), (&up_curve, jump_up));
     let jump_down = jump_location(&curve_of(&down), 6.0);
     Ok(LoadResult {
         load_n: load,
@@ -638,12 +641,8 @@ fn predict_load(
         not_period1_points: cmp.not_period1.len(),
         not_period1_measured_um: min_max(cmp.not_period1.iter().map(|p| p.0)),
         not_period1_model_um: min_max(cmp.not_period1.iter().map(|p| p.1)),
-        jump_error_rpm: jump_measured.zip(jump_up).map(|(m, u)| u - m),
-        jump_error_resolution_rpm: jump_measured.zip(jump_up).and_then(|(m, u)| {
-            let data_step = step_width_at(&measured, m)?;
-            let model_step = step_width_at(&curve_of(&up), u)?;
-            Some(0.5 * (data_step + model_step))
-        }),
+        jump_error_rpm,
+        jump_error_resolution_rpm,
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
         jump_down_rpm: jump_down,
@@ -683,10 +682,7 @@ impl LoadResult {
         match (self.jump_measured_rpm, self.jump_error_rpm) {
             (None, _) => "- (no jump in the data)".to_string(),
             (Some(_), None) => "- (no jump in the model's speed-up sweep)".to_string(),
-            (Some(_), Some(e)) => match self.jump_error_resolution_rpm {
-                Some(r) => format!("{e:.0} ± {r:.0}{unit}"),
-                None => format!("{e:.0}{unit}"),
-            },
+            (Some(_), Some(e)) => location_error_text(e, self.jump_error_resolution_rpm, unit),
         }
     }
 }
