@@ -114,7 +114,7 @@ pub(super) fn profiled_refit(
             cand: c.candidate,
             fit: &current.fit,
         };
-        let (lo, hi) = match problem.interval(own_wald) {
+        let (lo, hi) = match problem.interval(own_wald)? {
             Profile::Interval(lo, hi) => (lo, hi),
             Profile::Better(start) => {
                 match continued(setup, train, current, c.candidate, &start, iters)? {
@@ -127,7 +127,7 @@ pub(super) fn profiled_refit(
         let wald_arc = wald_phase_arc(c.candidate, &current.fit.lm);
         let phase_arc = if phase_profile && c.candidate.has_phase() {
             let half = wald_arc.map(|(a, b)| (0.5 * (b - a)).to_radians());
-            match problem.phase_arc(half) {
+            match problem.phase_arc(half)? {
                 PhaseProfile::Arc(lo, hi) => Some(phase_hull(
                     Candidate::first_phase(&current.fit.effect.delta),
                     (lo, hi),

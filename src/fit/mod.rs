@@ -10,6 +10,7 @@ mod lm;
 mod noise;
 mod params;
 mod profile;
+mod profile_search;
 
 pub use estimate::{
     estimate, Estimate, EstimateOptions, NoiseFit, NoiseSetting, NoiseSource, Robust,
@@ -21,3 +22,4 @@ pub use noise::{
 };
 pub use params::{Param, Transform};
 pub use profile::{profile_interval, ProfileInterval};
+pub use profile_search::{search_side, Fitted, InnerFit, SearchOptions, SideEnd};

@@ -12,30 +12,25 @@
 //! far as the quadratic approximation says (or than the threshold) is fitted again from the
 //! ridge (the others' regression on the profiled parameter under the fit's information
 //! matrix, the linear approximation to the profile trace, Bates & Watts 1988, Sec. 6.1) and
-//! from the estimate, the least of the fits kept; and the root search gets a bracket whose
-//! outside end was fitted from its inside end, a quarter of a standard error away
-//! ([`Profile::bracket`]). Without this, the profile of zeta on two envelopes of tooth pairs
-//! that jump at their own speeds (tests/data/independent-kubo) rose by 18 and 45 q^2 within a
-//! hundredth of a standard error of the estimate and ended there; now it is a parabola to
-//! beyond 1.5 standard errors.
+//! from the estimate, the least of the fits kept; and the root search
+//! ([`super::profile_search`]) gets a bracket whose outside end was fitted from its inside
+//! end, a quarter of a standard error away. Without this, the profile of zeta on two envelopes
+//! of tooth pairs that jump at their own speeds (tests/data/independent-kubo) rose by 18 and 45
+//! q^2 within a hundredth of a standard error of the estimate and ended there; now it is a
+//! parabola to beyond 1.5 standard errors.
 //!
-//! A step that no start avoids is not a confidence bound: it says on which side of one
-//! measured speed a jump falls, not how far the parameter may move. A side whose root is such
-//! a step (the profile rises by more than the threshold between two points a hundredth of a
-//! standard error apart) ends at the Wald end instead, or at the step if that is farther.
+//! A side whose root is a step that no start avoids (see [`super::profile_search`]) ends at the
+//! Wald end instead, or at the step if that is farther.
 
 use super::estimate::{pinv_sym, Estimate};
 use super::lm::{least_squares, rss, Stop};
 use super::noise::{deviance_residual, Distribution};
 use super::params::{restarted, Param};
+use super::profile_search::{search_side, Fitted, InnerFit, SearchOptions, SideEnd};
 use crate::error::Result;
-use crate::hb::brent;
 use nalgebra::{DMatrix, DVector};
 use serde::Serialize;
 
-/// Points of the bracketing out from the estimate, 1, 2, 4, ... standard errors (internal
-/// coordinates), before a side is declared unbounded.
-const MAX_DOUBLINGS: usize = 12;
 /// Width of the bracket handed to the root search, in standard errors: its outside end was
 /// fitted from a start at most this far away.
 const BRACKET_WIDTH: f64 = 0.25;
@@ -43,18 +38,12 @@ const BRACKET_WIDTH: f64 = 0.25;
 /// any report prints, and reached by Brent's method in a handful of profile fits where 30
 /// bisections took thirty.
 const END_TOLERANCE: f64 = 1e-6;
-/// The profile's excess over its target is capped at this many times the target's distance
-/// from the minimum before the root search (a profile point that cannot be fitted is
-/// infinite; the cap keeps Brent's interpolation finite and makes it bisect there).
-const EXCESS_CAP: f64 = 1e3;
+/// Inner fits per side at most: a walk out by factors of 1.25 or more from one standard error
+/// to 2^11 takes at most 35, a bracket a few halvings, Brent's method a dozen.
+const MAX_FITS_PER_SIDE: usize = 80;
 /// A profile point whose rise over the minimum is this many times what the quadratic model
 /// predicts there (or the threshold, if larger) is fitted again from the other starts.
 const SURPRISE: f64 = 2.0;
-/// A profile that rises by more than the threshold q^2 within this many standard errors (or
-/// four times the root search's tolerance, if wider) has stepped, not risen: where smooth, its
-/// slope at the threshold is 2 q per standard error (about 4), so it rises by 0.04 in 0.01, a
-/// hundredth of the threshold.
-const STEP_WIDTH: f64 = 0.01;
 
 /// A profile-likelihood 95% interval.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -100,10 +89,6 @@ where
         stepped: [lo.is_some_and(|e| e.1), hi.is_some_and(|e| e.1)],
     })
 }
-
-/// A profile point: its distance u from the estimate (internal coordinate, signed) and the
-/// excess of the profile there over the threshold.
-type ProfilePoint = (f64, f64);
 
 /// The profile of one parameter, in its internal coordinate u measured from the estimate.
 struct Profile<'a, M> {
@@ -227,7 +212,7 @@ where
 
     /// The profile at u: fitted from `nearest` (the fit of the nearest point inside), and where
     /// that comes out surprisingly high also from the ridge and the estimate, the least kept.
-    fn fit_at(&self, u: f64, nearest: &[Param]) -> Result<(f64, Option<Vec<f64>>)> {
+    fn least_at(&self, u: f64, nearest: &[Param]) -> Result<(f64, Option<Vec<f64>>)> {
         let (mut value, mut fitted) = self.fit_from(u, nearest)?;
         // In chi-square units a quadratic sum of squares rises by (u / se)^2.
         let quadratic = (u / self.se).powi(2);
@@ -253,137 +238,48 @@ where
         Ok((value, fitted))
     }
 
-    /// The end on side `dir` (-1 or 1): a bracket ([`Profile::bracket`]), then Brent's
-    /// method in it; with whether the profile stepped there ([`Profile::end_beyond`]).
+    /// The end on side `dir` (-1 or 1), with whether the profile stepped there: the root
+    /// search's end, or where it stepped the Wald end if that is farther (see the module's
+    /// notes); None where the profile stays inside.
     fn side(&self, dir: f64) -> Result<Option<(f64, bool)>> {
-        // The fitted other parameters at the points found inside the interval, by distance
-        // from the estimate: each inner fit starts from the nearest of them on the estimate's
-        // side (a start from a point outside may have crossed a step).
-        let mut inside: Vec<(f64, Vec<Param>)> = vec![(0.0, self.others.clone())];
-        let mut evaluated: Vec<(f64, f64)> = Vec::new();
-        let cap = EXCESS_CAP * self.rise;
-        let mut excess = |u: f64| -> Result<f64> {
-            let d = u.abs();
-            let nearest = inside
-                .iter()
-                .filter(|(x, _)| *x <= d)
-                .max_by(|a, b| a.0.total_cmp(&b.0))
-                .map_or(&self.others, |(_, p)| p);
-            let (value, fitted) = self.fit_at(u, nearest)?;
-            let e = (value - self.minimum - self.rise).min(cap);
-            // A point fitted again (from a nearer start) keeps only its latest value.
-            evaluated.retain(|(x, _)| *x != d);
-            evaluated.push((d, e));
-            if let (true, Some(p)) = (e <= 0.0, fitted) {
-                inside.push((d, restarted(&self.others, &p)));
-            }
-            Ok(e)
+        let q = self.rise.sqrt();
+        let options = SearchOptions {
+            first_step: self.se,
+            se: self.se,
+            q,
+            limit: None,
+            max_fits: MAX_FITS_PER_SIDE,
+            accept: 0.0,
+            bracket_width: Some(BRACKET_WIDTH),
+            tolerance: self.tolerance,
+            better_by: None,
         };
-        let Some(((lo, f_lo), (hi, f_hi))) = self.bracket(dir, &mut excess)? else {
-            return Ok(None);
+        let (distance, stepped) = match search_side(self, self.others.clone(), dir, options)? {
+            SideEnd::At { distance, stepped } => (distance, stepped && self.se_known),
+            SideEnd::Limit | SideEnd::Open | SideEnd::Better { .. } => return Ok(None),
         };
-        // An error inside Brent's search counts as outside, as above; it is kept and returned
-        // after the search.
-        let mut failed = None;
-        let root = brent(
-            |u| {
-                excess(u).unwrap_or_else(|e| {
-                    failed.get_or_insert(e);
-                    cap
-                })
-            },
-            lo,
-            hi,
-            f_lo,
-            f_hi,
-            self.tolerance,
-        );
-        if let Some(e) = failed {
-            return Err(e);
-        }
-        let (end, stepped) = self.end_beyond(root.abs(), &evaluated);
+        let end = if stepped {
+            distance.max(self.est.quantile[self.index] * self.se)
+        } else {
+            distance
+        };
         let t = self.est.param_defs[self.index].transform;
         Ok(Some((t.value(self.centre + dir * end), stepped)))
     }
-
-    /// A point inside and one outside on side `dir`, with their excesses over the threshold,
-    /// at most [`BRACKET_WIDTH`] standard errors apart, the outside one fitted from the inside
-    /// one; None when the profile stays inside to 2^11 standard errors. Out from one standard
-    /// error by doublings, then halvings; where the outside point had been fitted from farther
-    /// in, it is fitted again from the inside one, and if it is then inside the doublings go
-    /// on (from a start a standard error away, an inner fit on a sum of squares with many small
-    /// steps ended on a ledge above the threshold, where a start a quarter of one away did
-    /// not: set-084 of tools/indep-synth batch 515).
-    fn bracket(
-        &self,
-        dir: f64,
-        excess: &mut impl FnMut(f64) -> Result<f64>,
-    ) -> Result<Option<(ProfilePoint, ProfilePoint)>> {
-        let mut inner = (0.0, -self.rise);
-        let mut outer = (dir * self.se, excess(dir * self.se)?);
-        // Whether `outer` was fitted from `inner` (the nearest start inside when it was).
-        let mut outer_from_inner = true;
-        let mut doublings = 1;
-        // Each pass doubles, halves the bracket or refits its outside end, so the bound is
-        // generous (11 doublings, 13 halvings from 2^11 standard errors and a refit after each).
-        for _ in 0..4 * (MAX_DOUBLINGS + 16) {
-            if outer.1 <= 0.0 {
-                if doublings == MAX_DOUBLINGS {
-                    return Ok(None);
-                }
-                doublings += 1;
-                inner = outer;
-                outer.0 *= 2.0;
-                outer.1 = excess(outer.0)?;
-                outer_from_inner = true;
-            } else if (outer.0 - inner.0).abs() > BRACKET_WIDTH * self.se {
-                let mid = 0.5 * (inner.0 + outer.0);
-                let f_mid = excess(mid)?;
-                if f_mid > 0.0 {
-                    outer = (mid, f_mid);
-                    outer_from_inner = true;
-                } else {
-                    inner = (mid, f_mid);
-                    outer_from_inner = false;
-                }
-            } else if outer_from_inner {
-                return Ok(Some((inner, outer)));
-            } else {
-                outer.1 = excess(outer.0)?;
-                outer_from_inner = true;
-            }
-        }
-        Ok((outer.1 > 0.0).then_some((inner, outer)))
-    }
-
-    /// The end's distance from the estimate, given the root search's: the root, or where the
-    /// profile stepped there (see the module's notes), the Wald end if that is farther; and
-    /// whether it stepped.
-    fn end_beyond(&self, root: f64, evaluated: &[(f64, f64)]) -> (f64, bool) {
-        let width = (STEP_WIDTH * self.se).max(4.0 * self.tolerance);
-        if self.se_known && steps_up(evaluated, width, self.rise) {
-            (root.max(self.est.quantile[self.index] * self.se), true)
-        } else {
-            (root, false)
-        }
-    }
 }
 
-/// Whether the profile evaluated at `evaluated` (distance from the estimate, excess over the
-/// threshold) steps up by more than `rise` (the threshold's height) between the last point
-/// inside and the first outside, these closer than `width`: a jump, not a rise.
-fn steps_up(evaluated: &[(f64, f64)], width: f64, rise: f64) -> bool {
-    let inside = evaluated
-        .iter()
-        .filter(|(_, e)| *e <= 0.0)
-        .max_by(|a, b| a.0.total_cmp(&b.0));
-    let outside = evaluated
-        .iter()
-        .filter(|(_, e)| *e > 0.0)
-        .min_by(|a, b| a.0.total_cmp(&b.0));
-    match (inside, outside) {
-        (Some(i), Some(o)) => o.0 - i.0 <= width && o.1 - i.1 > rise,
-        _ => false,
+impl<M> InnerFit for Profile<'_, M>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    type Start = Vec<Param>;
+
+    fn fit_at(&self, u: f64, start: &Vec<Param>) -> Result<Fitted<Vec<Param>>> {
+        let (value, fitted) = self.least_at(u, start)?;
+        Ok(Fitted {
+            rise: value - self.minimum,
+            fitted: fitted.map(|p| restarted(&self.others, &p)),
+        })
     }
 }
 

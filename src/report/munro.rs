@@ -417,6 +417,58 @@ fn load_figures(
 ) -> Result<()> {
     let kind = data.rig.source.kind.name();
     let stem = format!("load_{:.0}", l.load_n);
+    let geo = r.geometry.as_ref().and_then(|g| {
+        g.loads
+            .iter()
+            .find(|x| crate::data::same_load(x.load_n, l.load_n))
+    });
+    let series = load_series(data, figures, l, geo);
+    let plot = XyPlot {
+        title: format!(
+            "{} N{} ({kind} data)",
+            l.load_n,
+            if l.fitted {
+                ", design load, fitted"
+            } else {
+                ", predicted"
+            }
+        ),
+        caption: Some(load_caption(r, l, geo)),
+        x_label: "speed (rpm)".into(),
+        y_label: "pp dynamic transmission error (um)".into(),
+        series,
+        ..XyPlot::default()
+    };
+    write_xy(&plot, &stage.path(&stem))?;
+    let res = XyPlot {
+        title: format!("Residuals at {} N ({kind} data)", l.load_n),
+        caption: Some(format!(
+            "{} minus the nearer model branch (up or down)",
+            measured_label(data.rig.source.kind)
+        )),
+        x_label: "speed (rpm)".into(),
+        y_label: "residual (um)".into(),
+        series: vec![Series::markers("residual", l.residuals.clone())],
+        ..XyPlot::default()
+    };
+    write_xy(&res, &stage.path(&format!("{stem}_residuals")))?;
+    page.heading(&format!("{} N", l.load_n));
+    page.image(&format!("{stem}.png"), &format!("pp DTE at {} N", l.load_n));
+    page.image(
+        &format!("{stem}_residuals.png"),
+        &format!("residuals at {} N", l.load_n),
+    );
+    Ok(())
+}
+
+/// The series of load `l`'s figure: measured, the model's sweeps, the geometry path's (`geo`)
+/// when it ran, and every attractor (transient sets apart).
+fn load_series(
+    data: &MunroData,
+    figures: &MunroFigures,
+    l: &LoadResult,
+    geo: Option<&LoadResult>,
+) -> Vec<Series> {
     let mut series = vec![
         Series::markers(measured_label(data.rig.source.kind), l.measured.clone())
             .with_color(0)
@@ -432,11 +484,6 @@ fn load_figures(
         )
         .with_color(2),
     ];
-    let geo = r.geometry.as_ref().and_then(|g| {
-        g.loads
-            .iter()
-            .find(|x| crate::data::same_load(x.load_n, l.load_n))
-    });
     if let Some(gl) = geo {
         series.push(
             Series::line(
@@ -480,17 +527,13 @@ fn load_figures(
             all.outside_range()
         });
     }
-    let plot = XyPlot {
-        title: format!(
-            "{} N{} ({kind} data)",
-            l.load_n,
-            if l.fitted {
-                ", design load, fitted"
-            } else {
-                ", predicted"
-            }
-        ),
-        caption: Some(match (geo, r.geometry.as_ref()) {
+    series
+}
+
+/// The caption of load `l`'s figure: the forcing and the fitted parameters, from the curve's
+/// STE and, when the geometry path ran, from the geometry's.
+fn load_caption(r: &MunroValidation, l: &LoadResult, geo: Option<&LoadResult>) -> String {
+    match (geo, r.geometry.as_ref()) {
             (Some(gl), Some(g)) => format!(
                 "STE from the curve {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz | from the geometry {:.2} µm: F_hat {:.2}, ζ {:.4}, ωₙ {:.0} Hz",
                 l.ste_um, l.force_ratio, r.zeta, r.omega_n_hz,
@@ -506,32 +549,7 @@ fn load_figures(
                 r.zeta,
                 r.omega_n_hz
             ),
-        }),
-        x_label: "speed (rpm)".into(),
-        y_label: "pp dynamic transmission error (um)".into(),
-        series,
-        ..XyPlot::default()
-    };
-    write_xy(&plot, &stage.path(&stem))?;
-    let res = XyPlot {
-        title: format!("Residuals at {} N ({kind} data)", l.load_n),
-        caption: Some(format!(
-            "{} minus the nearer model branch (up or down)",
-            measured_label(data.rig.source.kind)
-        )),
-        x_label: "speed (rpm)".into(),
-        y_label: "residual (um)".into(),
-        series: vec![Series::markers("residual", l.residuals.clone())],
-        ..XyPlot::default()
-    };
-    write_xy(&res, &stage.path(&format!("{stem}_residuals")))?;
-    page.heading(&format!("{} N", l.load_n));
-    page.image(&format!("{stem}.png"), &format!("pp DTE at {} N", l.load_n));
-    page.image(
-        &format!("{stem}_residuals.png"),
-        &format!("residuals at {} N", l.load_n),
-    );
-    Ok(())
+        }
 }
 
 /// The fitted parameters first: estimate, 95% intervals (Fisher, sandwich, profile), unit,
