@@ -101,6 +101,11 @@ pub(super) fn optional(
 impl Rig {
     /// The first out-of-range value, if any (see each field for its range).
     pub(crate) fn first_problem(&self) -> Option<RigProblem> {
+        self.gear_problem().or_else(|| self.stated_problem())
+    }
+
+    /// The first out-of-range value of the gears, the design load and the backlash.
+    fn gear_problem(&self) -> Option<RigProblem> {
         let teeth = "fewer than 5 teeth: not a practical involute gear";
         let z1 = self.pinion_teeth as f64;
         let z2 = self.gear_teeth as f64;
@@ -159,16 +164,19 @@ impl Rig {
                 "a backlash above 10 mm is a unit mistake",
             )
         })
-        .or_else(|| {
-            optional(self.mesh_stiffness_n_per_um, |v| {
-                positive("mesh_stiffness_n_per_um", v).or_else(|| {
-                    require(
-                        "mesh_stiffness_n_per_um",
-                        v,
-                        (0.01..=1e5).contains(&v),
-                        "mesh stiffness must be in [0.01, 1e5] N/um (steel spur gears: 5 to 2000)",
-                    )
-                })
+    }
+
+    /// The first out-of-range value of the optional stated parameters (stiffness, contact
+    /// ratio, zeta, omega_n, test load).
+    fn stated_problem(&self) -> Option<RigProblem> {
+        optional(self.mesh_stiffness_n_per_um, |v| {
+            positive("mesh_stiffness_n_per_um", v).or_else(|| {
+                require(
+                    "mesh_stiffness_n_per_um",
+                    v,
+                    (0.01..=1e5).contains(&v),
+                    "mesh stiffness must be in [0.01, 1e5] N/um (steel spur gears: 5 to 2000)",
+                )
             })
         })
         .or_else(|| {
