@@ -209,21 +209,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 value_ci(r.zeta, r.fit.estimate.ci95[0], 4),
                 value_ci(r.omega_n_hz, r.fit.estimate.ci95[1], 1)
             );
-            let n = &r.fit.estimate.noise;
             s.push_str(&format!(
-                "noise: floor {:.3} um, relative {:.4}, {}{}\n",
-                n.model.floor,
-                n.model.relative,
-                match n.model.distribution {
-                    geardyn::fit::Distribution::Gaussian => "Gaussian".to_string(),
-                    geardyn::fit::Distribution::StudentT { dof } =>
-                        format!("Student-t ({dof} dof)"),
-                },
-                if n.outliers.is_empty() {
-                    String::new()
-                } else {
-                    format!(", {} outlying points", n.outliers.len())
-                }
+                "noise: {}\n",
+                geardyn::report::noise_summary(&r.fit.estimate)
             ));
             if r.geometry.is_some() {
                 s.push_str("STE read from each curve:\n");

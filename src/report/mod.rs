@@ -95,6 +95,62 @@ pub fn data_kind_banner(rig: &RigFile) -> String {
     }
 }
 
+/// One line on the noise of an engine fit: its model (or the stated per-point scales), the
+/// error law and the outliers, and where the noise was stated, whether the scatter about the
+/// fit agrees with it ([`crate::fit::NoiseFit::stated_noise_p`], flagged below 0.01).
+pub fn noise_summary(e: &crate::fit::Estimate) -> String {
+    use crate::fit::{Distribution, NoiseSource};
+    let n = &e.noise;
+    let model = match n.source {
+        NoiseSource::PerPoint => {
+            let (lo, hi) = n
+                .scales
+                .iter()
+                .fold((f64::INFINITY, 0.0_f64), |(a, b), s| (a.min(*s), b.max(*s)));
+            format!("stated per point (dte_pp_sd_um column), {lo:.3}-{hi:.3} um")
+        }
+        NoiseSource::Stated => format!(
+            "stated floor {:.3} um, relative {:.4}",
+            n.model.floor, n.model.relative
+        ),
+        NoiseSource::Estimated => format!(
+            "floor {:.3} um, relative {:.4}",
+            n.model.floor, n.model.relative
+        ),
+        NoiseSource::Proportional => {
+            format!("proportional to the level, {:.4} of it", n.model.relative)
+        }
+    };
+    let law = match n.model.distribution {
+        Distribution::Gaussian => "Gaussian".to_string(),
+        Distribution::StudentT { dof } => format!("Student-t ({dof} dof)"),
+    };
+    let outliers = if n.outliers.is_empty() {
+        String::new()
+    } else {
+        format!(", {} outlying points", n.outliers.len())
+    };
+    let check = match n.stated_noise_p {
+        Some(p) if p < 0.01 => format!(
+            "; WARNING: chi-square {:.1} on {} degrees of freedom (two-sided p {}): the stated noise is {} the scatter about the fit",
+            e.chi_square,
+            e.residual_dof,
+            if p < 0.001 { "< 0.001".to_string() } else { format!("{p:.3}") },
+            if e.chi_square < e.residual_dof as f64 {
+                "larger than"
+            } else {
+                "smaller than (or the model falls short of)"
+            }
+        ),
+        Some(p) => format!(
+            "; chi-square {:.1} on {} degrees of freedom agrees with it (p {p:.2})",
+            e.chi_square, e.residual_dof
+        ),
+        None => String::new(),
+    };
+    format!("{model}, {law}{outliers}{check}")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -619,20 +619,33 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         page.paragraph(STEPPED_NOTE);
     }
     let n = &e.noise;
-    let noise_rows = vec![
-        vec![
-            "noise floor".to_string(),
-            format!("{:.4}", n.model.floor),
-            n.floor_ci95.map_or("stated".into(), |c| pair(c, 4)),
+    let noise_rows = if n.source == crate::fit::NoiseSource::PerPoint {
+        let (lo, hi) = n
+            .scales
+            .iter()
+            .fold((f64::INFINITY, 0.0_f64), |(a, b), s| (a.min(*s), b.max(*s)));
+        vec![vec![
+            "noise standard deviation per point".to_string(),
+            format!("{lo:.4} .. {hi:.4}"),
+            "stated (dte_pp_sd_um column)".into(),
             "µm".into(),
-        ],
+        ]]
+    } else {
         vec![
-            "noise relative part".to_string(),
-            format!("{:.4}", n.model.relative),
-            n.relative_ci95.map_or("-".into(), |c| pair(c, 4)),
-            "of the level".into(),
-        ],
-    ];
+            vec![
+                "noise floor".to_string(),
+                format!("{:.4}", n.model.floor),
+                n.floor_ci95.map_or("stated".into(), |c| pair(c, 4)),
+                "µm".into(),
+            ],
+            vec![
+                "noise relative part".to_string(),
+                format!("{:.4}", n.model.relative),
+                n.relative_ci95.map_or("-".into(), |c| pair(c, 4)),
+                "of the level".into(),
+            ],
+        ]
+    };
     page.heading("Noise model (σᵢ² = floor² + (relative · level)²)");
     page.table(&["part", "estimate", "95% interval", "unit"], &noise_rows);
     let dist = match n.model.distribution {
@@ -648,16 +661,31 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         crate::fit::NoiseSource::Proportional => "proportional to the level",
     };
     page.paragraph(&format!(
-        "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom. Points beyond the Bonferroni bound: {}. The design load's teeth {} in contact at every measured speed under the fit. Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
+        "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom{}. Points beyond the Bonferroni bound: {}. The design load's teeth {} in contact at every measured speed under the fit. Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
         n.robust_lr.map_or("not computed".into(), |v| format!("{v:.2} (Student-t kept above 2.71)")),
         e.chi_square,
         e.residual_dof,
+        stated_check(e),
         if n.outliers.is_empty() { "none".to_string() } else { n.outliers.len().to_string() },
         if r.design_load_in_contact { "stay" } else { "do NOT stay (the linear fit model is then approximate)" },
         r.mesh_stiffness_n_per_um,
         r.stiffness_source_text,
         r.half_backlash_um
     ));
+}
+
+/// Whether a stated noise agrees with the scatter about the fit
+/// ([`crate::fit::NoiseFit::stated_noise_p`]), for the noise paragraph.
+fn stated_check(e: &crate::fit::Estimate) -> String {
+    match e.noise.stated_noise_p {
+        Some(p) if p < 0.01 => format!(
+            " (two-sided p {}: the stated noise does NOT match the scatter about the fit; it is {} it)",
+            if p < 0.001 { "< 0.001".to_string() } else { format!("{p:.3}") },
+            if e.chi_square < e.residual_dof as f64 { "larger than" } else { "smaller than" }
+        ),
+        Some(p) => format!(" (two-sided p {p:.2}: the stated noise agrees with the scatter)"),
+        None => String::new(),
+    }
 }
 
 /// Human wording of where an STE amplitude came from.
