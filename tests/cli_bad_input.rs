@@ -198,3 +198,26 @@ fn semicolon_csv_in_a_data_set() {
         "partial output written"
     );
 }
+
+/// `synth kubo` cannot hide the Munro-only effects: refused (no set whose truth records an
+/// effect its curves lack), and no synth writes without `--out` (the shipped sets are never
+/// overwritten by default).
+#[test]
+fn synth_refuses_what_it_cannot_make_and_needs_an_out_folder() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("k");
+    for (flag, value) in [
+        ("--damping-exponent", "2"),
+        ("--torque-ripple-ratio", "0.5"),
+        ("--backlash-factor", "0.7"),
+        ("--sensor-peak-hz", "900"),
+    ] {
+        fails_cleanly(
+            &["synth", "kubo", flag, value, "--out", out.to_str().unwrap()],
+            flag,
+        );
+        assert!(!out.exists(), "{flag}: nothing written");
+    }
+    fails_cleanly(&["synth", "munro"], "--out");
+    fails_cleanly(&["synth", "kubo"], "--out");
+}

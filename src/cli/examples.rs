@@ -67,7 +67,7 @@ Example:
 
 pub const SYNTH: &str = "\
 Examples:
-  geardyn synth munro --out /tmp/m                          # the shipped data/munro, again
+  geardyn synth munro --out /tmp/m                          # data/munro's truth again (its 15 chaotic points at 945 N differ: that set is from the first build)
   geardyn synth munro --ste2-ratio 0.4 --out /tmp/munro-r2  # hide a 2nd STE harmonic (40%)";
 
 pub const BENCH: &str = "\

@@ -66,6 +66,25 @@ struct Hidden {
 }
 
 impl Hidden {
+    /// The effects `synth kubo` cannot make (its envelope model has no load dependence, no
+    /// back-side contact and no measuring chain) are refused, rather than recorded in the
+    /// truth of a set that does not contain them.
+    fn check_kubo(&self) -> anyhow::Result<()> {
+        let munro_only = [
+            ("--damping-exponent", self.damping_exponent != 0.0),
+            ("--backlash-factor", self.backlash_factor != 1.0),
+            ("--torque-ripple-ratio", self.torque_ripple_ratio != 0.0),
+            ("--sensor-peak-hz", self.sensor_peak_hz != 0.0),
+            ("--sensor-peak-gain", self.sensor_peak_gain != 0.0),
+        ];
+        match munro_only.iter().find(|(_, set)| *set) {
+            Some((flag, _)) => anyhow::bail!(
+                "{flag} applies to `synth munro` only: `synth kubo` cannot hide it (its curves would be unchanged)"
+            ),
+            None => Ok(()),
+        }
+    }
+
     fn effects(&self) -> HiddenEffects {
         HiddenEffects {
             stiffness_eps: self.stiffness_eps,
@@ -86,8 +105,8 @@ impl Hidden {
 
 #[derive(ClapArgs, Debug)]
 struct MunroArgs {
-    /// Output folder.
-    #[arg(long, default_value = "data/munro")]
+    /// Output folder (required: the shipped data/munro is never overwritten by default).
+    #[arg(long)]
     out: PathBuf,
     /// True damping ratio ζ (dimensionless), in [0.001, 0.9].
     #[arg(long, default_value_t = 0.0175, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
@@ -108,7 +127,8 @@ struct MunroArgs {
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
     loads: Option<Vec<(f64, f64)>>,
     /// Speed grid, START:STOP:STEP in rpm (Munro's: 1000:5000:50), or `nonuniform` for 81
-    /// speeds drawn at random in 1000-5000 rpm (the studies' fixed draw).
+    /// speeds drawn at random in 1000-5000 rpm (the studies' fixed draw; 79 remain once speeds
+    /// within 1 rpm of another are merged).
     #[arg(long, default_value = "1000:5000:50")]
     speeds: String,
     /// Make the curves with DOP853 at this relative tolerance (dimensionless) instead of the
@@ -122,8 +142,8 @@ struct MunroArgs {
 
 #[derive(ClapArgs, Debug)]
 struct KuboArgs {
-    /// Output folder.
-    #[arg(long, default_value = "data/kubo")]
+    /// Output folder (required: the shipped data/kubo is never overwritten by default).
+    #[arg(long)]
     out: PathBuf,
     /// True damping ratio ζ (dimensionless), in [0.001, 0.9].
     #[arg(long, default_value_t = 0.1, allow_hyphen_values = true, value_parser = real(0.001, 0.9, false))]
@@ -201,6 +221,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.tooth_pairs = usize::from(k.tooth_pairs);
             t.pair_scatter = k.pair_scatter;
             t.dop853_rtol = k.dop853_rtol;
+            k.hidden.check_kubo()?;
             t.hidden = k.hidden.effects();
             check_out_dir("--out", &k.out)?;
             let stage = stage("--out", &k.out)?;
