@@ -221,3 +221,43 @@ fn synth_refuses_what_it_cannot_make_and_needs_an_out_folder() {
     fails_cleanly(&["synth", "munro"], "--out");
     fails_cleanly(&["synth", "kubo"], "--out");
 }
+
+/// `validate kubo --hold-ste` on a rig.toml without an STE at the test load: refused, not
+/// silently fitted.
+#[test]
+fn holding_an_ste_that_is_not_stated_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let data = tmp.path().join("kubo");
+    std::fs::create_dir(&data).unwrap();
+    let rig = std::fs::read_to_string("data/kubo/rig.toml").unwrap();
+    let start = rig.find("[ste]").expect("data/kubo states an STE");
+    let end = rig[start + 1..]
+        .find("\n[")
+        .map_or(rig.len(), |e| start + 2 + e);
+    std::fs::write(
+        data.join("rig.toml"),
+        format!("{}{}", &rig[..start], &rig[end..]),
+    )
+    .unwrap();
+    std::fs::copy(
+        "data/kubo/dynamic_factor.csv",
+        data.join("dynamic_factor.csv"),
+    )
+    .unwrap();
+    let fits = tmp.path().join("fits");
+    fails_cleanly(
+        &[
+            "validate",
+            "kubo",
+            "--data",
+            data.to_str().unwrap(),
+            "--hold-ste",
+            "--fits",
+            fits.to_str().unwrap(),
+            "--reports",
+            tmp.path().join("reports").to_str().unwrap(),
+        ],
+        "--hold-ste",
+    );
+    assert!(!fits.exists());
+}

@@ -220,6 +220,11 @@ pub fn validate_kubo(
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
     let ste_stated = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
+    if opts.hold_ste && ste_stated.is_none() {
+        return Err(GearError::Unsupported(format!(
+            "--hold-ste: rig.toml's [ste] table gives no STE amplitude at the test load {load} N to hold; add it there, or leave --hold-ste out to fit it"
+        )));
+    }
     let ste = SteSetting {
         held: ste_stated.filter(|_| opts.hold_ste),
         start: ste_stated.unwrap_or(1.0),
