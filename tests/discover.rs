@@ -793,3 +793,34 @@ fn linear_start_does_not_end_at_a_negative_natural_frequency() {
         d.omega_n_hz_m0
     );
 }
+
+/// On the design-load curve alone there is nothing to hold out: the held-out chi-square is not
+/// run (no statistic, no p-value, not in Holm's family), rather than a zero statistic with
+/// p 1 that counted as a test.
+#[test]
+fn a_single_load_runs_no_held_out_test() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("design");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy("data/munro/rig.toml", dir.join("rig.toml")).unwrap();
+    let csv = std::fs::read_to_string("data/munro/dte.csv").unwrap();
+    let design: Vec<&str> = csv
+        .lines()
+        .filter(|l| l.starts_with("load_n") || l.starts_with("3780,"))
+        .collect();
+    assert!(design.len() > 50, "{} lines", design.len());
+    std::fs::write(dir.join("dte.csv"), design.join("\n") + "\n").unwrap();
+    let d = run(&dir);
+    let held = d
+        .detection
+        .iter()
+        .find(|t| t.name == "chi_square_held_out")
+        .expect("listed");
+    assert!(held.statistic.is_nan() && held.p_value.is_none() && held.p_holm.is_none());
+    let training = d
+        .detection
+        .iter()
+        .find(|t| t.name == "chi_square_training")
+        .expect("listed");
+    assert!(training.p_value.is_some());
+}

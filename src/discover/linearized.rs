@@ -70,7 +70,8 @@ pub struct Linearized {
 /// Statistics of one data set (observed or replicate).
 #[derive(Clone, Debug)]
 pub struct Statistics {
-    /// chi2 training, chi2 held-out, -runs z, then one energy per window (NaN if empty).
+    /// chi2 training, chi2 held-out (NaN without a held-out point), -runs z, then one energy per
+    /// window (NaN if empty).
     pub detection: Vec<f64>,
     /// Per candidate: likelihood-ratio statistic RSS0 - min_k RSS1_k (standardized residuals),
     /// and the index of the minimising probe.
@@ -335,11 +336,21 @@ impl Linearized {
             train: rt,
         } = self.linear_refit(&z, &w, &scales);
         let chi_train = rt.norm_squared();
-        let chi_held: f64 = self
+        // No held-out point (a single load, or nothing kept off the training loads): the test
+        // is not run, rather than a zero statistic with p 1 in the family.
+        let held_points: usize = self
             .held_sens
             .iter()
-            .map(|(i, _)| residuals[*i].iter().map(|v| v * v).sum::<f64>())
+            .map(|(i, _)| residuals[*i].len())
             .sum();
+        let chi_held: f64 = if held_points == 0 {
+            f64::NAN
+        } else {
+            self.held_sens
+                .iter()
+                .map(|(i, _)| residuals[*i].iter().map(|v| v * v).sum::<f64>())
+                .sum()
+        };
         let runs = -runs_z(&residuals);
         let mut detection = vec![chi_train, chi_held, runs];
         for win in &self.windows {

@@ -120,12 +120,14 @@ pub fn noise_text(d: &Discovery) -> String {
         Distribution::Gaussian => "Gaussian".to_string(),
         Distribution::StudentT { dof } => format!("Student-t, {dof} degrees of freedom"),
     };
-    format!(
-        "noise {model} ({tails}; {:.3}-{:.3} µm over the kept points), {}",
-        d.noise_range_um.0,
-        d.noise_range_um.1,
-        n.origin.describe()
-    )
+    let (lo, hi) = d.noise_range_um;
+    // A range only where the scales differ at the printed digits.
+    let range = if format!("{lo:.3}") == format!("{hi:.3}") {
+        String::new()
+    } else {
+        format!("; {lo:.3}-{hi:.3} µm over the kept points")
+    };
+    format!("noise {model} ({tails}{range}), {}", n.origin.describe())
 }
 
 /// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
@@ -346,17 +348,20 @@ pub fn summary_text(d: &Discovery) -> String {
 fn excluded_text(d: &Discovery) -> String {
     let mut s = String::new();
     for e in &d.excluded_by_load {
+        let range = |(a, b): (f64, f64)| format!("{a:.1}-{b:.1} um");
+        let predicted = range(e.predicted_range_um);
+        let windows = range(e.model_range_um);
+        let over_windows = if windows == predicted {
+            "the same".to_string()
+        } else {
+            windows
+        };
         s.push_str(&format!(
-            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {:.1}-{:.1} um, M0 predicted {:.1}-{:.1} um and {:.1}-{:.1} um over 32 observation windows at its points that are not period-1, {} measured far outside M0's range\n",
+            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {}, M0 predicted {predicted} ({over_windows} over 32 observation windows at its points that are not period-1), {} measured far outside M0's range\n",
             e.load_n,
             e.points,
             e.non_period1,
-            e.measured_range_um.0,
-            e.measured_range_um.1,
-            e.predicted_range_um.0,
-            e.predicted_range_um.1,
-            e.model_range_um.0,
-            e.model_range_um.1,
+            range(e.measured_range_um),
             e.outside_model_range
         ));
     }
