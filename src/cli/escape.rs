@@ -58,6 +58,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let written = write_escape_study(&s, stage.dir())?;
     let written = commit(stage, &written)?;
     print_json(&s.summary)?;
+    if s.found_none() {
+        eprintln!(
+            "no chaotic transient or other non-periodic set at Ω = {omega}: every trajectory of the {0}x{0} grid settled on a periodic attractor; the survival figure and CSV have no curve",
+            opts.grid.n
+        );
+    }
     for p in written {
         eprintln!("wrote {}", p.display());
     }

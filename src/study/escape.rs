@@ -118,6 +118,17 @@ pub fn escape_study(opts: &EscapeStudyOptions, progress: &dyn Progress) -> Resul
     })
 }
 
+impl EscapeStudy {
+    /// Whether no integrator found a non-periodic set (every trajectory of the grid settled on
+    /// a periodic attractor): the survival curves are then empty.
+    pub fn found_none(&self) -> bool {
+        self.maps.iter().all(|(_, m)| followed(m).next().is_none())
+    }
+}
+
+/// What the figure and the summary say when no set was followed.
+const NONE_FOUND: &str = "no non-periodic set was found: every trajectory of the grid settled on a periodic attractor, so nothing escapes";
+
 /// The non-periodic sets of a map with their escape records.
 fn followed(m: &AttractorMap) -> impl Iterator<Item = (usize, &Attractor, &EscapeRecord)> {
     m.attractors
@@ -211,6 +222,7 @@ fn summary(opts: &EscapeStudyOptions, maps: &[(String, AttractorMap)]) -> Value 
         "parameters": {"fm": opts.fm, "fah": opts.fah, "fat": opts.fat, "zeta": opts.zeta, "omega": opts.omega},
         "grid": {"lo": opts.grid.lo, "hi": opts.grid.hi, "n": opts.grid.n},
         "horizon_periods": opts.horizon,
+        "note": per.is_empty().then_some(NONE_FOUND),
         "sets": per,
         "integrators_agree": agreement,
     })
@@ -271,9 +283,14 @@ fn figure(maps: &[(String, AttractorMap)], caption: &str) -> Figure {
             lin_series.push(Series::line(name.clone(), pts).with_color(c));
         }
     }
+    let none = if log_series.is_empty() {
+        format!("; {NONE_FOUND}")
+    } else {
+        String::new()
+    };
     let panel = |title: &str, note: &str, y: &str, series: Vec<Series>| XyPlot {
         title: title.into(),
-        caption: Some(format!("{caption}{note}")),
+        caption: Some(format!("{caption}{note}{none}")),
         x_label: "forcing periods n".into(),
         y_label: y.into(),
         series,
