@@ -116,7 +116,15 @@ pub(crate) struct CurveOrder {
     keep: bool,
     /// Where each (curve, speed bits) pair was first seen in the earlier files.
     earlier: HashMap<(usize, u64), Seen>,
+    /// Points of each curve so far, over every file.
+    counts: Vec<usize>,
 }
+
+/// Speeds one curve may have: a pp DTE or dynamic-factor point is a steady state, measured at
+/// tens to hundreds of speeds (Munro's grid has 81). Beyond this a file is a time series or a
+/// sweep sampled far finer than any steady state, and every fit and prediction would take
+/// minutes for nothing.
+pub(crate) const MAX_CURVE_POINTS: usize = 10_000;
 
 impl CurveOrder {
     /// Start checking the rows of `file` (speeds are sorted within each file); `more_follow`
@@ -174,6 +182,21 @@ impl CurveOrder {
             if let Some(s) = self.earlier.get(&(curve, speed_rpm.to_bits())) {
                 return Err(duplicate(s, &self.files));
             }
+        }
+        if self.counts.len() <= curve {
+            self.counts.resize(curve + 1, 0);
+        }
+        self.counts[curve] += 1;
+        if self.counts[curve] > MAX_CURVE_POINTS {
+            return Err(row.error(
+                field,
+                format!(
+                    "more than {MAX_CURVE_POINTS} speeds{}: each point is a steady state, \
+                     measured at tens to hundreds of speeds; thin the data (e.g. keep every \
+                     10th row) or average it onto a coarser grid",
+                    label(load_n)
+                ),
+            ));
         }
         if self.current.len() <= curve {
             self.current.resize_with(curve + 1, Vec::new);

@@ -309,6 +309,33 @@ fn csv_only_header_reports_line_two() {
     assert_eq!((line, field.as_str()), (2, "(rows)"));
 }
 
+/// A curve with more speeds than any steady-state measurement has is refused at the first
+/// point too many, with its file and line: split over two files (the count is per curve, not
+/// per file), 10,000 points at 3780 N load and the 10,001st is refused; another load's curve
+/// of the same length is not.
+#[test]
+fn a_curve_of_more_than_ten_thousand_speeds_is_refused() {
+    let curve = |load: u32, from: usize, to: usize| -> String {
+        (from..to)
+            .map(|k| format!("{load},{},1\n", 1000 + k))
+            .collect()
+    };
+    let head = "load_n,speed_rpm,dte_pp_um\n";
+    let a = format!("{head}{}{}", curve(3780, 0, 6000), curve(945, 0, 10_000));
+    let ok = format!("{head}{}", curve(3780, 6000, 10_000));
+    let d = munro_set(&[("a.csv", &a), ("b.csv", &ok)]);
+    assert_eq!(load_munro(d.path()).unwrap().points.len(), 20_000);
+    let over = format!("{head}{}", curve(3780, 6000, 10_001));
+    let d = munro_set(&[("a.csv", &a), ("b.csv", &over)]);
+    let (f, line, field, msg) = located(load_munro(d.path()));
+    assert_eq!(
+        (f.as_str(), line, field.as_str()),
+        ("b.csv", 4002, "speed_rpm"),
+        "{msg}"
+    );
+    assert!(msg.contains("more than 10000 speeds"), "{msg}");
+}
+
 #[test]
 fn missing_values_and_duplicates() {
     let d = munro_set(&[("c.csv", "load_n,speed_rpm,dte_pp_um\n1,2,3\n1,3\n")]);
