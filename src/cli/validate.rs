@@ -9,8 +9,8 @@ use geardyn::report::{
     data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
 };
 use geardyn::validate::{
-    validate_kubo, validate_munro, GeometryOptions, KuboFitPath, KuboOptions, KuboValidation,
-    LoadResult, MunroOptions, ReliefRule, SteMode,
+    spread_interval, validate_kubo, validate_munro, GeometryOptions, KuboFitPath, KuboOptions,
+    KuboValidation, LoadResult, MunroOptions, ReliefRule, SteMode, PAIR_SPREAD,
 };
 use std::path::PathBuf;
 
@@ -295,7 +295,13 @@ fn kubo_intervals(r: &KuboValidation) -> String {
     };
     let mut s = String::new();
     for (i, name) in fit.names.iter().enumerate() {
-        let cov = fit.ci95[i];
+        // The curve is even in the pairs' spread h: |h| and its folded interval.
+        let spread = name == PAIR_SPREAD;
+        let (value, cov) = if spread {
+            (fit.params[i].abs(), spread_interval(fit.ci95[i]))
+        } else {
+            (fit.params[i], fit.ci95[i])
+        };
         // At least the digits of the summary line above (zeta 4, omega_n 1).
         let least = match name.as_str() {
             "zeta" => 4,
@@ -307,9 +313,21 @@ fn kubo_intervals(r: &KuboValidation) -> String {
             let end = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.digits$}"));
             format!("{} .. {}", end(p.lower), end(p.upper))
         });
+        let name = if spread {
+            format!("|{name}|")
+        } else {
+            name.clone()
+        };
+        // Critical damping bounds every damping the rig could have: an interval beyond it
+        // says the data hardly determine zeta.
+        let note = if name == "zeta" && cov.1 >= 1.0 {
+            " (the covariance interval reaches beyond critical damping: these data determine zeta poorly; read the profile interval)"
+        } else {
+            ""
+        };
         s.push_str(&format!(
-            "  {name} {:.digits$}: 95% covariance {:.digits$} .. {:.digits$}, profile {profile}\n",
-            fit.params[i], cov.0, cov.1
+            "  {name} {value:.digits$}: 95% covariance {:.digits$} .. {:.digits$}, profile {profile}{note}\n",
+            cov.0, cov.1
         ));
     }
     s

@@ -579,9 +579,10 @@ fn summarise(
     let sandwich = sandwich_covariance(&c, &jf, &z, &cov, residual_dof);
     let dof = satterthwaite_dof(setting, &c, &cov, &inverse_fisher, residual_dof);
     let quantile: Vec<f64> = dof.iter().map(|d| t_quantile_975(*d)).collect();
-    let (std_errors, ci95) = wald_intervals(params, &c.lm.params, &cov, &quantile);
+    let unseen: Vec<bool> = (0..p).map(|j| jf.column(j).norm() == 0.0).collect();
+    let (std_errors, ci95) = wald_intervals(params, &c.lm.params, &cov, &quantile, &unseen);
     let (std_errors_sandwich, ci95_sandwich) =
-        wald_intervals(params, &c.lm.params, &sandwich, &quantile);
+        wald_intervals(params, &c.lm.params, &sandwich, &quantile, &unseen);
     let noise = noise_fit(&c, setting, robust_lr, &z, residual_dof);
     Ok(Estimate {
         names: params.iter().map(|d| d.name.clone()).collect(),
@@ -654,17 +655,31 @@ fn t_quantile_975(dof: f64) -> f64 {
 /// Standard errors and Wald intervals of `values` from the covariance `cv`, each interval
 /// formed on its parameter's internal coordinate and mapped back (so a positive parameter's
 /// interval stays positive), `quantile` standard errors either side.
+///
+/// A parameter the model does not see at the fit (`unseen`: its Jacobian column is zero, held
+/// still by the fit as [`super::lm::UNSEEN`], or a curve even in it at its estimate) has an
+/// infinite standard error and its transform's whole range as interval: the pseudo-inverse
+/// gives it zero variance, which reads as exactly known (a tooth-pair STE spread fitted at 0
+/// was reported "0.0 .. 0.0").
 fn wald_intervals(
     params: &[Param],
     values: &[f64],
     cv: &DMatrix<f64>,
     quantile: &[f64],
+    unseen: &[bool],
 ) -> (Vec<f64>, Vec<(f64, f64)>) {
     params
         .iter()
         .enumerate()
         .map(|(j, d)| {
             let v = values[j];
+            if unseen[j] {
+                let t = d.transform;
+                return (
+                    f64::INFINITY,
+                    (t.value(f64::NEG_INFINITY), t.value(f64::INFINITY)),
+                );
+            }
             let se = cv[(j, j)].max(0.0).sqrt();
             let u = d.transform.internal(v).unwrap_or(v);
             let su = se / d.transform.derivative(u).abs().max(1e-300);

@@ -7,7 +7,7 @@ use super::{any_stepped, data_kind_banner, interval_digits, profile_cell, STEPPE
 use crate::data::{DataKind, KuboData};
 use crate::error::Result;
 use crate::plot::{write_xy, Series, XyPlot};
-use crate::validate::{KuboValidation, PAIR_SPREAD};
+use crate::validate::{spread_interval, KuboValidation, PAIR_SPREAD};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -243,13 +243,7 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
         ],
     ];
     if let (Some(fit), Some(i)) = (&r.fit, index(PAIR_SPREAD)) {
-        // The curve is even in the spread: the interval of |h| is that of h folded at zero.
-        let (lo, hi) = fit.ci95[i];
-        let folded = if lo <= 0.0 && hi >= 0.0 {
-            (0.0, lo.abs().max(hi.abs()))
-        } else {
-            (lo.abs().min(hi.abs()), lo.abs().max(hi.abs()))
-        };
+        let folded = spread_interval(fit.ci95[i]);
         rows.insert(
             3,
             vec![
@@ -285,5 +279,12 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             fit.n,
             fit.residual_dof
         ));
+        // Critical damping bounds every damping the rig could have.
+        if fit.ci95.first().is_some_and(|c| c.1 >= 1.0) {
+            page.paragraph(
+                "ζ's Fisher interval reaches beyond critical damping: these data determine ζ \
+                 poorly, and the profile interval is the one to read.",
+            );
+        }
     }
 }

@@ -31,6 +31,16 @@ pub(super) fn measured_peak_rpm(points: &[KuboPoint]) -> Option<f64> {
 /// [`MidlineFit::new`]).
 pub const PAIR_SPREAD: &str = "pair_ste_half_spread";
 
+/// The 95% interval of |h|, the pairs' STE half-spread, from that of the fitted (signed) h:
+/// the curve is even in h, so the interval of |h| is h's folded at zero.
+pub fn spread_interval((lo, hi): (f64, f64)) -> (f64, f64) {
+    if lo <= 0.0 && hi >= 0.0 {
+        (0.0, lo.abs().max(hi.abs()))
+    } else {
+        (lo.abs().min(hi.abs()), lo.abs().max(hi.abs()))
+    }
+}
+
 /// A fit of some model curve to a midline.
 pub(super) struct MidlineFit {
     y: Vec<f64>,

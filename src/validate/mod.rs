@@ -24,7 +24,7 @@ pub use geometry_ste::{
 pub use kubo::{
     validate_kubo, KuboFitPath, KuboOptions, KuboValidation, CONTACT_LIMIT as KUBO_CONTACT_LIMIT,
 };
-pub use kubo_midline::PAIR_SPREAD;
+pub use kubo_midline::{spread_interval, PAIR_SPREAD};
 pub use linear::{
     dte_gain, dte_pp_um, dte_pp_um_harmonics, load_factor_max, stays_in_contact,
     stays_in_contact_harmonics,
