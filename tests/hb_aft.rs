@@ -595,3 +595,37 @@ fn one_harmonic_aft_equals_df_exact() {
     // three solutions inside the dual-valued region 0.70-0.82, one elsewhere
     assert!(compared >= 12, "{compared}");
 }
+
+/// `hbm --subharmonic 2` on F_m 0.1, F_ah 0.05, zeta 0.05: the period-2 branch, seeded by a
+/// simulated period-2 orbit, against the simulation at frequencies away from the seed. The
+/// exact simulation's period-2 attractors (41 x 41 initial conditions in [-3, 3]^2) have q_a
+/// 0.32372 at Omega 1.5 and 0.20491 at 1.84 (q_m 1.06018, 1.11646); the branch's stable point
+/// there must agree to 1e-3 relative (H = 15 truncates at about 1e-4 here). The branch folds at
+/// about 1.847, and at 1.85 the simulation has no period-2 attractor. Before, the same command
+/// continued the period-1 orbit (the linear start) labelled as period-2.
+#[test]
+fn a_period_two_branch_is_seeded_by_simulation_and_matches_it() {
+    use geardyn::hb::{branch_at, subharmonic_branch};
+    use geardyn::sim::IcGrid;
+    let model = GearPair::paper(0.1, 0.05, 0.05, 1.3).unwrap();
+    let opts = AftOptions {
+        harmonics: 15,
+        subharmonic: 2,
+        ..AftOptions::default()
+    };
+    let omegas: Vec<f64> = (0..=120).map(|k| 1.2 + 0.01 * f64::from(k)).collect();
+    let grid = IcGrid::parse("-2:2:11").unwrap();
+    let cont = ContinuationOptions::default();
+    let b = subharmonic_branch(&model, &omegas, &grid, &opts, &cont, &NoProgress).unwrap();
+    assert!((1.3..1.4).contains(&b.seed_omega), "{}", b.seed_omega);
+    let at = branch_at(&model, &b.points, &[1.5, 1.84], &opts);
+    for (sols, (qa, qm)) in at.iter().zip([(0.32372, 1.06018), (0.20491, 1.11646)]) {
+        let stable: Vec<&HbPoint> = sols.iter().filter(|p| p.stable == Some(true)).collect();
+        assert_eq!(stable.len(), 1, "{sols:?}");
+        assert!(rel(stable[0].qa, qa) < 1e-3, "q_a {} vs {qa}", stable[0].qa);
+        assert!(rel(stable[0].qm, qm) < 1e-3, "q_m {} vs {qm}", stable[0].qm);
+    }
+    let top = b.points.iter().map(|p| p.omega).fold(0.0, f64::max);
+    assert!((1.84..1.85).contains(&top), "fold at {top}");
+    assert!(b.points.iter().all(|p| p.subharmonic == 2));
+}

@@ -7,10 +7,11 @@ use super::progress_bar::Bar;
 use super::response_plot::{write_response_plot, ResponseRow};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::hb::{
-    continue_branch, df_response_forced, forced_transition_frequencies, AftOptions,
-    ContinuationOptions, DfMethod,
+    continue_branch, df_response_forced, forced_transition_frequencies, subharmonic_branch,
+    AftOptions, ContinuationOptions, DfMethod,
 };
 use geardyn::model::GearPair;
+use geardyn::sim::IcGrid;
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -27,10 +28,16 @@ pub struct Args {
     #[arg(long, default_value_t = 15, allow_hyphen_values = true,
           value_parser = whole(1..=geardyn::hb::MAX_HARMONICS))]
     harmonics: usize,
-    /// Subharmonic order nu of the AFT ansatz (period-nu orbits), 1 to 32.
+    /// Subharmonic order nu of the AFT ansatz (period-nu orbits), 1 to 32; above 1 the branch
+    /// starts from a period-nu orbit the simulation reaches (see --ic-grid).
     #[arg(long, default_value_t = 1, allow_hyphen_values = true,
           value_parser = whole(1..=geardyn::sim::MAX_PERIOD as usize))]
     subharmonic: usize,
+    /// Grid of initial conditions q(0), q'(0) (dimensionless, LO:HI:N) on which simulation
+    /// looks for the period-nu orbit that seeds a --subharmonic branch (nu > 1), frequency by
+    /// frequency from the range's start.
+    #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
+    ic_grid: String,
     /// Output format on standard output (columns: docs/output-columns.md).
     #[arg(long, value_enum, default_value_t = Format::Csv)]
     format: Format,
@@ -186,19 +193,26 @@ fn solve_aft(a: &Args, m: &Model, model: &GearPair, omegas: &[f64]) -> anyhow::R
         ..AftOptions::default()
     };
     let last = omegas[omegas.len() - 1];
-    let pts = continue_branch(
-        model,
-        omegas[0],
-        last,
-        &opts,
-        &ContinuationOptions::default(),
-        &Bar::new(),
-    )?;
+    let cont = ContinuationOptions::default();
+    let (pts, seeded) = if a.subharmonic > 1 {
+        let grid = IcGrid::parse(&a.ic_grid)?;
+        let b = subharmonic_branch(model, omegas, &grid, &opts, &cont, &Bar::new())?;
+        (
+            b.points,
+            format!(
+                ", seeded by a simulated period-{} orbit at Ω = {}",
+                a.subharmonic, b.seed_omega
+            ),
+        )
+    } else {
+        let b = continue_branch(model, omegas[0], last, &opts, &cont, &Bar::new())?;
+        (b, String::new())
+    };
     let mut out = Solved {
         records: Vec::new(),
         rows: Vec::new(),
         method: format!(
-            "AFT H = {}, ν = {}, continuation",
+            "AFT H = {}, ν = {}, continuation{seeded}",
             a.harmonics, a.subharmonic
         ),
     };

@@ -24,6 +24,7 @@ mod resample;
 mod response_ranges;
 mod roots;
 mod scan;
+mod subharmonic;
 mod transitions;
 
 pub use aft::{AftOptions, MAX_HARMONICS};
@@ -36,6 +37,7 @@ pub use df_solve::{df_response, df_response_forced, df_solutions, DfForcing, DfS
 pub use resample::{branch_at, branch_from_start, branches_covering};
 pub use response_ranges::{response_ranges, ResponseRanges};
 pub(crate) use roots::brent;
+pub use subharmonic::{subharmonic_branch, SeededBranch};
 pub use transitions::{
     forced_transition_frequencies, linear_peak, transition_frequencies, LinearPeak,
 };
