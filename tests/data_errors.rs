@@ -691,10 +691,15 @@ fn error_on_the_last_of_200k_rows_is_located() {
     let rows = 200_000;
     let mut csv = String::with_capacity(rows * 24);
     csv.push_str("# long file\nload_n,speed_rpm,dte_pp_um\n");
+    // Twenty curves of 10,000 speeds, the most a curve may have.
     for i in 0..rows - 1 {
-        csv.push_str(&format!("3780,{},1.5\n", 1000 + i));
+        csv.push_str(&format!(
+            "{},{},1.5\n",
+            1000 + i / 10_000,
+            1000 + i % 10_000
+        ));
     }
-    csv.push_str("3780,999999,abc\n");
+    csv.push_str("1019,999999,abc\n");
     let last_line = 2 + rows;
     munro_csv_error(
         &csv,

@@ -67,7 +67,7 @@ pub fn bifurcation_figure(b: &Bifurcation, title: &str, caption: &str) -> XyPlot
                 "{caption}; F, PD: AFT fold, period doubling; J*, PD*, P*: carried jump, doubling, period change"
             )
         }),
-        x_label: b.parameter.label().into(),
+        x_label: format!("{} (dimensionless)", b.parameter.label()),
         y_label: "q at forcing phase 0 (Poincaré section)".into(),
         series,
         vlines,

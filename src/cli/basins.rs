@@ -108,8 +108,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 String::new()
             }
         )),
-        x_label: "q(0)".into(),
-        y_label: "q'(0)".into(),
+        x_label: "q(0) (dimensionless)".into(),
+        y_label: "q'(0) (dimensionless)".into(),
         x: (grid.lo, grid.hi, grid.n),
         y: (grid.lo, grid.hi, grid.n),
         cells: map.labels.iter().map(|&l| Some(l)).collect(),

@@ -830,8 +830,8 @@ pub(crate) fn basin_map(
                 m.grid.n,
                 m.grid.n
             )),
-            x_label: "q(0)".into(),
-            y_label: "q'(0)".into(),
+            x_label: "q(0) (dimensionless)".into(),
+            y_label: "q'(0) (dimensionless)".into(),
             x: (m.grid.lo, m.grid.hi, m.grid.n),
             y: (m.grid.lo, m.grid.hi, m.grid.n),
             cells: m.labels.iter().map(|&l| Some(l)).collect(),
