@@ -345,9 +345,14 @@ fn kubo_fit_path_is_the_one_asked_for() {
     let contact = run(KuboFitPath::ContactPart).unwrap();
     let whole = run(KuboFitPath::WholeCurve).unwrap();
     assert!(contact.parameter_source.contains("contact part"));
-    assert_eq!(
-        whole.parameter_source,
-        "fitted to the whole curve by simulated up-sweeps"
+    // The pairs' spread is fitted at about zero here, where the curve does not depend on it
+    // (even in h): the one-pair model, nested at h = 0, is what is fitted.
+    assert!(
+        whole
+            .parameter_source
+            .starts_with("fitted to the whole curve by simulated up-sweeps"),
+        "{}",
+        whole.parameter_source
     );
     let (c, w) = (contact.fit.unwrap(), whole.fit.unwrap());
     for (i, gain) in [(0, 3.0), (1, 1.5)] {

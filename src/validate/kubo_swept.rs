@@ -80,8 +80,8 @@ pub(super) fn fit_whole_curve(
         Err(GearError::FitFailed { .. }) => {
             let (fit, profile) = fitted(false)?;
             let source = format!(
-                "{source}; one tooth pair (the curve does not tell the pairs' STE spread from \
-                 the damping)"
+                "{source}; one tooth pair (the whole-curve fit does not determine the pairs' \
+                 STE spread)"
             );
             (fit, profile, source)
         }
