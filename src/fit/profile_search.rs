@@ -178,6 +178,16 @@ impl<F: InnerFit> Side<'_, F> {
         excess.abs() <= self.options.accept
     }
 
+    /// The inner fit at `d`: its r - q, or the side's end where the point fits better than
+    /// the estimate or lies within the accepted band.
+    fn probe(&mut self, d: f64) -> Result<std::result::Result<f64, SideEnd<F::Start>>> {
+        Ok(match self.eval(d)? {
+            Step::Better(u, fitted) => Err(SideEnd::Better { u, fitted }),
+            Step::Excess(e) if self.accepted(e) => Err(self.end(d)),
+            Step::Excess(e) => Ok(e),
+        })
+    }
+
     fn run(&mut self) -> Result<SideEnd<F::Start>> {
         let o = self.options;
         // The bracket: a point inside (the estimate, at first), and once found one outside
@@ -189,13 +199,10 @@ impl<F: InnerFit> Side<'_, F> {
         while !self.spent() {
             let Some((d_out, e_out, from_inner)) = outer else {
                 let next = o.limit.map_or(d, |l| d.min(l));
-                let excess = match self.eval(next)? {
-                    Step::Better(u, f) => return Ok(SideEnd::Better { u, fitted: f }),
-                    Step::Excess(e) => e,
+                let excess = match self.probe(next)? {
+                    Ok(e) => e,
+                    Err(end) => return Ok(end),
                 };
-                if self.accepted(excess) {
-                    return Ok(self.end(next));
-                }
                 if excess > 0.0 {
                     outer = Some((next, excess, true));
                 } else if o.limit == Some(next) {
@@ -218,13 +225,10 @@ impl<F: InnerFit> Side<'_, F> {
                 Some(_) if !from_inner => d_out,
                 _ => break,
             };
-            let excess = match self.eval(next)? {
-                Step::Better(u, f) => return Ok(SideEnd::Better { u, fitted: f }),
-                Step::Excess(e) => e,
+            let excess = match self.probe(next)? {
+                Ok(e) => e,
+                Err(end) => return Ok(end),
             };
-            if self.accepted(excess) {
-                return Ok(self.end(next));
-            }
             if excess > 0.0 {
                 outer = Some((next, excess, true));
             } else if next < d_out {
