@@ -89,7 +89,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     } else {
         super::common::print_text(&csv)?;
     }
-    for line in c.gaps.summary_lines() {
+    let rpm = m.rig.as_ref().map(|op| move |w: f64| op.speed_rpm(w));
+    let rpm = rpm.as_ref().map(|f| f as &dyn Fn(f64) -> f64);
+    for line in c.gaps.summary_lines_at(rpm) {
         eprintln!("{line}");
     }
     for p in written {

@@ -170,12 +170,21 @@ pub fn gaps(points: &[ComparePoint], tolerance: f64) -> Gaps {
 impl Gaps {
     /// One line per kind of disagreement, with the Omega values concerned (for a summary).
     pub fn summary_lines(&self) -> Vec<String> {
+        self.summary_lines_at(None)
+    }
+
+    /// The same, each Omega also given as the pinion speed `rpm(Omega)` where the operating
+    /// point is known (`compare --rig`).
+    pub fn summary_lines_at(&self, rpm: Option<&dyn Fn(f64) -> f64>) -> Vec<String> {
         let list = |gs: &[Gap]| -> String {
             let mut ws: Vec<f64> = gs.iter().map(|g| g.omega).collect();
             ws.sort_by(f64::total_cmp);
             ws.dedup_by(|a, b| same_omega(*a, *b));
             ws.iter()
-                .map(|w| format!("{w:.3}"))
+                .map(|w| match rpm {
+                    Some(f) => format!("{w:.3} ({:.0} rpm)", f(*w)),
+                    None => format!("{w:.3}"),
+                })
                 .collect::<Vec<_>>()
                 .join(" ")
         };
