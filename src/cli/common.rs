@@ -212,6 +212,36 @@ pub fn print_json(value: &serde_json::Value) -> anyhow::Result<()> {
 }
 
 /// Write to standard output; a closed pipe (e.g. `| head`) ends quietly instead of panicking.
+/// A study's per-seed record writer: each record one JSON line appended to `path` as the seed
+/// finishes (the file is made by the first one).
+pub fn seed_writer<T: serde::Serialize>(
+    path: &Path,
+) -> impl FnMut(&T) -> geardyn::error::Result<()> + '_ {
+    let mut file: Option<std::fs::File> = None;
+    move |record: &T| {
+        use std::io::Write;
+        let io = geardyn::error::GearError::io(path);
+        let f = match file.as_mut() {
+            Some(f) => f,
+            None => file.insert(std::fs::File::create(path).map_err(&io)?),
+        };
+        let line = serde_json::to_string(record).map_err(|e| {
+            geardyn::error::GearError::Numerical(format!("seed record to JSON: {e}"))
+        })?;
+        writeln!(f, "{line}").map_err(&io)
+    }
+}
+
+/// Print a study's summary `text` and where its outputs went.
+pub fn print_study(mut text: String, out: &Path, seeds: &Path) -> anyhow::Result<()> {
+    text.push_str(&format!(
+        "wrote {} (per seed: {})\n",
+        out.display(),
+        seeds.display()
+    ));
+    print_text(&text)
+}
+
 pub fn print_text(text: &str) -> anyhow::Result<()> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();

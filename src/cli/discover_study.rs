@@ -1,7 +1,9 @@
 //! `geardyn discover-study --hidden none|<candidate>|sensor_peak --seeds N`: the null-rate and
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
-use super::common::{check_out_file, parse_grid, parse_load_ste, print_text, NoiseArgs};
+use super::common::{
+    check_out_file, parse_grid, parse_load_ste, print_study, seed_writer, NoiseArgs,
+};
 use super::discover::parse_tails;
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
@@ -10,8 +12,7 @@ use clap::Args as ClapArgs;
 use geardyn::discover::{
     run_study, DiscoverOptions, Hidden, SeedOutcome, StudyOptions, StudySummary, MAX_BOOTSTRAP,
 };
-use geardyn::error::GearError;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
@@ -86,19 +87,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     std::fs::create_dir_all(&parent).with_context(|| parent.display().to_string())?;
     let scratch = parent.join(format!(".scratch-{}", std::process::id()));
     let seeds_path = a.out.with_extension("seeds.jsonl");
-    let mut on_seed = seed_writer(&seeds_path);
+    let mut on_seed = seed_writer::<SeedOutcome>(&seeds_path);
     let result = run_study(hidden, &opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
     let s = result?;
     let text = serde_json::to_string_pretty(&s)?;
     std::fs::write(&a.out, format!("{text}\n")).with_context(|| a.out.display().to_string())?;
-    let mut msg = summary_text(&s);
-    msg.push_str(&format!(
-        "wrote {} (per seed: {})\n",
-        a.out.display(),
-        seeds_path.display()
-    ));
-    print_text(&msg)
+    print_study(summary_text(&s), &a.out, &seeds_path)
 }
 
 fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
@@ -119,23 +114,6 @@ fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
             ..DiscoverOptions::default()
         },
     })
-}
-
-/// Each seed's outcome, one JSON line to `path` as it finishes (the file is made by the
-/// first one).
-fn seed_writer(path: &Path) -> impl FnMut(&SeedOutcome) -> geardyn::error::Result<()> + '_ {
-    let mut file: Option<std::fs::File> = None;
-    move |o: &SeedOutcome| {
-        use std::io::Write;
-        let io = GearError::io(path);
-        let f = match file.as_mut() {
-            Some(f) => f,
-            None => file.insert(std::fs::File::create(path).map_err(&io)?),
-        };
-        let line = serde_json::to_string(o)
-            .map_err(|e| GearError::Numerical(format!("seed outcome to JSON: {e}")))?;
-        writeln!(f, "{line}").map_err(&io)
-    }
 }
 
 /// The console summary: rates with their Wilson intervals, coverage, and the raw p-values'

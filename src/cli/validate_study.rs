@@ -1,12 +1,11 @@
 //! `geardyn validate-study --noise FAMILY --seeds N`: interval coverage of `validate munro`
 //! on seeded synthetic design-load curves (Wilson 95% intervals of the rates).
 
-use super::common::{check_out_file, parse_grid, print_text, NoiseArgs};
+use super::common::{check_out_file, parse_grid, print_study, seed_writer, NoiseArgs};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::error::GearError;
 use geardyn::fit::Robust;
 use geardyn::validate::SpeedGrid;
 use geardyn::validate::{
@@ -90,18 +89,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // Removed by an interrupt as well (Ctrl-C), until moved into place.
     geardyn::report::track_unfinished(&scratch);
     geardyn::report::track_unfinished(&seeds_tmp);
-    let mut seeds_file: Option<std::fs::File> = None;
-    let mut on_seed = |s: &ValidateSeed| -> geardyn::error::Result<()> {
-        use std::io::Write;
-        let io = GearError::io(&seeds_tmp);
-        let f = match seeds_file.as_mut() {
-            Some(f) => f,
-            None => seeds_file.insert(std::fs::File::create(&seeds_tmp).map_err(&io)?),
-        };
-        let line = serde_json::to_string(s)
-            .map_err(|e| GearError::Numerical(format!("seed fit to JSON: {e}")))?;
-        writeln!(f, "{line}").map_err(&io)
-    };
+    let mut on_seed = seed_writer::<ValidateSeed>(&seeds_tmp);
     let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
     geardyn::report::untrack_unfinished(&scratch);
@@ -120,13 +108,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         renamed.with_context(|| seeds_path.display().to_string())?;
     }
     geardyn::report::write_file_atomic(&a.out, &format!("{text}\n"))?;
-    let mut msg = summary_text(&s);
-    msg.push_str(&format!(
-        "wrote {} (per seed: {})\n",
-        a.out.display(),
-        seeds_path.display()
-    ));
-    print_text(&msg)
+    print_study(summary_text(&s), &a.out, &seeds_path)
 }
 
 fn summary_text(s: &ValidateStudySummary) -> String {

@@ -182,11 +182,11 @@ impl ProfileProblem<'_> {
     }
 }
 
-/// The search of one side from its first step `h` (the coordinate's units), never beyond
-/// `limit` from the estimate.
+/// The search of one side from its first step `h` (the coordinate's units; the search clamps
+/// it to `limit`), never beyond `limit` from the estimate.
 fn options(h: f64, limit: Option<f64>) -> SearchOptions {
     SearchOptions {
-        first_step: limit.map_or(h, |l| h.min(l)),
+        first_step: h,
         se: h / Z95,
         q: Z95,
         limit,

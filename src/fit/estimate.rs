@@ -109,6 +109,15 @@ pub struct NoiseFit {
     pub stated_noise_p: Option<f64>,
 }
 
+impl NoiseFit {
+    /// The smallest and largest scale sigma_i over the points.
+    pub fn scale_range(&self) -> (f64, f64) {
+        self.scales
+            .iter()
+            .fold((f64::INFINITY, 0.0_f64), |(a, b), s| (a.min(*s), b.max(*s)))
+    }
+}
+
 /// Result of [`estimate`].
 #[derive(Clone, Debug, Serialize)]
 pub struct Estimate {

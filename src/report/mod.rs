@@ -95,6 +95,34 @@ pub fn data_kind_banner(rig: &RigFile) -> String {
     }
 }
 
+/// Whether a stated noise agrees with the scatter about the fit
+/// ([`crate::fit::NoiseFit::stated_noise_p`]): a mismatch below p 0.01, and the verdict in
+/// words; None where the noise was not stated.
+pub fn stated_noise_verdict(e: &crate::fit::Estimate) -> Option<(bool, String)> {
+    let p = e.noise.stated_noise_p?;
+    Some(if p < 0.01 {
+        let p = if p < 0.001 {
+            "< 0.001".to_string()
+        } else {
+            format!("{p:.3}")
+        };
+        let side = if e.chi_square < e.residual_dof as f64 {
+            "larger than"
+        } else {
+            "smaller than (or the model falls short of)"
+        };
+        (
+            true,
+            format!("two-sided p {p}: the stated noise is {side} the scatter about the fit"),
+        )
+    } else {
+        (
+            false,
+            format!("two-sided p {p:.2}: the stated noise agrees with the scatter about the fit"),
+        )
+    })
+}
+
 /// One line on the noise of an engine fit: its model (or the stated per-point scales), the
 /// error law and the outliers, and where the noise was stated, whether the scatter about the
 /// fit agrees with it ([`crate::fit::NoiseFit::stated_noise_p`], flagged below 0.01).
@@ -103,10 +131,7 @@ pub fn noise_summary(e: &crate::fit::Estimate) -> String {
     let n = &e.noise;
     let model = match n.source {
         NoiseSource::PerPoint => {
-            let (lo, hi) = n
-                .scales
-                .iter()
-                .fold((f64::INFINITY, 0.0_f64), |(a, b), s| (a.min(*s), b.max(*s)));
+            let (lo, hi) = n.scale_range();
             format!("stated per point (dte_pp_sd_um column), {lo:.3}-{hi:.3} um")
         }
         NoiseSource::Stated => format!(
@@ -130,24 +155,14 @@ pub fn noise_summary(e: &crate::fit::Estimate) -> String {
     } else {
         format!(", {} outlying points", n.outliers.len())
     };
-    let check = match n.stated_noise_p {
-        Some(p) if p < 0.01 => format!(
-            "; WARNING: chi-square {:.1} on {} degrees of freedom (two-sided p {}): the stated noise is {} the scatter about the fit",
+    let check = stated_noise_verdict(e).map_or(String::new(), |(mismatch, verdict)| {
+        format!(
+            "; {}chi-square {:.1} on {} degrees of freedom ({verdict})",
+            if mismatch { "WARNING: " } else { "" },
             e.chi_square,
-            e.residual_dof,
-            if p < 0.001 { "< 0.001".to_string() } else { format!("{p:.3}") },
-            if e.chi_square < e.residual_dof as f64 {
-                "larger than"
-            } else {
-                "smaller than (or the model falls short of)"
-            }
-        ),
-        Some(p) => format!(
-            "; chi-square {:.1} on {} degrees of freedom agrees with it (p {p:.2})",
-            e.chi_square, e.residual_dof
-        ),
-        None => String::new(),
-    };
+            e.residual_dof
+        )
+    });
     format!("{model}, {law}{outliers}{check}")
 }
 

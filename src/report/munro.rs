@@ -620,10 +620,7 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
     }
     let n = &e.noise;
     let noise_rows = if n.source == crate::fit::NoiseSource::PerPoint {
-        let (lo, hi) = n
-            .scales
-            .iter()
-            .fold((f64::INFINITY, 0.0_f64), |(a, b), s| (a.min(*s), b.max(*s)));
+        let (lo, hi) = n.scale_range();
         vec![vec![
             "noise standard deviation per point".to_string(),
             format!("{lo:.4} .. {hi:.4}"),
@@ -665,27 +662,13 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         n.robust_lr.map_or("not computed".into(), |v| format!("{v:.2} (Student-t kept above 2.71)")),
         e.chi_square,
         e.residual_dof,
-        stated_check(e),
+        super::stated_noise_verdict(e).map_or(String::new(), |(_, v)| format!(" ({v})")),
         if n.outliers.is_empty() { "none".to_string() } else { n.outliers.len().to_string() },
         if r.design_load_in_contact { "stay" } else { "do NOT stay (the linear fit model is then approximate)" },
         r.mesh_stiffness_n_per_um,
         r.stiffness_source_text,
         r.half_backlash_um
     ));
-}
-
-/// Whether a stated noise agrees with the scatter about the fit
-/// ([`crate::fit::NoiseFit::stated_noise_p`]), for the noise paragraph.
-fn stated_check(e: &crate::fit::Estimate) -> String {
-    match e.noise.stated_noise_p {
-        Some(p) if p < 0.01 => format!(
-            " (two-sided p {}: the stated noise does NOT match the scatter about the fit; it is {} it)",
-            if p < 0.001 { "< 0.001".to_string() } else { format!("{p:.3}") },
-            if e.chi_square < e.residual_dof as f64 { "larger than" } else { "smaller than" }
-        ),
-        Some(p) => format!(" (two-sided p {p:.2}: the stated noise agrees with the scatter)"),
-        None => String::new(),
-    }
 }
 
 /// Human wording of where an STE amplitude came from.

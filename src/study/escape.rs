@@ -122,8 +122,13 @@ impl EscapeStudy {
     /// Whether no integrator found a non-periodic set (every trajectory of the grid settled on
     /// a periodic attractor): the survival curves are then empty.
     pub fn found_none(&self) -> bool {
-        self.maps.iter().all(|(_, m)| followed(m).next().is_none())
+        none_followed(&self.maps)
     }
+}
+
+/// Whether no map followed a non-periodic set.
+fn none_followed(maps: &[(String, AttractorMap)]) -> bool {
+    maps.iter().all(|(_, m)| followed(m).next().is_none())
 }
 
 /// What the figure and the summary say when no set was followed.
@@ -222,7 +227,7 @@ fn summary(opts: &EscapeStudyOptions, maps: &[(String, AttractorMap)]) -> Value 
         "parameters": {"fm": opts.fm, "fah": opts.fah, "fat": opts.fat, "zeta": opts.zeta, "omega": opts.omega},
         "grid": {"lo": opts.grid.lo, "hi": opts.grid.hi, "n": opts.grid.n},
         "horizon_periods": opts.horizon,
-        "note": per.is_empty().then_some(NONE_FOUND),
+        "note": none_followed(maps).then_some(NONE_FOUND),
         "sets": per,
         "integrators_agree": agreement,
     })
@@ -283,7 +288,7 @@ fn figure(maps: &[(String, AttractorMap)], caption: &str) -> Figure {
             lin_series.push(Series::line(name.clone(), pts).with_color(c));
         }
     }
-    let none = if log_series.is_empty() {
+    let none = if none_followed(maps) {
         format!("; {NONE_FOUND}")
     } else {
         String::new()
