@@ -261,3 +261,79 @@ fn holding_an_ste_that_is_not_stated_is_refused() {
     );
     assert!(!fits.exists());
 }
+
+/// A command that replaces its output folder as a whole (`mesh`, `discover`, `synth`, the
+/// validate reports) refuses a folder holding files it did not write, before any work, and
+/// leaves it as it was; the folder it wrote itself (marked) it replaces on the next run.
+#[test]
+fn an_output_folder_of_the_users_is_not_replaced() {
+    let dir = tempfile::tempdir().unwrap();
+    let user = dir.path().join("my-rig");
+    std::fs::create_dir(&user).unwrap();
+    std::fs::write(user.join("notes.txt"), "mine").unwrap();
+    let user_s = user.to_str().unwrap();
+    let mesh = [
+        "mesh",
+        "--rig",
+        "data/munro/rig.toml",
+        "--load-n",
+        "945:4725:945",
+        "--tip-relief-design-load-n",
+        "3780",
+        "--out",
+    ];
+    fails_cleanly(&[&mesh[..], &[user_s]].concat(), "did not write");
+    fails_cleanly(&["synth", "munro", "--out", user_s], "did not write");
+    assert_eq!(
+        std::fs::read_to_string(user.join("notes.txt")).unwrap(),
+        "mine"
+    );
+    assert_eq!(std::fs::read_dir(&user).unwrap().count(), 1);
+    let own = dir.path().join("mesh-out");
+    let own_s = own.to_str().unwrap();
+    for _ in 0..2 {
+        let out = geardyn(&[&mesh[..], &[own_s]].concat());
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+    assert!(own.join(".geardyn-output").exists());
+}
+
+/// `synth` writes only sets that `validate munro` can fit: the design load among the loads,
+/// enough speeds; a basin map needs more than one initial condition per axis.
+#[test]
+fn synth_and_basins_refuse_what_cannot_be_used() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("set");
+    let out_s = out.to_str().unwrap();
+    fails_cleanly(
+        &["synth", "munro", "--loads", "2000:0.3", "--out", out_s],
+        "design load",
+    );
+    fails_cleanly(
+        &["synth", "munro", "--speeds", "1000:1000:50", "--out", out_s],
+        "fewer than 6",
+    );
+    assert!(!out.exists());
+    fails_cleanly(
+        &[
+            "basins",
+            "--fm",
+            "0.1",
+            "--fah",
+            "0.2",
+            "--zeta",
+            "0.02",
+            "--omega",
+            "0.5",
+            "--ic-grid",
+            "-2:2:1",
+            "--out",
+            out_s,
+        ],
+        "at least 2",
+    );
+}

@@ -761,3 +761,43 @@ fn documented_examples_load() {
         }
     }
 }
+
+/// A design-load curve `validate munro` cannot fit is one located error before any fit: too
+/// few points (the parameters and the noise model need six), flat (a zero reading included),
+/// or so small that the column must be in another unit; loads in kN name the loads found.
+#[test]
+fn design_curves_that_cannot_be_fitted_are_located() {
+    use geardyn::progress::NoProgress;
+    use geardyn::validate::{validate_munro, MunroOptions};
+    let curve = |values: &[f64]| {
+        let mut csv = String::from("load_n,speed_rpm,dte_pp_um\n");
+        for (k, v) in values.iter().enumerate() {
+            csv.push_str(&format!("3780,{},{v}\n", 1000 + 100 * k));
+        }
+        csv
+    };
+    let run = |csv: &str, case: &str, field: &str, file: &str, needle: &str| {
+        let rig = MUNRO_RIG.replace("[ste]\nload_n = [3780.0, 2835.0, 1890.0, 945.0]\namplitude_um = [0.5, 2.0, 3.0, 4.0]\n", "");
+        let d = dataset(Some(&rig), &[("c.csv", csv)]);
+        let data = load_munro(d.path()).expect(case);
+        let r = validate_munro(&data, &MunroOptions::default(), &NoProgress);
+        let text = r.as_ref().err().map(|e| e.to_string()).unwrap_or_default();
+        assert!(text.contains(needle), "{case}: {text}");
+        let line = if file == "rig.toml" { 8 } else { 0 };
+        assert_located(r.map(|r| r.zeta), file, line, field, case);
+    };
+    let five = curve(&[1.0, 1.2, 1.5, 2.0, 1.1]);
+    run(
+        &five,
+        "five points",
+        "rig.design_load_n",
+        "rig.toml",
+        "at least 6 points",
+    );
+    run(&curve(&[1.0; 12]), "flat", "dte_pp_um", "c.csv", "flat");
+    run(&curve(&[0.0; 12]), "zero", "dte_pp_um", "c.csv", "flat");
+    let mm: Vec<f64> = (0..12).map(|k| 0.001 + 0.0005 * k as f64).collect();
+    run(&curve(&mm), "in mm", "dte_pp_um", "c.csv", "in mm");
+    let kn = "load_n,speed_rpm,dte_pp_um\n3.78,1000,1\n3.78,1100,1.2\n3.78,1200,1.5\n";
+    run(kn, "kN", "rig.design_load_n", "rig.toml", "loads: 3.78 N");
+}

@@ -39,6 +39,13 @@ pub struct Args {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("--out", &a.out)?;
     let grid = IcGrid::parse(&a.ic_grid)?;
+    if grid.n < 2 {
+        // One initial condition would paint the whole square its attractor's colour.
+        anyhow::bail!(
+            "--ic-grid {}: a basin map needs at least 2 values per axis",
+            a.ic_grid
+        );
+    }
     let (m, omega, model) = a.model.at_frequency_with(&a.frequency, &a.excitation)?;
     let flow = a.solver.flow(&model)?;
     let mut opts = a.solver.options()?;

@@ -43,7 +43,7 @@ pub struct Args {
     mode: Mode,
     /// Grid of initial conditions q(0), q'(0) at each value (dimensionless: half backlashes):
     /// LO:HI:N (at most 501 per axis and 2000000 initial conditions over all values).
-    #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
+    #[arg(long, default_value = super::common::SWEEP_IC_GRID, allow_hyphen_values = true)]
     ic_grid: String,
     /// Poincaré points drawn per non-periodic set, 10 to 2000.
     #[arg(long, default_value_t = 200, allow_hyphen_values = true,

@@ -8,6 +8,12 @@ use geardyn::report::Staged;
 use geardyn::sim::{EscapeBudget, ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
 use std::path::{Path, PathBuf};
 
+/// The initial-condition grid of the commands that search for attractors at many frequencies
+/// or values (sweep, bifurcation, compare, a subharmonic hbm branch): 11 x 11 over the paper's
+/// -2 < q(0), q'(0) < 2, coarser than one frequency's searches (attractors, basins) since it is
+/// repeated at every value.
+pub const SWEEP_IC_GRID: &str = "-2:2:11";
+
 /// Integration and steady-state options.
 #[derive(ClapArgs, Debug, Clone)]
 pub struct SolverArgs {
@@ -152,6 +158,14 @@ pub fn check_out_dir(flag: &str, dir: &Path) -> anyhow::Result<()> {
     Ok(())
 }
 
+/// Check, before any work starts, that `dir` can be the output folder of option `flag` that
+/// the command replaces as a whole: a folder (or none yet) that is empty or was written by
+/// geardyn ([`geardyn::report::check_replaceable`]).
+pub fn check_out_replaced(flag: &str, dir: &Path) -> anyhow::Result<()> {
+    check_out_dir(flag, dir)?;
+    geardyn::report::check_replaceable(dir).map_err(|e| anyhow::anyhow!("{flag} {e}"))
+}
+
 /// Check, before any work starts, that `file` can be the output file of option `flag`: not an
 /// existing folder, and its folder can be made.
 pub fn check_out_file(flag: &str, file: &Path) -> anyhow::Result<()> {
@@ -211,7 +225,6 @@ pub fn print_json(value: &serde_json::Value) -> anyhow::Result<()> {
     print_text(&format!("{}\n", serde_json::to_string_pretty(value)?))
 }
 
-/// Write to standard output; a closed pipe (e.g. `| head`) ends quietly instead of panicking.
 /// A study's per-seed record writer: each record one JSON line appended to `path` as the seed
 /// finishes (the file is made by the first one).
 pub fn seed_writer<T: serde::Serialize>(
@@ -242,6 +255,7 @@ pub fn print_study(mut text: String, out: &Path, seeds: &Path) -> anyhow::Result
     print_text(&text)
 }
 
+/// Write to standard output; a closed pipe (e.g. `| head`) ends quietly instead of panicking.
 pub fn print_text(text: &str) -> anyhow::Result<()> {
     use std::io::Write;
     let mut out = std::io::stdout().lock();

@@ -20,7 +20,7 @@ pub struct Args {
     /// Grid of initial conditions q(0), q'(0) of the all-attractor search, dimensionless:
     /// LO:HI:N (at most 501 per axis, and at most 2000000 initial conditions over all
     /// frequencies).
-    #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
+    #[arg(long, default_value = super::common::SWEEP_IC_GRID, allow_hyphen_values = true)]
     ic_grid: String,
     /// Harmonics H of the AFT ansatz, 1 to 128.
     #[arg(long, default_value_t = 15, allow_hyphen_values = true,

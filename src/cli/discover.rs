@@ -1,7 +1,7 @@
 //! `geardyn discover --data DIR [--out DIR]`: discrepancy discovery on a Munro-style data set
 //! (issue 5), writing discovery.json, a report and before/after residual plots.
 
-use super::common::{check_out_dir, print_text};
+use super::common::{check_out_replaced, print_text};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
@@ -50,7 +50,7 @@ pub fn parse_tails(s: &str) -> anyhow::Result<TailChoice> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    check_out_dir("--out", &a.out)?;
+    check_out_replaced("--out", &a.out)?;
     let data = load_munro(&a.data)?;
     let opts = DiscoverOptions {
         bootstrap: a.bootstrap,

@@ -86,13 +86,17 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let parent = a.out.parent().map(PathBuf::from).unwrap_or_default();
     std::fs::create_dir_all(&parent).with_context(|| parent.display().to_string())?;
     let scratch = parent.join(format!(".scratch-{}", std::process::id()));
+    // The per-seed lines are appended as each seed finishes, so that an interrupted study of
+    // hours keeps what it has; the summary is written whole at the end.
     let seeds_path = a.out.with_extension("seeds.jsonl");
+    geardyn::report::track_unfinished(&scratch);
     let mut on_seed = seed_writer::<SeedOutcome>(&seeds_path);
     let result = run_study(hidden, &opts, &scratch, &Bar::new(), &mut on_seed);
     let _ = std::fs::remove_dir_all(&scratch);
+    geardyn::report::untrack_unfinished(&scratch);
     let s = result?;
     let text = serde_json::to_string_pretty(&s)?;
-    std::fs::write(&a.out, format!("{text}\n")).with_context(|| a.out.display().to_string())?;
+    geardyn::report::write_file_atomic(&a.out, &format!("{text}\n"))?;
     print_study(summary_text(&s), &a.out, &seeds_path)
 }
 

@@ -60,6 +60,18 @@ Examples:
   geardyn validate munro --data my-rig --fits my-fits --reports my-reports
   geardyn validate kubo";
 
+pub const VALIDATE_MUNRO: &str = "\
+Examples:
+  geardyn validate munro                            # the shipped set: fits/munro.json, reports/munro/
+  geardyn validate munro --data my-rig --fits my-fits --reports my-reports
+  geardyn validate munro --data data/munro-geometry --ste geometry --fits fits/geometry --reports reports/geometry";
+
+pub const VALIDATE_KUBO: &str = "\
+Examples:
+  geardyn validate kubo                             # the shipped set: fits/kubo.json, reports/kubo/
+  geardyn validate kubo --data my-envelope --fit whole   # zeta and omega_n from the whole curve (~10 s)
+  geardyn validate kubo --hold-ste                  # the STE held at rig.toml's value";
+
 pub const INIT_DATA: &str = "\
 Example:
   geardyn init-data my-rig   # then fill in my-rig/rig.toml and my-rig/dte.csv and run
@@ -92,7 +104,7 @@ Example:
 
 /// Every example text, for the test.
 #[cfg(test)]
-pub const ALL: [&str; 19] = [
+pub const ALL: [&str; 21] = [
     SIMULATE,
     ATTRACTORS,
     BASINS,
@@ -105,6 +117,8 @@ pub const ALL: [&str; 19] = [
     REPRODUCE,
     MESH,
     VALIDATE,
+    VALIDATE_MUNRO,
+    VALIDATE_KUBO,
     INIT_DATA,
     SYNTH,
     BENCH,

@@ -36,7 +36,7 @@ pub struct Args {
     /// Grid of initial conditions q(0), q'(0) (dimensionless, LO:HI:N) on which simulation
     /// looks for the period-nu orbit that seeds a --subharmonic branch (nu > 1), frequency by
     /// frequency from the range's start.
-    #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
+    #[arg(long, default_value = super::common::SWEEP_IC_GRID, allow_hyphen_values = true)]
     ic_grid: String,
     /// Output format on standard output (columns: docs/output-columns.md).
     #[arg(long, value_enum, default_value_t = Format::Csv)]
@@ -178,6 +178,7 @@ fn solve_df(m: &Model, omegas: &[f64], method: DfMethod) -> anyhow::Result<Solve
             impact: s.case,
             stable: s.stable,
             branch: None,
+            transient: false,
         };
         out.push(record, row);
     }
@@ -239,6 +240,7 @@ fn solve_aft(a: &Args, m: &Model, model: &GearPair, omegas: &[f64]) -> anyhow::R
             impact: p.case,
             stable: p.stable,
             branch: None,
+            transient: false,
         };
         out.push(record, row);
     }

@@ -1,7 +1,7 @@
 //! `geardyn mesh`: STE and mesh stiffness from the gear geometry (issue 24): waveforms,
 //! harmonics and the Harris map as CSV, PNG and SVG, and a JSON summary.
 
-use super::common::{check_out_dir, print_text};
+use super::common::{check_out_replaced, print_text};
 use super::geometry_excitation::ReliefArgs;
 use super::limits::whole;
 use anyhow::Context;
@@ -72,7 +72,7 @@ fn parse_loads(text: &str) -> anyhow::Result<Vec<f64>> {
 }
 
 pub fn run(a: Args) -> anyhow::Result<()> {
-    check_out_dir("--out", &a.out)?;
+    check_out_replaced("--out", &a.out)?;
     let loads = parse_loads(&a.load_n)?;
     let shape = a.relief.shape();
     let relief = match (a.relief.tip_relief_um, a.relief.tip_relief_design_load_n) {
@@ -110,7 +110,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let r = analyse(rig, &geometry, &opts)
         .with_context(|| format!("mesh analysis of {}", a.rig.display()))?;
     let json = serde_json::to_string_pretty(&r)?;
-    let stage = Staged::new(&a.out)?;
+    let stage = Staged::replacing(&a.out)?;
     stage.write("mesh.json", &format!("{json}\n"))?;
     stage.write("waveforms.csv", &waveforms_csv(&r)?)?;
     stage.write("harmonics.csv", &harmonics_csv(&r)?)?;

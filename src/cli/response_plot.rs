@@ -3,7 +3,7 @@
 use super::model_args::{num, Model};
 use geardyn::model::{Impact, OperatingPoint};
 use geardyn::plot::{write_panels, Marker, Series, XyPlot};
-use geardyn::sim::{Branch, SweepPoint};
+use geardyn::sim::{Branch, SetKind, SweepPoint};
 use std::path::{Path, PathBuf};
 
 /// The sweep CSV (columns in docs/output-columns.md): `omega,qa,qm,case,period,impact,...`,
@@ -82,6 +82,9 @@ pub struct ResponseRow {
     pub stable: Option<bool>,
     /// The carried sweep the point belongs to (None: not from a carried sweep).
     pub branch: Option<Branch>,
+    /// A set that trajectories leave (transient chaos, or a slow approach), found by an
+    /// all-attractor search: not a steady state a measurement would see.
+    pub transient: bool,
 }
 
 impl From<&SweepPoint> for ResponseRow {
@@ -93,12 +96,14 @@ impl From<&SweepPoint> for ResponseRow {
             impact: p.steady.impact,
             stable: Some(true),
             branch: Some(p.branch),
+            transient: p.kind.is_some_and(|k| k != SetKind::Attractor),
         }
     }
 }
 
-/// Two panels, q_a and q_m versus Omega, one marker series per impact case (as Fig. 10); with
-/// the rig's units (`units`), b q_a and b q_m in µm versus the pinion speed in rpm.
+/// Two panels, q_a and q_m versus Omega, one marker series per impact case (as Fig. 10), sets
+/// that trajectories leave as rings of their own; with the rig's units (`units`), b q_a and
+/// b q_m in µm versus the pinion speed in rpm.
 pub fn write_response_plot(
     rows: &[ResponseRow],
     units: Option<&OperatingPoint>,
@@ -115,7 +120,7 @@ pub fn write_response_plot(
             .map(|(i, &imp)| {
                 let pts = rows
                     .iter()
-                    .filter(|p| p.impact == imp && p.stable != Some(false))
+                    .filter(|p| p.impact == imp && p.stable != Some(false) && !p.transient)
                     .map(|p| (x(p), y(pick(p))))
                     .collect();
                 let label = [
@@ -143,6 +148,18 @@ pub fn write_response_plot(
                 Series::dashed("speed down", down).with_color(6),
             ];
             series.splice(0..0, lines);
+        }
+        let transient: Vec<(f64, f64)> = rows
+            .iter()
+            .filter(|p| p.transient)
+            .map(|p| (x(p), y(pick(p))))
+            .collect();
+        if !transient.is_empty() {
+            series.push(
+                Series::markers("transient set (trajectories leave it)", transient)
+                    .with_color(5)
+                    .with_marker(Marker::Ring),
+            );
         }
         let unstable: Vec<(f64, f64)> = rows
             .iter()

@@ -24,7 +24,7 @@ pub struct Args {
     direction: Direction,
     /// Grid of initial conditions q(0), q'(0) for --direction all, dimensionless: LO:HI:N (at
     /// most 501 per axis, and at most 2000000 initial conditions over all frequencies).
-    #[arg(long, default_value = "-2:2:11", allow_hyphen_values = true)]
+    #[arg(long, default_value = super::common::SWEEP_IC_GRID, allow_hyphen_values = true)]
     ic_grid: String,
     /// Initial q of a carried sweep, dimensionless, in [-1e6, 1e6] (default: static equilibrium
     /// 1 + F_m).

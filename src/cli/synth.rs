@@ -1,12 +1,13 @@
 //! `geardyn synth munro|kubo`: write a synthetic data set (labelled as such, with its truth).
 
-use super::common::{
-    check_out_dir, commit, parse_grid, parse_load_ste, print_text, stage, NoiseArgs,
-};
+use super::common::{check_out_replaced, parse_grid, parse_load_ste, print_text, NoiseArgs};
 use super::limits::real;
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand};
-use geardyn::validate::{synth_kubo, synth_munro, HiddenEffects, KuboTruth, MunroTruth};
+use geardyn::report::Staged;
+use geardyn::validate::{
+    synth_kubo, synth_munro, HiddenEffects, KuboTruth, MunroTruth, MIN_DESIGN_POINTS,
+};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]
@@ -185,6 +186,12 @@ fn parse_speeds(text: &str) -> anyhow::Result<(f64, f64, f64)> {
     if !(ok && [a, b, c].iter().all(|x| x.is_finite())) {
         anyhow::bail!("--speeds '{text}': need 0 < START <= STOP <= 1e6 rpm and STEP > 0, at most 100000 speeds");
     }
+    // A set with fewer could not be validated.
+    if ((b - a) / c + 1e-9).floor() + 1.0 < MIN_DESIGN_POINTS as f64 {
+        anyhow::bail!(
+            "--speeds '{text}': gives fewer than {MIN_DESIGN_POINTS} speeds, the least validate munro fits"
+        );
+    }
     Ok((a, b, c))
 }
 
@@ -198,6 +205,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.seed = m.seed;
             t.publish_ste = m.publish_ste;
             if let Some(loads) = m.loads {
+                let design = t.rig.design_load_n;
+                if !loads
+                    .iter()
+                    .any(|(l, _)| geardyn::data::same_load(*l, design))
+                {
+                    anyhow::bail!(
+                        "--loads: must include the rig's design load, {design} N, where validate fits zeta and omega_n"
+                    );
+                }
                 t.ste_um = loads;
             }
             t.hidden = m.hidden.effects();
@@ -207,10 +223,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             } else {
                 t.speeds_rpm = parse_speeds(&m.speeds)?;
             }
-            check_out_dir("--out", &m.out)?;
-            let stage = stage("--out", &m.out)?;
+            check_out_replaced("--out", &m.out)?;
+            let stage = Staged::replacing(&m.out)?;
             synth_munro(&t, stage.dir(), &Bar::new())?;
-            commit(stage, &[])?;
+            stage.commit()?;
             m.out
         }
         Which::Kubo(k) => {
@@ -223,10 +239,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.dop853_rtol = k.dop853_rtol;
             k.hidden.check_kubo()?;
             t.hidden = k.hidden.effects();
-            check_out_dir("--out", &k.out)?;
-            let stage = stage("--out", &k.out)?;
+            check_out_replaced("--out", &k.out)?;
+            let stage = Staged::replacing(&k.out)?;
             synth_kubo(&t, stage.dir(), &Bar::new())?;
-            commit(stage, &[])?;
+            stage.commit()?;
             k.out
         }
     };

@@ -1,6 +1,6 @@
 //! `geardyn validate munro|kubo`: fit, predict, compare, and write fits/ and reports/.
 
-use super::common::{check_out_dir, print_text, EscapeArgs};
+use super::common::{check_out_dir, check_out_replaced, print_text, EscapeArgs};
 use super::geometry_excitation::{Shape, Stiffness};
 use super::progress_bar::Bar;
 use clap::{Args as ClapArgs, Subcommand, ValueEnum};
@@ -9,8 +9,8 @@ use geardyn::report::{
     data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
 };
 use geardyn::validate::{
-    spread_interval, validate_kubo, validate_munro, GeometryOptions, KuboFitPath, KuboOptions,
-    KuboValidation, LoadResult, MunroOptions, ReliefRule, SteMode, PAIR_SPREAD,
+    spread_interval, validate_kubo, validate_munro, DesignModel, GeometryOptions, KuboFitPath,
+    KuboOptions, KuboValidation, LoadResult, MunroOptions, ReliefRule, SteMode, PAIR_SPREAD,
 };
 use std::path::PathBuf;
 
@@ -24,10 +24,10 @@ pub struct Args {
 enum Which {
     /// Peak-to-peak DTE curves at several loads (Munro layout, Figs 19-22): fit zeta and f_n at
     /// the design load, predict the other loads.
-    #[command(after_help = super::examples::VALIDATE)]
+    #[command(after_help = super::examples::VALIDATE_MUNRO)]
     Munro(MunroArgs),
     /// Dynamic-factor envelope at one load (Kubo layout, Fig. 23).
-    #[command(after_help = super::examples::VALIDATE)]
+    #[command(after_help = super::examples::VALIDATE_KUBO)]
     Kubo(KuboArgs),
 }
 
@@ -186,7 +186,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Which::Kubo(k) => &k.dirs,
     };
     check_out_dir("--fits", &d.fits)?;
-    check_out_dir("--reports", &d.reports)?;
+    let report = match &a.which {
+        Which::Munro(_) => "munro",
+        Which::Kubo(_) => "kubo",
+    };
+    check_out_replaced("--reports", &d.reports.join(report))?;
     let (written, banner, summary) = match a.which {
         Which::Munro(m) => {
             let dir = data_dir(m.dirs.data.as_deref(), "munro")?;
@@ -198,6 +202,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 ..defaults
             };
             let r = validate_munro(&data, &opts, &Bar::new())?;
+            let unused = data.ste_loads_without_curve();
             let d = m.dirs;
             let figures = MunroFigures {
                 all_attractors_in_range: m.all_attractors_in_range,
@@ -209,6 +214,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 value_ci(r.zeta, r.fit.estimate.ci95[0], 4),
                 value_ci(r.omega_n_hz, r.fit.estimate.ci95[1], 1)
             );
+            if !unused.is_empty() {
+                s.push_str(&format!(
+                    "WARNING: rig.toml [ste] states an STE at {} N, where no CSV file has a curve (their loads: {} N): it is not used\n",
+                    geardyn::data::loads_text(&unused),
+                    geardyn::data::loads_text(&data.loads())
+                ));
+            }
+            if r.fit.design_model == DesignModel::Swept {
+                s.push_str(
+                    "design-load fit through simulated up-sweeps: the teeth separate at some speeds under eq. 13's closed form\n",
+                );
+            }
             s.push_str(&format!(
                 "noise: {}\n",
                 geardyn::report::noise_summary(&r.fit.estimate)

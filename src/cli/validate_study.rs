@@ -128,6 +128,12 @@ fn summary_text(s: &ValidateStudySummary) -> String {
         s.data_dop853_rtol
             .map_or("the exact solver".to_string(), |r| format!("DOP853 (rtol {r:e})"))
     );
+    if s.refused > 0 {
+        msg.push_str(&format!(
+            "{} more seeds' fits were refused, as validate munro refuses them (zeta not determined by the curve; the per-seed records say why); the coverage is over the {} fitted\n",
+            s.refused, s.seeds
+        ));
+    }
     msg.push_str("95% interval coverage (Wilson 95% interval of the rate):\n");
     for c in &s.coverage {
         let rate = |(k, r, (lo, hi)): (usize, f64, (f64, f64))| {

@@ -30,7 +30,7 @@ mod toml_doc;
 pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint};
-pub use munro::{load_munro, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
+pub use munro::{load_munro, loads_text, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
 pub use profile_table::{load_profile_table, ProfilePoints, PROFILE_HEADER};
 pub use rig::{
     load_gear_pair, load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile,

@@ -71,6 +71,19 @@ impl MunroData {
         loads
     }
 
+    /// The loads of rig.toml's `[ste]` table that have no curve: an STE stated there is never
+    /// used, and is most likely a typo (3870 for 3780 N) that drops the STE meant.
+    pub fn ste_loads_without_curve(&self) -> Vec<f64> {
+        let loads = self.loads();
+        self.rig.ste.as_ref().map_or(Vec::new(), |ste| {
+            ste.load_n
+                .iter()
+                .copied()
+                .filter(|l| !loads.iter().any(|c| same_load(*c, *l)))
+                .collect()
+        })
+    }
+
     /// The points measured at `load_n` (relative tolerance 1e-9), sorted by speed.
     pub fn curve(&self, load_n: f64) -> Vec<&MunroPoint> {
         let mut c: Vec<&MunroPoint> = self
@@ -131,4 +144,13 @@ pub fn load_munro(dir: &Path) -> Result<MunroData> {
         rig,
         points,
     })
+}
+
+/// Loads as "3780, 2835, 1890" (N).
+pub fn loads_text(loads: &[f64]) -> String {
+    loads
+        .iter()
+        .map(|l| format!("{l}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }

@@ -103,7 +103,7 @@ const MUNRO_CSV: &str = r#"# Peak-to-peak dynamic transmission error against spe
 #   dte_pp_um     um   [0, 1000]     peak-to-peak dynamic transmission error
 #   dte_pp_sd_um  um   (0, 1000]     OPTIONAL column: standard deviation of each dte_pp_um
 # Within a curve, list the points by increasing speed; no speed twice in a curve. The fit needs
-# the design-load curve with at least 5 points, better 30 or more through the resonance.
+# the design-load curve with at least 6 points, better 30 or more through the resonance.
 load_n,speed_rpm,dte_pp_um
 "#;
 

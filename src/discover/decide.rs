@@ -6,7 +6,7 @@ use super::ambiguity::{ambiguous_with as ambiguous_partners, Contender};
 use super::effects::LIBRARY;
 use super::fit::{Mask, ModelFit};
 use super::forward::{predict_many, CurvePrediction, Setup};
-use super::interval::{over_both_basins, profiled_refit, wald_ci, IntervalFound};
+use super::interval::{over_both_basins, profiled_refit, wald_ci, IntervalFound, RefitNoise};
 use super::linearized::{Linearized, Statistics, CHI_SQUARE_HELD_OUT, CHI_SQUARE_TRAINING};
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
 use super::refit::{refit_candidate, RunNoise};
@@ -56,6 +56,17 @@ pub(super) struct Refitted {
     /// The noise scales of its last stage (the noise estimated about the refit, see
     /// [`super::refit::refit_scales`]).
     pub scales: Scales,
+    /// The noise model behind `scales`, for its intervals' quantile.
+    pub noise: RefitNoise,
+}
+
+impl Refitted {
+    /// The 97.5% quantile of its intervals ([`RefitNoise::quantile`]) on the training curves
+    /// `train`.
+    pub fn quantile(&self, train: &[usize]) -> f64 {
+        self.noise
+            .quantile(LIBRARY[self.cand], &self.fit.lm, train, &self.mask)
+    }
 }
 
 /// The p-value of the test `name` among `tests` (None: absent, or not computed).
@@ -253,8 +264,10 @@ impl Rounds<'_> {
             cands[c].other_start = other;
             cands[c].estimate = Some(cand.estimate(delta).0);
             // Two basins within chi2(0.95; 1) of each other: the interval spans both.
-            cands[c].ci95 = over_both_basins(wald_ci(cand, &r.fit.lm), &cands[c], delta);
-            cands[c].set_phase(&r.fit.lm, delta);
+            let q = r.quantile(self.train);
+            cands[c].interval_quantile = Some(q);
+            cands[c].ci95 = over_both_basins(wald_ci(cand, &r.fit.lm, q), &cands[c], delta);
+            cands[c].set_phase(&r.fit.lm, delta, q);
             cands[c].delta = Some(delta.clone());
             cands[c].refit_zeta = Some(r.fit.globals.zeta);
             cands[c].refit_omega_n_hz = Some(r.fit.globals.omega_n_hz);
@@ -267,7 +280,7 @@ impl Rounds<'_> {
     /// the other phase basin's fit when it has one.
     fn refit_one(&self, c: usize) -> Result<(Refitted, Option<OtherStart>)> {
         let k = self.observed.lr[c].1;
-        let (fit, mask, other, scales) = refit_candidate(
+        let (fit, mask, other, (scales, noise)) = refit_candidate(
             self.setup,
             self.train,
             self.mask,
@@ -295,6 +308,7 @@ impl Rounds<'_> {
             mask,
             train_preds,
             scales,
+            noise,
         };
         Ok((refitted, other))
     }
@@ -581,7 +595,9 @@ impl Rounds<'_> {
         if let Some(b) = d.better_refit.take() {
             let c = &mut cands[b.cand];
             c.estimate = Some(c.candidate.estimate(&b.fit.effect.delta).0);
-            c.set_phase(&b.fit.lm, &b.fit.effect.delta);
+            let q = b.quantile(self.train);
+            c.interval_quantile = Some(q);
+            c.set_phase(&b.fit.lm, &b.fit.effect.delta, q);
             c.delta = Some(b.fit.effect.delta.clone());
             c.refit_zeta = Some(b.fit.globals.zeta);
             c.refit_omega_n_hz = Some(b.fit.globals.omega_n_hz);
@@ -592,7 +608,7 @@ impl Rounds<'_> {
         if let Some((c, found)) = d.named_ci.take() {
             // From the refit itself: on a second decision `ci95` is already a hull.
             let wald = refits.iter().find(|r| r.cand == c).and_then(|r| {
-                let w = wald_ci(cands[c].candidate, &r.fit.lm);
+                let w = wald_ci(cands[c].candidate, &r.fit.lm, r.quantile(self.train));
                 over_both_basins(w, &cands[c], &r.fit.effect.delta)
             });
             cands[c].wald_ci95 = wald;

@@ -19,7 +19,10 @@
 //! outlier), and when their tails say so the errors are Student-t (see [`TailChoice`]).
 
 use crate::error::{GearError, Result};
-use crate::fit::{estimate_noise, Distribution, NoiseData, NoiseFreedom, NoiseModel};
+use crate::fit::{
+    estimate_noise, held_variance_components, Distribution, NoiseData, NoiseFreedom, NoiseModel,
+    VarianceComponents,
+};
 use crate::validate::Rng;
 use serde::Serialize;
 
@@ -88,6 +91,12 @@ pub struct DiscoveryNoise {
     /// Pseudo-residuals used and trimmed (estimated noise only).
     pub pseudo_residuals: usize,
     pub trimmed: usize,
+    /// The estimate's variance components (floor^2, relative^2) and their covariance, from
+    /// the pseudo-likelihood's information adjusted for the overlap of the pseudo-residuals
+    /// ([`Pseudo::kappa`]): what the intervals' degrees of freedom are taken from (estimated
+    /// noise only).
+    #[serde(skip)]
+    pub components: Option<VarianceComponents>,
 }
 
 /// Per curve, per point: the same shape as the curves.
@@ -105,6 +114,7 @@ impl DiscoveryNoise {
             tails_lr: None,
             pseudo_residuals: 0,
             trimmed: 0,
+            components: None,
         }
     }
 
@@ -177,6 +187,7 @@ impl DiscoveryNoise {
         match trimmed_fit(&pseudo, freedom, self.model.distribution) {
             Ok((model, _, _)) => DiscoveryNoise {
                 model,
+                components: None,
                 ..self.clone()
             },
             // A replicate too short to estimate from keeps the data's noise.
@@ -289,14 +300,7 @@ fn fit_kept(
     freedom: NoiseFreedom,
     dist: Distribution,
 ) -> Result<(NoiseModel, f64)> {
-    let pick = |v: &[f64]| -> Vec<f64> {
-        v.iter()
-            .zip(keep)
-            .filter(|(_, k)| **k)
-            .map(|(x, _)| *x)
-            .collect()
-    };
-    let (values, levels) = (pick(&pseudo.values), pick(&pseudo.levels));
+    let (values, levels) = kept_values(pseudo, keep);
     let leverages = vec![0.0; values.len()];
     let data = NoiseData {
         residuals: &values,
@@ -367,7 +371,7 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
     let relative_lr = 2.0 * (nll_constant - nll_general).max(0.0) / pseudo.kappa;
     let use_relative = relative_lr > BOUNDARY_LR_CRITICAL && general.relative > 0.0;
     let freedom = free(use_relative);
-    let (mut model, _, kept) = trimmed_fit(&pseudo, freedom, gauss)?;
+    let (mut model, _, mut kept) = trimmed_fit(&pseudo, freedom, gauss)?;
     let mut trimmed = kept.iter().filter(|k| !**k).count();
     let mut tails_lr = None;
     if tails == TailChoice::Auto {
@@ -386,9 +390,11 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
             if lr > BOUNDARY_LR_CRITICAL {
                 model = t;
                 trimmed = 0;
+                kept = all;
             }
         }
     }
+    let components = components_of(&pseudo, &kept, freedom, &model);
     Ok(DiscoveryNoise {
         origin: NoiseOrigin::Estimated { floor_min },
         model,
@@ -398,7 +404,40 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
         tails_lr,
         pseudo_residuals: pseudo.values.len(),
         trimmed,
+        components: Some(components),
     })
+}
+
+/// The variance components of `model` fitted to the pseudo-residuals `keep` selects, their
+/// covariance adjusted for the pseudo-residuals' overlap ([`Pseudo::kappa`]); a component held
+/// at its boundary ([`held_variance_components`]) has zero variance.
+fn components_of(
+    pseudo: &Pseudo,
+    keep: &[bool],
+    freedom: NoiseFreedom,
+    model: &NoiseModel,
+) -> VarianceComponents {
+    let (values, levels) = kept_values(pseudo, keep);
+    let leverages = vec![0.0; values.len()];
+    let data = NoiseData {
+        residuals: &values,
+        levels: &levels,
+        leverages: &leverages,
+    };
+    let vc = held_variance_components(&data, freedom, model);
+    vc.inflated(pseudo.kappa)
+}
+
+/// The values and levels of the pseudo-residuals `keep` selects.
+fn kept_values(pseudo: &Pseudo, keep: &[bool]) -> (Vec<f64>, Vec<f64>) {
+    let pick = |v: &[f64]| -> Vec<f64> {
+        v.iter()
+            .zip(keep)
+            .filter(|(_, k)| **k)
+            .map(|(x, _)| *x)
+            .collect()
+    };
+    (pick(&pseudo.values), pick(&pseudo.levels))
 }
 
 #[cfg(test)]

@@ -3,7 +3,9 @@
 //! ([`Candidate::profiled`]: an amplitude, gamma, or beta) at which the residual sum of squares
 //! of the refit's own points, in its own noise scales, minimised over everything else (zeta,
 //! omega_n, every training load's STE, the phase and the rest of delta), exceeds the refit's by
-//! chi2(0.95; 1) = 3.84.
+//! q^2, q the refit's t quantile ([`super::interval::RefitNoise::quantile`]: Satterthwaite's
+//! degrees of freedom for an estimated noise, 1.96 for a stated one, where q^2 = chi2(0.95; 1)
+//! = 3.84), as `validate`'s profiles do.
 //!
 //! Why not the Wald interval alone: the pp response is steep next to a fold, and a linearised
 //! fit leans on the one or two kept points there. On a constant-noise null set a torque ripple
@@ -33,12 +35,10 @@ use std::f64::consts::PI;
 
 /// First step of a phase profile without a Wald arc (rad, about 6 degrees).
 const PHASE_FALLBACK_STEP: f64 = 0.1;
-/// sqrt(chi2(0.95; 1)).
-const Z95: f64 = 1.959_963_984_540_054;
 /// Profile fits per side at most, bracketing and root search together.
 const MAX_FITS_PER_SIDE: usize = 6;
-/// A side's root is accepted within this of [`Z95`] (about 2.5% of the bound's distance
-/// from the estimate where the model is linear).
+/// A side's root is accepted within this of the quantile q (about 2.5% of the bound's
+/// distance from the estimate where the model is linear).
 const ROOT_TOL: f64 = 0.05;
 /// Jacobians of one profile fit at most (each starts within a step of its minimum).
 const PROFILE_JACOBIANS: usize = 6;
@@ -58,6 +58,9 @@ pub struct ProfileProblem<'a> {
     pub scales: &'a Scales,
     pub cand: Candidate,
     pub fit: &'a ModelFit,
+    /// The intervals' 97.5% quantile ([`super::interval::RefitNoise::quantile`]): the profile
+    /// rises by its square at an end, as in `crate::fit::profile_interval`.
+    pub q: f64,
 }
 
 /// What a profile found.
@@ -83,7 +86,7 @@ pub enum PhaseProfile {
 /// How a side of the interval ended.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Bound {
-    /// The profile crosses chi2(0.95; 1) here (estimate units).
+    /// The profile crosses q^2 here (estimate units).
     At(f64),
     /// An amplitude's profile stays below it down to zero: the bound is zero.
     Zero,
@@ -120,7 +123,7 @@ impl ProfileProblem<'_> {
         // An amplitude's lower side ends at zero.
         let floor = self.cand.profiled_is_amplitude().then_some(u_hat.max(0.0));
         let side = |dir: f64, h: f64, limit: Option<f64>| {
-            search_side(&held, centre.clone(), dir, options(h, limit))
+            search_side(&held, centre.clone(), dir, options(h, limit, self.q))
         };
         let (lo, hi) = rayon::join(
             || side(-1.0, lo_h.unwrap_or(fallback), floor),
@@ -143,7 +146,7 @@ impl ProfileProblem<'_> {
     /// The 95% profile-likelihood arc of a phase-carrying candidate's first phase psi
     /// ([`Candidate::first_phase`]): the phases on each side of the estimate at which the
     /// residual sum of squares minimised over everything else (the amplitude kept positive,
-    /// [`EffectInFit::PhaseHeld`]) exceeds the refit's by 3.84, searched from the Wald
+    /// [`EffectInFit::PhaseHeld`]) exceeds the refit's by q^2, searched from the Wald
     /// half-width `wald_half` (rad) as first step; or a better fit than the refit's.
     ///
     /// Why: the all-load fit hardly moves a phase, so the refit's phase is where the polar
@@ -167,7 +170,7 @@ impl ProfileProblem<'_> {
             centre: psi_hat,
         };
         // Each side goes half a turn at most.
-        let side = |dir: f64| search_side(&held, centre.clone(), dir, options(h, Some(PI)));
+        let side = |dir: f64| search_side(&held, centre.clone(), dir, options(h, Some(PI), self.q));
         let (lo, hi) = rayon::join(|| side(-1.0), || side(1.0));
         let end = |end: SideEnd<Vec<f64>>, dir: f64| match end {
             SideEnd::At { distance, .. } => Ok(Some(dir * distance)),
@@ -183,17 +186,17 @@ impl ProfileProblem<'_> {
 }
 
 /// The search of one side from its first step `h` (the coordinate's units; the search clamps
-/// it to `limit`), never beyond `limit` from the estimate.
-fn options(h: f64, limit: Option<f64>) -> SearchOptions {
+/// it to `limit`), never beyond `limit` from the estimate, to the root deviance `q`.
+fn options(h: f64, limit: Option<f64>, q: f64) -> SearchOptions {
     SearchOptions {
         first_step: h,
-        se: h / Z95,
-        q: Z95,
+        se: h / q,
+        q,
         limit,
         max_fits: MAX_FITS_PER_SIDE,
         accept: ROOT_TOL,
         bracket_width: None,
-        tolerance: END_TOLERANCE * h / Z95,
+        tolerance: END_TOLERANCE * h / q,
         better_by: Some(BETTER_BY),
     }
 }

@@ -10,7 +10,7 @@ use super::fit::{fit_model, fit_ste, residuals_of, EffectInFit, Mask, ModelFit};
 use super::forward::{
     fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup, MIN_ZETA,
 };
-use super::interval::{wald_ci, wald_phase_arc};
+use super::interval::{wald_ci, wald_phase_arc, RefitNoise};
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
 use super::run::{make_mask, noise_about, row_scales, OtherStart};
 use crate::error::{GearError, Result};
@@ -301,13 +301,14 @@ impl Refit<'_> {
                 m2[i][j] = m2[i][j] && *keep;
             }
         }
-        let scales3 = refit_scales(setup, self.w, train, &preds, &m2)?;
+        let (scales3, noise3) = refit_scales(setup, self.w, train, &preds, &m2)?;
         let other = other.map(|o| {
             let lm = restandardized(&o.lm, train, self.mask, self.w.scales, &scales3);
+            let q = noise3.quantile(self.cand, &lm, train, self.mask);
             OtherStart {
                 rss_increase: o.lm.rss - f2.lm.rss,
-                ci95: wald_ci(self.cand, &lm),
-                phase_wald95_deg: wald_phase_arc(self.cand, &lm),
+                ci95: wald_ci(self.cand, &lm, q),
+                phase_wald95_deg: wald_phase_arc(self.cand, &lm, q),
                 delta: o.effect.delta,
             }
         });
@@ -320,7 +321,7 @@ impl Refit<'_> {
             &f2.lm.params.clone(),
             Stop::converged(self.iters / 2 + 1),
         )?;
-        Ok((f3, m2, other, scales3))
+        Ok((f3, m2, other, (scales3, noise3)))
     }
 }
 
@@ -355,7 +356,7 @@ pub(super) fn ste_roots(a: f64, w: (f64, f64)) -> Vec<f64> {
 }
 
 /// A refit's last fit, its mask, the start not kept and its scales.
-type RefitOutcome = (ModelFit, Mask, Option<OtherStart>, Scales);
+type RefitOutcome = (ModelFit, Mask, Option<OtherStart>, (Scales, RefitNoise));
 
 /// Refit M0 + `cand` on the training curves in stages: the highest load alone first (the
 /// design load, usually in contact, where the fit is smooth), then the other training loads'
@@ -691,14 +692,14 @@ pub(super) struct RunNoise<'a> {
 /// the refit's levels); elsewhere the run's. About M0, a missing effect's misfit at the
 /// resonances inflates the estimate (eps 0.2 hidden in Gaussian noise of floor 0.15 um: floor
 /// 0.21 um and Student-t tails of 3 dof, standard deviations 2.4 times the true ones), which
-/// would widen the refit's interval by as much.
+/// would widen the refit's interval by as much. Returns the scales and the noise behind them.
 fn refit_scales(
     setup: &Setup,
     w: RunNoise,
     train: &[usize],
     preds: &[CurvePrediction],
     fitted: &Mask,
-) -> Result<Scales> {
+) -> Result<(Scales, RefitNoise)> {
     let mut levels: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
     let mut mask: Mask = levels.iter().map(|l| vec![false; l.len()]).collect();
     let mut full: Vec<CurvePrediction> = setup
@@ -727,7 +728,7 @@ fn refit_scales(
     for &i in train {
         scales[i] = fresh[i].clone();
     }
-    Ok(scales)
+    Ok((scales, RefitNoise { noise, levels }))
 }
 
 /// A fit's Jacobian of standardized residuals with each row r re-standardized from scale

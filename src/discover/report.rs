@@ -35,6 +35,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "ci95_method": c.ci95_method,
             "wald_ci95": c.wald_ci95.map(|(a, b)| [a, b]),
             "profile_ci95": c.profile_ci95.map(|(a, b)| [a, b]),
+            "interval_quantile": c.interval_quantile,
             "p_value": c.p_value,
             "p_holm": c.p_holm,
             "identifiable": c.identifiable,
@@ -155,7 +156,7 @@ fn residual_plot(
 ) -> Result<Vec<PathBuf>> {
     let mut plot = XyPlot::new(title, "Omega = mesh frequency / omega_n (M0)", "residual (measured - model), um")
         .with_caption(format!(
-            "Shaded: windows around Omega = 1/3, 1/2, 2/3, 1, 2 (+-{:.0}%); points excluded from the tests (non-period-1 or next to a jump) not drawn",
+            "Shaded: windows around Ω = 1/3, 1/2, 2/3, 1, 2 (±{:.0}%); points excluded from the tests (non-period-1 or next to a jump) not drawn",
             100.0 * super::windows::HALF_WIDTH
         ));
     let (lo, hi) = min_max(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)))
@@ -415,7 +416,7 @@ fn unexplained_by_excluded_text(d: &Discovery) -> Option<String> {
 /// Write the output folder `out`; returns the files written.
 pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Vec<PathBuf>> {
     let banner = data_kind_banner(&data.rig);
-    let stage = Staged::new(out)?;
+    let stage = Staged::replacing(out)?;
     let mut files = vec!["discovery.json".to_string()];
     for (name, curves, title) in [
         (
@@ -618,11 +619,22 @@ fn gap_section(page: &mut Page, d: &Discovery) {
 }
 
 /// " (hull of the profile-likelihood and Wald intervals)" and the like after an interval that
-/// is not the Wald interval every refit gets.
+/// is not the Wald interval every refit gets, and the Student-t quantile it spans where the
+/// noise was estimated (1.96 goes without saying).
 fn interval_method_text(c: &CandidateResult) -> String {
-    if c.ci95.is_some() && c.ci95_method != "Wald" {
-        format!(" ({})", c.ci95_method)
-    } else {
+    if c.ci95.is_none() {
+        return String::new();
+    }
+    let mut parts = Vec::new();
+    if c.ci95_method != "Wald" {
+        parts.push(c.ci95_method.to_string());
+    }
+    if let Some(q) = c.interval_quantile.filter(|q| *q > 1.965) {
+        parts.push(format!("Student-t quantile {q:.2}"));
+    }
+    if parts.is_empty() {
         String::new()
+    } else {
+        format!(" ({})", parts.join("; "))
     }
 }

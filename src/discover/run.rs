@@ -103,6 +103,10 @@ pub struct CandidateResult {
     /// where the profile did not rise within its fits).
     pub wald_ci95: Option<(f64, f64)>,
     pub profile_ci95: Option<(Option<f64>, Option<f64>)>,
+    /// The 97.5% quantile its intervals are formed with: Student-t with the Satterthwaite
+    /// degrees of freedom of the estimate's variance when the noise is estimated, 1.96 when
+    /// stated (`super::interval::RefitNoise::quantile`).
+    pub interval_quantile: Option<f64>,
     /// Refitted delta and the refit's drop in residual sum of squares (sigma^2 units).
     pub delta: Option<Vec<f64>>,
     pub refit_lr: Option<f64>,
@@ -1084,6 +1088,7 @@ fn candidate_results(
                 ci95_method: "Wald",
                 wald_ci95: None,
                 profile_ci95: None,
+                interval_quantile: None,
                 delta: None,
                 refit_lr: None,
                 refit_zeta: None,

@@ -132,6 +132,9 @@ pub struct SeedOutcome {
     /// their coverage.
     pub wald_ci95: Option<(f64, f64)>,
     pub profile_ci95: Option<(Option<f64>, Option<f64>)>,
+    /// The quantile `wald_ci95` spans either side, in standard errors (Student-t with
+    /// Satterthwaite's degrees of freedom for an estimated noise).
+    pub interval_quantile: Option<f64>,
     /// The named candidate's phase is not determined by the training loads (its other-phase
     /// refit is a distinct minimum within chi2(0.95; 1); the interval spans both); None when
     /// no phase-carrying candidate was named.
@@ -438,6 +441,7 @@ fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
         ci95,
         wald_ci95: cand.and_then(|c| c.wald_ci95),
         profile_ci95: cand.and_then(|c| c.profile_ci95),
+        interval_quantile: cand.and_then(|c| c.interval_quantile),
         held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
         held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
         excluded_far_outside: d.excluded_far_outside(),

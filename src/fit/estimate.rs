@@ -11,8 +11,8 @@
 
 use super::lm::{least_squares, LmFit, Stop};
 use super::noise::{
-    estimate_noise, log_likelihood, noise_intervals, robust_weight, variance_components,
-    Distribution, NoiseData, NoiseFreedom, NoiseModel,
+    estimate_noise, held_variance_components, log_likelihood, noise_intervals, robust_weight,
+    Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 use super::params::{restarted, Param};
 use crate::error::{GearError, Result};
@@ -473,14 +473,9 @@ fn at_boundary(f: NoiseFreedom, m: &NoiseModel) -> NoiseFreedom {
 }
 
 /// Degrees of freedom of each parameter's variance estimate by Satterthwaite's approximation
-/// (Satterthwaite 1946; as in Kenward & Roger 1997 for estimated variance parameters):
-/// v_j = [cov]_jj is a function of the variance components (floor^2, relative^2), and with
-/// their covariance S,
-/// dof_j = 2 v_j^2 / (grad v_j' S grad v_j). Where the noise is known only from a few points
-/// (a resonance peak whose handful of samples set both zeta and the relative noise), the
-/// variance estimate is itself uncertain and the t quantile widens accordingly. A stated noise
-/// gives infinite dof (normal quantile); a common scale of stated relative scales the residual
-/// dof (the exact t of a weighted linear fit).
+/// ([`satterthwaite_dof_of`]) for the fit `c`: the variances are the diagonal of the inverse
+/// Fisher information. A stated noise gives infinite dof (normal quantile); a common scale of
+/// stated relative scales the residual dof (the exact t of a weighted linear fit).
 fn satterthwaite_dof(
     setting: &NoiseSetting,
     c: &Converged,
@@ -499,15 +494,48 @@ fn satterthwaite_dof(
         levels: &c.levels,
         leverages: &c.leverages,
     };
-    let vc = variance_components(&data, freedom, &c.noise);
+    let vc = held_variance_components(&data, freedom, &c.noise);
+    let diagonal =
+        |m: &NoiseModel| inverse_fisher(m).map(|f| f.diagonal().iter().copied().collect());
+    let v0: Vec<f64> = cov.diagonal().iter().copied().collect();
+    satterthwaite_dof_of(
+        &vc,
+        freedom.relative && vc.covariance[1][1] > 0.0,
+        &c.noise,
+        &v0,
+        &diagonal,
+        residual_dof as f64,
+    )
+}
+
+/// Degrees of freedom of variance estimates v_j by Satterthwaite's approximation
+/// (Satterthwaite 1946; as in Kenward & Roger 1997 for estimated variance parameters):
+/// each v_j is a function of the noise model's variance components (floor^2, relative^2,
+/// estimated as `vc` with the relative part free when `relative_free`), and with their
+/// covariance S, dof_j = 2 v_j^2 / (grad v_j' S grad v_j). Where the noise is known only from a
+/// few points (a resonance peak whose handful of samples set both zeta and the relative noise),
+/// the variance estimate is itself uncertain and the t quantile widens accordingly.
+///
+/// `v0` are the variances under `base`, `variances_at` the same variances under another noise
+/// model (None where they cannot be formed); the derivatives are central differences in the
+/// variance components, one-sided in relative^2 at zero. Each dof lies in [1, `cap`] (the
+/// residual degrees of freedom).
+pub fn satterthwaite_dof_of(
+    vc: &VarianceComponents,
+    relative_free: bool,
+    base: &NoiseModel,
+    v0: &[f64],
+    variances_at: &dyn Fn(&NoiseModel) -> Option<Vec<f64>>,
+    cap: f64,
+) -> Vec<f64> {
     let s = vc.covariance;
     let [a, t] = vc.value;
     let [ha, ht] = vc.step;
     let at = |a: f64, t: f64| {
-        inverse_fisher(&NoiseModel {
+        variances_at(&NoiseModel {
             floor: a.max(0.0).sqrt(),
             relative: t.max(0.0).sqrt(),
-            ..c.noise
+            ..*base
         })
     };
     let (df_lo, df_hi) = (at(a - ha, t), at(a + ha, t));
@@ -517,21 +545,20 @@ fn satterthwaite_dof(
     } else {
         (t, t + ht)
     };
-    let (dr_lo, dr_hi) = if freedom.relative {
+    let (dr_lo, dr_hi) = if relative_free {
         (at(a, t_lo), at(a, t_hi))
     } else {
         (None, None)
     };
-    let cap = residual_dof as f64;
-    (0..p)
-        .map(|j| {
-            let v = cov[(j, j)];
+    v0.iter()
+        .enumerate()
+        .map(|(j, &v)| {
             let grad_f = match (&df_lo, &df_hi) {
-                (Some(lo), Some(hi)) => (hi[(j, j)] - lo[(j, j)]) / (2.0 * ha),
+                (Some(lo), Some(hi)) => (hi[j] - lo[j]) / (2.0 * ha),
                 _ => return cap,
             };
             let grad_r = match (&dr_lo, &dr_hi) {
-                (Some(lo), Some(hi)) => (hi[(j, j)] - lo[(j, j)]) / (t_hi - t_lo),
+                (Some(lo), Some(hi)) => (hi[j] - lo[j]) / (t_hi - t_lo),
                 _ => 0.0,
             };
             let var_v = grad_f * grad_f * s[0][0]
@@ -650,7 +677,7 @@ fn sandwich_covariance(
 }
 
 /// The 97.5% point of Student's t with `dof` degrees of freedom (the normal's where infinite).
-fn t_quantile_975(dof: f64) -> f64 {
+pub fn t_quantile_975(dof: f64) -> f64 {
     const NORMAL: f64 = 1.959_963_984_540_054;
     if dof.is_finite() {
         StudentsT::new(0.0, 1.0, dof)

@@ -13,12 +13,13 @@ mod profile;
 mod profile_search;
 
 pub use estimate::{
-    estimate, Estimate, EstimateOptions, NoiseFit, NoiseSetting, NoiseSource, Robust,
+    estimate, satterthwaite_dof_of, t_quantile_975, Estimate, EstimateOptions, NoiseFit,
+    NoiseSetting, NoiseSource, Robust,
 };
 pub use lm::{least_squares, least_squares_warm, rss, LmFit, NearResiduals, Stop, UNSEEN};
 pub use noise::{
-    estimate_noise, log_likelihood, robust_weight, Distribution, NoiseData, NoiseFreedom,
-    NoiseModel,
+    estimate_noise, held_variance_components, log_likelihood, robust_weight, variance_components,
+    Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 pub use params::{Param, Transform};
 pub use profile::{profile_interval, ProfileInterval};

@@ -271,6 +271,7 @@ pub fn estimate_noise(
 /// finite, so its uncertainty is seen); differences in it are one-sided at zero. The relative
 /// entries are zero when it is not estimated; infinite where the information is not positive
 /// definite.
+#[derive(Clone, Debug)]
 pub struct VarianceComponents {
     /// floor^2 and relative^2.
     pub value: [f64; 2],
@@ -279,12 +280,31 @@ pub struct VarianceComponents {
     pub step: [f64; 2],
 }
 
-/// [`VarianceComponents`] of a fitted noise model.
-pub fn variance_components(
-    data: &NoiseData,
-    freedom: NoiseFreedom,
-    m: &NoiseModel,
-) -> VarianceComponents {
+impl VarianceComponents {
+    /// The covariance multiplied by `factor`: for a composite likelihood of correlated terms
+    /// whose score variance is `factor` times its Hessian, the Godambe information is the
+    /// Hessian over `factor` (Varin, Reid & Firth 2011, Sec. 2.3; first order).
+    pub fn inflated(mut self, factor: f64) -> Self {
+        for row in self.covariance.iter_mut() {
+            for v in row.iter_mut() {
+                *v *= factor;
+            }
+        }
+        self
+    }
+}
+
+/// Second derivatives of the negative log-likelihood in the variance components (floor^2,
+/// relative^2) at a fitted model, and the steps they were taken with.
+struct Curvatures {
+    value: [f64; 2],
+    step: [f64; 2],
+    /// d2/da2, d2/dt2, d2/da dt (a = floor^2, t = relative^2); the last two zero when the
+    /// relative part is not estimated.
+    d2: [f64; 3],
+}
+
+fn curvatures(data: &NoiseData, freedom: NoiseFreedom, m: &NoiseModel) -> Curvatures {
     let f = |a: f64, t: f64| {
         let mm = NoiseModel {
             floor: a.max(0.0).sqrt(),
@@ -304,11 +324,10 @@ pub fn variance_components(
     let f0 = f(a, t);
     let d2a = (f(a + ha, t) - 2.0 * f0 + f(a - ha, t)) / (ha * ha);
     if !freedom.relative {
-        let v = if d2a > 0.0 { 1.0 / d2a } else { f64::INFINITY };
-        return VarianceComponents {
+        return Curvatures {
             value: [a, 0.0],
-            covariance: [[v, 0.0], [0.0, 0.0]],
             step: [ha, 0.0],
+            d2: [d2a, 0.0, 0.0],
         };
     }
     // The relative^2 that makes the relative part equal the floor at the largest level.
@@ -323,17 +342,67 @@ pub fn variance_components(
     let d2t = (f(a, t_hi) - 2.0 * f(a, t_mid) + f(a, t_lo)) / (ht * ht);
     let d2at =
         (f(a + ha, t_hi) - f(a + ha, t_lo) - f(a - ha, t_hi) + f(a - ha, t_lo)) / (4.0 * ha * ht);
-    let det = d2a * d2t - d2at * d2at;
-    let covariance = if det > 0.0 && d2a > 0.0 {
-        [[d2t / det, -d2at / det], [-d2at / det, d2a / det]]
+    Curvatures {
+        value: [a, t],
+        step: [ha, ht],
+        d2: [d2a, d2t, d2at],
+    }
+}
+
+/// [`VarianceComponents`] of a fitted noise model.
+pub fn variance_components(
+    data: &NoiseData,
+    freedom: NoiseFreedom,
+    m: &NoiseModel,
+) -> VarianceComponents {
+    let c = curvatures(data, freedom, m);
+    let [d2a, d2t, d2at] = c.d2;
+    let covariance = if !freedom.relative {
+        let v = if d2a > 0.0 { 1.0 / d2a } else { f64::INFINITY };
+        [[v, 0.0], [0.0, 0.0]]
     } else {
-        [[f64::INFINITY, 0.0], [0.0, f64::INFINITY]]
+        let det = d2a * d2t - d2at * d2at;
+        if det > 0.0 && d2a > 0.0 {
+            [[d2t / det, -d2at / det], [-d2at / det, d2a / det]]
+        } else {
+            [[f64::INFINITY, 0.0], [0.0, f64::INFINITY]]
+        }
     };
     VarianceComponents {
-        value: [a, t],
+        value: c.value,
         covariance,
-        step: [ha, ht],
+        step: c.step,
     }
+}
+
+/// [`variance_components`] for the degrees of freedom of intervals (Satterthwaite): where the
+/// information of the two is not positive definite, the component at its boundary (the one
+/// carrying the smaller share of the variance at the largest level: a floor estimated at a
+/// micro-fraction of the noise, a relative part at the floor's scale) is held, with zero
+/// variance, as a relative part estimated at zero is, and the other's variance is the inverse of
+/// its own curvature. Left infinite, every interval's degrees of freedom fell to 1 (quantile
+/// 12.7): on 3 of 40 eps 0.2 sets of `discover`, whose floor was estimated at 1e-6 um under a
+/// relative part of 3%.
+pub fn held_variance_components(
+    data: &NoiseData,
+    freedom: NoiseFreedom,
+    m: &NoiseModel,
+) -> VarianceComponents {
+    let vc = variance_components(data, freedom, m);
+    if !freedom.relative || vc.covariance.iter().flatten().all(|v| v.is_finite()) {
+        return vc;
+    }
+    let c = curvatures(data, freedom, m);
+    let [d2a, d2t, _] = c.d2;
+    let level_max = data.levels.iter().map(|l| l.abs()).fold(0.0, f64::max);
+    let floor_smaller = c.value[0] < c.value[1] * level_max * level_max;
+    let inverse = |d: f64| if d > 0.0 { 1.0 / d } else { f64::INFINITY };
+    let covariance = if (floor_smaller && d2t > 0.0) || d2a <= 0.0 {
+        [[0.0, 0.0], [0.0, inverse(d2t)]]
+    } else {
+        [[inverse(d2a), 0.0], [0.0, 0.0]]
+    };
+    VarianceComponents { covariance, ..vc }
 }
 
 /// 95% Wald intervals of the floor and the relative part, formed on the variance components

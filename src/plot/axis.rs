@@ -108,9 +108,15 @@ impl LinAxis {
         }
     }
 
-    /// `v` formatted like the tick labels with one more decimal.
+    /// `v` formatted like the tick labels with one more decimal, its trailing zeros dropped
+    /// (a speed on a 100 rpm grid reads "2600", not "2600.0").
     pub fn format_between(&self, v: f64) -> String {
-        self.fmt.finer().format(v)
+        let fmt = self.fmt.finer();
+        let s = fmt.format(v);
+        if fmt.scientific || !s.contains('.') {
+            return s;
+        }
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
     }
 
     /// Pixel width of the widest tick label in `style`.
@@ -189,5 +195,17 @@ mod tests {
         assert!(nice_ticks(0.0, 1e-19, 6).len() >= 3);
         assert!(nice_ticks(-1e307, 1e307, 8).len() <= 8);
         assert!(nice_ticks(1.0, 1.0, 8).is_empty());
+    }
+
+    /// Values between ticks carry one decimal more than the ticks, and no trailing zeros.
+    #[test]
+    fn values_between_ticks() {
+        let rpm = LinAxis::new((1000.0, 5000.0), 8);
+        assert_eq!(rpm.format_between(2600.0), "2600");
+        assert_eq!(rpm.format_between(2650.25), "2650.2");
+        let omega = LinAxis::new((0.0, 2.0), 5);
+        assert_eq!(omega.format_between(1.5), "1.5");
+        assert_eq!(omega.format_between(1.234), "1.23");
+        assert_eq!(omega.format_between(1.0), "1");
     }
 }

@@ -38,6 +38,10 @@ pub(crate) fn draw_markers<DB: DrawingBackend>(
     match m {
         Marker::Circle => chart.draw_series(it.map(|p| Circle::new(p, s, fill))),
         Marker::Dot => chart.draw_series(it.map(|p| Circle::new(p, dot_radius(s), fill))),
+        Marker::Ring => {
+            let st = color.stroke_width(2);
+            chart.draw_series(it.map(|p| Circle::new(p, s, st)))
+        }
         Marker::Triangle => chart.draw_series(it.map(|p| TriangleMarker::new(p, s + 1, fill))),
         Marker::Cross => {
             let st = color.stroke_width(2);
@@ -103,6 +107,7 @@ impl LegendSample {
         match self.marker {
             Marker::Circle => area.draw(&Circle::new(c, s, fill)),
             Marker::Dot => area.draw(&Circle::new(c, dot_radius(s), fill)),
+            Marker::Ring => area.draw(&Circle::new(c, s, self.color.stroke_width(2))),
             Marker::Triangle => area.draw(&TriangleMarker::new(c, s + 1, fill)),
             Marker::Cross => area.draw(&Cross::new(c, s, self.color.stroke_width(2))),
             Marker::Square => {

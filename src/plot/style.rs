@@ -96,6 +96,8 @@ pub enum Marker {
     Cross,
     /// Tiny filled dot, for dense point clouds.
     Dot,
+    /// Open circle (a ring): what is not a filled marker's kind, e.g. a set trajectories leave.
+    Ring,
 }
 
 /// Pixel sizes of one figure, scaled together so that panels stay proportionate.

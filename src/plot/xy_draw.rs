@@ -285,7 +285,7 @@ fn build_legend<DB: DrawingBackend>(
         .map(|(s, v)| {
             let beyond = s.outside_range && !s.points.is_empty();
             if v.lines.is_empty() && v.dots.is_empty() && !beyond {
-                format!("{} (none)", s.label)
+                format!("{}: none", s.label)
             } else {
                 s.label.clone()
             }

@@ -91,7 +91,7 @@ pub fn write_kubo_report(
     let banner = data_kind_banner(&data.rig);
     let synthetic = data.rig.source.kind == DataKind::Synthetic;
     let kind = data.rig.source.kind.name();
-    let stage = Staged::new(reports_dir)?;
+    let stage = Staged::replacing(reports_dir)?;
     let mut page = Page::new("geardyn validate kubo: dynamic factor", &banner, synthetic);
     parameter_table(&mut page, r);
     let opt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.0}"));

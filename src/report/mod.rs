@@ -11,7 +11,8 @@ pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
 pub use munro::{munro_json, write_munro_report, MunroFigures};
 pub use staging::{
-    remove_unfinished, track_unfinished, untrack_unfinished, write_file_atomic, Staged,
+    check_replaceable, remove_unfinished, track_unfinished, untrack_unfinished, write_file_atomic,
+    Staged, OUTPUT_MARKER,
 };
 
 /// Decimal places that show a 95% interval [lo, hi] and its estimate apart: at least `min`,

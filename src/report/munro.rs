@@ -11,7 +11,7 @@ use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
 use crate::sim::SetKind;
 use crate::validate::{
-    GeometryValidation, LoadResult, ModelPoint, MunroValidation, LOW_SPEED_OMEGA,
+    DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation, LOW_SPEED_OMEGA,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -306,7 +306,7 @@ pub fn write_munro_report(
 ) -> Result<Vec<PathBuf>> {
     let banner = data_kind_banner(&data.rig);
     let synthetic = data.rig.source.kind == DataKind::Synthetic;
-    let stage = Staged::new(reports_dir)?;
+    let stage = Staged::replacing(reports_dir)?;
     let mut page = Page::new(
         "geardyn validate munro: pp dynamic transmission error",
         &banner,
@@ -560,10 +560,17 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         let d = interval_digits(c.0, c.1, d);
         format!("[{:.d$}, {:.d$}]", c.0, c.1)
     };
-    let design = format!(
-        "design-load curve ({} N, {} points) with the other loads' low-speed parts, {} points in all",
-        data.rig.rig.design_load_n, r.fit.design_points, e.n
-    );
+    let design = if r.fit.other_loads.is_empty() {
+        format!(
+            "design-load curve ({} N, {} points)",
+            data.rig.rig.design_load_n, r.fit.design_points
+        )
+    } else {
+        format!(
+            "design-load curve ({} N, {} points) with the other loads' low-speed parts, {} points in all",
+            data.rig.rig.design_load_n, r.fit.design_points, e.n
+        )
+    };
     // The other loads' STE amplitudes follow zeta, omega_n and (when fitted) the design one.
     let first_other = e.params.len() - r.fit.other_loads.len();
     let rows: Vec<Vec<String>> = e
@@ -658,17 +665,36 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         crate::fit::NoiseSource::Proportional => "proportional to the level",
     };
     page.paragraph(&format!(
-        "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom{}. Points beyond the Bonferroni bound: {}. The design load's teeth {} in contact at every measured speed under the fit. Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
+        "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom{}. Points beyond the Bonferroni bound: {}. {} Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
         n.robust_lr.map_or("not computed".into(), |v| format!("{v:.2} (Student-t kept above 2.71)")),
         e.chi_square,
         e.residual_dof,
         super::stated_noise_verdict(e).map_or(String::new(), |(_, v)| format!(" ({v})")),
         if n.outliers.is_empty() { "none".to_string() } else { n.outliers.len().to_string() },
-        if r.design_load_in_contact { "stay" } else { "do NOT stay (the linear fit model is then approximate)" },
+        design_model_text(r),
         r.mesh_stiffness_n_per_um,
         r.stiffness_source_text,
         r.half_backlash_um
     ));
+}
+
+/// How the design-load curve was modelled in the fit, as a sentence.
+pub(crate) fn design_model_text(r: &MunroValidation) -> &'static str {
+    match (r.fit.design_model, r.design_load_in_contact) {
+        (DesignModel::Swept, _) => {
+            "Under the closed form of eq. 13 the design load's teeth separate at some measured \
+             speeds, where that form does not hold: the design-load curve was fitted through the \
+             exact solver's up-sweeps (each speed started from the last one's state; \
+             separation, impacts and jumps included), started from the closed form's fit."
+        }
+        (DesignModel::Linear, true) => {
+            "The design load's teeth stay in contact at every measured speed under the fit, \
+             where the closed form of eq. 13 is exact."
+        }
+        (DesignModel::Linear, false) => {
+            "The design load's teeth separate at some measured speeds under the fit."
+        }
+    }
 }
 
 /// Human wording of where an STE amplitude came from.

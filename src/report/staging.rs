@@ -54,6 +54,44 @@ pub fn remove_unfinished() {
     std::mem::forget(list);
 }
 
+/// The file that marks a folder as one geardyn writes and replaces as a whole
+/// ([`Staged::commit`]).
+pub const OUTPUT_MARKER: &str = ".geardyn-output";
+
+/// Whether `dest` may be replaced as a whole: it does not exist, is empty, or holds
+/// [`OUTPUT_MARKER`] (an earlier run wrote it). A folder of the user's (a data set, notes) is
+/// refused before any work is done, rather than deleted at the end.
+pub fn check_replaceable(dest: &Path) -> Result<()> {
+    if !dest.exists() || dest.file_name().is_none() {
+        return Ok(());
+    }
+    if !dest.is_dir() {
+        return Err(GearError::Unsupported(format!(
+            "{}: is a file; name a folder for the output",
+            dest.display()
+        )));
+    }
+    if dest.join(OUTPUT_MARKER).exists() {
+        return Ok(());
+    }
+    let mut names: Vec<String> = std::fs::read_dir(dest)
+        .map_err(GearError::io(dest))?
+        .filter_map(|e| e.ok())
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    if names.is_empty() {
+        return Ok(());
+    }
+    names.sort();
+    let shown = names.iter().take(3).cloned().collect::<Vec<_>>().join(", ");
+    Err(GearError::Unsupported(format!(
+        "{}: holds files geardyn did not write ({shown}{}); this output replaces its folder as \
+         a whole, so name a new or empty folder",
+        dest.display(),
+        if names.len() > 3 { ", ..." } else { "" }
+    )))
+}
+
 /// An output folder under construction; `commit` moves it to its destination.
 pub struct Staged {
     tmp: PathBuf,
@@ -105,12 +143,25 @@ impl Staged {
         }
     }
 
-    /// Replace the destination with the staged folder. A destination without a name of its
-    /// own (`.`, `/`, `..`) is never removed: the staged files are merged into it instead.
+    /// Start a staged folder that will replace `dest` as a whole ([`Staged::commit`]); refused
+    /// now when `dest` holds files geardyn did not write ([`check_replaceable`]).
+    pub fn replacing(dest: &Path) -> Result<Self> {
+        check_replaceable(dest)?;
+        Staged::new(dest)
+    }
+
+    /// Replace the destination with the staged folder, marked with [`OUTPUT_MARKER`]; refused
+    /// when the destination holds files geardyn did not write. A destination without a name of
+    /// its own (`.`, `/`, `..`) is never removed: the staged files are merged into it instead.
     pub fn commit(self) -> Result<PathBuf> {
         if self.dest.file_name().is_none() {
             return self.commit_merge();
         }
+        check_replaceable(&self.dest)?;
+        self.write(
+            OUTPUT_MARKER,
+            "Written by geardyn. The next run that writes here replaces this folder as a whole.\n",
+        )?;
         let mut list = unfinished();
         if self.dest.exists() {
             std::fs::remove_dir_all(&self.dest).map_err(GearError::io(&self.dest))?;

@@ -7,9 +7,11 @@ use super::figures::{branch_series, case_markers, panel, Figure};
 use super::output::{StudyOutput, StudyRow};
 use crate::error::Result;
 use crate::hb::{
-    branch_at, branches_covering, df_response, AftOptions, ContinuationOptions, DfMethod, HbPoint,
+    branch_at, branches_covering, df_response, AftOptions, ContinuationOptions, DfMethod,
+    DfSolution, HbPoint,
 };
 use crate::model::{GearPair, Impact, Term};
+use crate::plot::XyPlot;
 use rayon::prelude::*;
 
 const FM: f64 = 0.1;
@@ -80,100 +82,15 @@ fn describe(at: &[Vec<HbPoint>], omegas: &[f64]) -> serde_json::Value {
 
 pub(crate) fn run(n: usize) -> Result<StudyOutput> {
     let omegas = super::grid(OMEGA.0, OMEGA.1, n)?;
-    let opts = AftOptions {
-        harmonics: HARMONICS,
-        ..AftOptions::default()
-    };
-    let jobs: Vec<(bool, f64)> = FORCE_RATIOS
-        .iter()
-        .flat_map(|&fh| [(true, fh), (false, fh)])
-        .collect();
-    let branches: Vec<Result<Covered>> = jobs
-        .par_iter()
-        .map(|&(internal, fh)| {
-            let m = model(internal, fh)?;
-            let cont = ContinuationOptions::default();
-            let bs = branches_covering(&m, OMEGA.0, OMEGA.1, &opts, &cont)?;
-            let mut at: Vec<Vec<HbPoint>> = vec![Vec::new(); omegas.len()];
-            for b in &bs {
-                for (k, list) in branch_at(&m, b, &omegas, &opts).into_iter().enumerate() {
-                    for p in list {
-                        if !at[k]
-                            .iter()
-                            .any(|o| (o.qa - p.qa).abs() <= 1e-7 * (1.0 + p.qa))
-                        {
-                            at[k].push(p);
-                        }
-                    }
-                }
-            }
-            Ok((bs, at))
-        })
-        .collect();
+    let branches = aft_branches(&omegas);
     let mut rows = Vec::new();
     let (mut qa_panels, mut qm_panels, mut summaries) = (Vec::new(), Vec::new(), Vec::new());
     for (k, &fh) in FORCE_RATIOS.iter().enumerate() {
-        let fah = FM / fh;
-        let df = df_response(FM, fah, ZETA, &omegas, DfMethod::Exact)?;
-        let caption = format!(
-            "F_m = {FM}, zeta = {ZETA}, F_hat = {fh}: F_ah = F_aT = {fah}; AFT H = {HARMONICS} (stable solid, unstable dashed)"
-        );
-        let mut qa_series = case_markers(
-            &df.iter()
-                .map(|s| (s.omega, s.qa, s.case, s.stable))
-                .collect::<Vec<_>>(),
-            "eq. 5 df-exact ",
-        );
-        let mut qm_series = case_markers(
-            &df.iter()
-                .map(|s| (s.omega, s.qm, s.case, s.stable))
-                .collect::<Vec<_>>(),
-            "eq. 5 df-exact ",
-        );
-        let mut summary = serde_json::json!({"force_ratio": fh, "amplitude": fah});
-        for (j, internal) in [true, false].into_iter().enumerate() {
-            let (bs, at) = match &branches[2 * k + j] {
-                Ok(v) => v,
-                Err(e) => {
-                    return Err(crate::error::GearError::Numerical(format!(
-                        "F_hat {fh}: {e}"
-                    )))
-                }
-            };
-            let label = if internal {
-                "eq. 5 STE (AFT)"
-            } else {
-                "eq. 4 torque (AFT)"
-            };
-            let series = format!("F_hat = {fh}, {label}");
-            for (bi, branch) in bs.iter().enumerate() {
-                let tri = |f: fn(&HbPoint) -> f64| -> Vec<(f64, f64, Option<bool>)> {
-                    branch.iter().map(|p| (p.omega, f(p), p.stable)).collect()
-                };
-                let name = if bi == 0 { label } else { "" };
-                qa_series.extend(branch_series(&tri(|p| p.qa), name, 4 + j));
-                qm_series.extend(branch_series(&tri(|p| p.qm), name, 4 + j));
-                rows.extend(branch.iter().map(|p| StudyRow::from_hb(series.clone(), p)));
-            }
-            summary[if internal {
-                "internal_eq5"
-            } else {
-                "external_eq4"
-            }] = describe(at, &omegas);
-        }
-        rows.extend(df.iter().map(|s| StudyRow {
-            series: format!("F_hat = {fh}, eq. 5 df-exact"),
-            omega: s.omega,
-            qa: s.qa,
-            qm: Some(s.qm),
-            case: Some(s.case),
-            stable: s.stable,
-            period: Some(1),
-        }));
-        let title = format!("F_hat = {fh}");
-        qa_panels.push(panel(title.clone(), caption.clone(), "q_a", qa_series));
-        qm_panels.push(panel(title, caption, "q_m", qm_series));
-        summaries.push(summary);
+        let r = force_ratio_output(fh, &omegas, [&branches[2 * k], &branches[2 * k + 1]])?;
+        rows.extend(r.rows);
+        qa_panels.push(r.qa);
+        qm_panels.push(r.qm);
+        summaries.push(r.summary);
     }
     let fig = |name: &str, what: &str, panels| Figure {
         name: name.to_string(),
@@ -192,5 +109,120 @@ pub(crate) fn run(n: usize) -> Result<StudyOutput> {
             "study": "excitation", "fm": FM, "zeta": ZETA, "harmonics": HARMONICS,
             "omega_range": [OMEGA.0, OMEGA.1], "points": n, "force_ratios": summaries,
         }),
+    })
+}
+
+/// For each force ratio, internal (eq. 5) then external (eq. 4) excitation: the AFT branches
+/// covering the range, and the distinct solutions on them at each of `omegas` (in parallel).
+fn aft_branches(omegas: &[f64]) -> Vec<Result<Covered>> {
+    let opts = AftOptions {
+        harmonics: HARMONICS,
+        ..AftOptions::default()
+    };
+    let jobs: Vec<(bool, f64)> = FORCE_RATIOS
+        .iter()
+        .flat_map(|&fh| [(true, fh), (false, fh)])
+        .collect();
+    jobs.par_iter()
+        .map(|&(internal, fh)| {
+            let m = model(internal, fh)?;
+            let cont = ContinuationOptions::default();
+            let bs = branches_covering(&m, OMEGA.0, OMEGA.1, &opts, &cont)?;
+            let mut at: Vec<Vec<HbPoint>> = vec![Vec::new(); omegas.len()];
+            for b in &bs {
+                for (k, list) in branch_at(&m, b, omegas, &opts).into_iter().enumerate() {
+                    for p in list {
+                        if !at[k]
+                            .iter()
+                            .any(|o| (o.qa - p.qa).abs() <= 1e-7 * (1.0 + p.qa))
+                        {
+                            at[k].push(p);
+                        }
+                    }
+                }
+            }
+            Ok((bs, at))
+        })
+        .collect()
+}
+
+/// What one force ratio adds to the study: its q_a and q_m panels, rows and summary.
+struct RatioOutput {
+    qa: XyPlot,
+    qm: XyPlot,
+    rows: Vec<StudyRow>,
+    summary: serde_json::Value,
+}
+
+/// The panels, rows and summary of force ratio `fh`: the describing-function response of
+/// eq. 5 as markers by impact case, and the AFT branches `branches` (internal, external) as
+/// lines.
+fn force_ratio_output(
+    fh: f64,
+    omegas: &[f64],
+    branches: [&Result<Covered>; 2],
+) -> Result<RatioOutput> {
+    let fah = FM / fh;
+    let df = df_response(FM, fah, ZETA, omegas, DfMethod::Exact)?;
+    let caption = format!(
+        "F_m = {FM}, zeta = {ZETA}, F_hat = {fh}: F_ah = F_aT = {fah}; AFT H = {HARMONICS} (stable solid, unstable dashed)"
+    );
+    let markers = |pick: fn(&DfSolution) -> f64| {
+        case_markers(
+            &df.iter()
+                .map(|s| (s.omega, pick(s), s.case, s.stable))
+                .collect::<Vec<_>>(),
+            "eq. 5 df-exact ",
+        )
+    };
+    let mut qa_series = markers(|s| s.qa);
+    let mut qm_series = markers(|s| s.qm);
+    let mut rows = Vec::new();
+    let mut summary = serde_json::json!({"force_ratio": fh, "amplitude": fah});
+    for (j, internal) in [true, false].into_iter().enumerate() {
+        let (bs, at) = match branches[j] {
+            Ok(v) => v,
+            Err(e) => {
+                return Err(crate::error::GearError::Numerical(format!(
+                    "F_hat {fh}: {e}"
+                )))
+            }
+        };
+        let label = if internal {
+            "eq. 5 STE (AFT)"
+        } else {
+            "eq. 4 torque (AFT)"
+        };
+        let series = format!("F_hat = {fh}, {label}");
+        for (bi, branch) in bs.iter().enumerate() {
+            let tri = |f: fn(&HbPoint) -> f64| -> Vec<(f64, f64, Option<bool>)> {
+                branch.iter().map(|p| (p.omega, f(p), p.stable)).collect()
+            };
+            let name = if bi == 0 { label } else { "" };
+            qa_series.extend(branch_series(&tri(|p| p.qa), name, 4 + j));
+            qm_series.extend(branch_series(&tri(|p| p.qm), name, 4 + j));
+            rows.extend(branch.iter().map(|p| StudyRow::from_hb(series.clone(), p)));
+        }
+        summary[if internal {
+            "internal_eq5"
+        } else {
+            "external_eq4"
+        }] = describe(at, omegas);
+    }
+    rows.extend(df.iter().map(|s| StudyRow {
+        series: format!("F_hat = {fh}, eq. 5 df-exact"),
+        omega: s.omega,
+        qa: s.qa,
+        qm: Some(s.qm),
+        case: Some(s.case),
+        stable: s.stable,
+        period: Some(1),
+    }));
+    let title = format!("F_hat = {fh}");
+    Ok(RatioOutput {
+        qa: panel(title.clone(), caption.clone(), "q_a", qa_series),
+        qm: panel(title, caption, "q_m", qm_series),
+        rows,
+        summary,
     })
 }

@@ -4,18 +4,40 @@
 //! of another load from the low-speed part of its curve, with the model's own quasi-static
 //! amplification and the design load's noise model.
 
+use super::kubo_swept::SWEPT_ZETA_MIN;
 use super::linear::{dte_pp_um, dte_pp_um_harmonics, stays_in_contact};
+use super::munro::up_sweep_pp_um;
 use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
 use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseFreedom, NoiseModel, NoiseSetting,
     Param, ProfileInterval, Robust, Stop,
 };
-use crate::model::Dimensional;
+use crate::model::{Dimensional, GearPair};
 use serde::Serialize;
 
 /// Jacobians at most in each weighted fit (eq. 13 is smooth: 10-20 suffice).
 const FIT_JACOBIANS: usize = 100;
+/// Jacobians at most in a fit through simulated up-sweeps, and the gains below which it and
+/// its profiles' inner fits stop (sigma^2 over three Jacobians: as `validate kubo`'s
+/// whole-curve fit, [`super::kubo_swept`]).
+const SWEPT_JACOBIANS: usize = 60;
+const SWEPT_FIT_STALL: f64 = 1e-4;
+const SWEPT_PROFILE_STALL: f64 = 1e-2;
+
+/// How the design-load curve is modelled in the fit.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum DesignModel {
+    /// The linear model's closed form (eq. 13), exact while the teeth stay in contact.
+    Linear,
+    /// The exact solver's up-sweep at the measured speeds, each speed started from the last
+    /// one's state: separation, impacts and jumps included. Taken when eq. 13's fit separates
+    /// the teeth at some measured speed, where the closed form is wrong: on a rig whose design
+    /// load separates over the resonance (F_hat 4.7, zeta 0.03, 2500 Hz), eq. 13 fitted zeta
+    /// 0.0746 [0.0579, 0.0962].
+    Swept,
+}
 
 /// The design-load fit with its profile-likelihood intervals.
 #[derive(Clone, Debug, Serialize)]
@@ -30,6 +52,8 @@ pub struct DesignLoadFit {
     pub other_loads: Vec<(f64, usize)>,
     /// Points of the design-load curve (the first rows of the fit).
     pub design_points: usize,
+    /// How the design-load curve was modelled.
+    pub design_model: DesignModel,
 }
 
 impl DesignLoadFit {
@@ -107,29 +131,65 @@ fn low_speed_part<'a>(
     }
 }
 
+/// pp DTE of the exact solver's up-sweep at each point for (zeta, omega_n, STE) at mean force
+/// `fm` ([`DesignModel::Swept`]). A damping below [`SWEPT_ZETA_MIN`] is refused: its
+/// transients would make each sweep take minutes.
+fn swept_curve(
+    dim: &Dimensional,
+    points: &[&MunroPoint],
+    fm: f64,
+    (zeta, wn, e): (f64, f64, f64),
+) -> Result<Vec<f64>> {
+    if zeta.is_nan() || zeta < SWEPT_ZETA_MIN {
+        return Err(GearError::Numerical(format!(
+            "zeta = {zeta} is below the least damping a fit through simulated sweeps takes ({SWEPT_ZETA_MIN})"
+        )));
+    }
+    let model = GearPair::paper(fm, dim.ste_amplitude(e), zeta, 1.0)?;
+    let speeds: Vec<f64> = points.iter().map(|p| p.speed_rpm).collect();
+    up_sweep_pp_um(dim, &model, wn, &speeds)
+}
+
 /// The curves of a fit: the design load's, and the low-speed parts of the others.
 struct Curves<'a> {
     dim: &'a Dimensional,
+    /// Mean force at the design load (dimensionless), for [`DesignModel::Swept`].
+    design_fm: f64,
     design: &'a [&'a MunroPoint],
+    design_model: DesignModel,
     others: Vec<Vec<&'a MunroPoint>>,
     given_ste: Option<f64>,
 }
 
 impl Curves<'_> {
-    fn model(&self, p: &[f64]) -> Vec<f64> {
+    fn model(&self, p: &[f64]) -> Result<Vec<f64>> {
         let (zeta, wn) = (p[0], p[1]);
         let first = 2 + usize::from(self.given_ste.is_none());
-        let mut v = linear_curve(
-            self.dim,
-            self.design,
-            zeta,
-            wn,
-            self.given_ste.unwrap_or_else(|| p[2]),
-        );
+        let ste = self.given_ste.unwrap_or_else(|| p[2]);
+        let mut v = match self.design_model {
+            DesignModel::Linear => linear_curve(self.dim, self.design, zeta, wn, ste),
+            DesignModel::Swept => {
+                swept_curve(self.dim, self.design, self.design_fm, (zeta, wn, ste))?
+            }
+        };
         for (k, pts) in self.others.iter().enumerate() {
             v.extend(linear_curve(self.dim, pts, zeta, wn, p[first + k]));
         }
-        v
+        Ok(v)
+    }
+
+    /// Whether the fit `p` keeps the design load's teeth in contact at every measured speed
+    /// under eq. 13.
+    fn design_in_contact(&self, p: &[f64]) -> bool {
+        let ste = self.given_ste.unwrap_or_else(|| p[2]);
+        self.design.iter().all(|pt| {
+            stays_in_contact(
+                self.design_fm,
+                self.dim.ste_amplitude(ste),
+                p[0],
+                self.dim.omega(pt.speed_rpm, p[1]),
+            )
+        })
     }
 
     fn points(&self) -> impl Iterator<Item = &&MunroPoint> {
@@ -167,9 +227,13 @@ impl Curves<'_> {
 /// relative part of the noise. Their selection (Omega <= [`LOW_SPEED_OMEGA`], in contact)
 /// uses a first fit of the design load alone. Starts: resonance at the measured peak and 10%
 /// either side, damping light to heavy; STE from each curve's low-speed end.
+///
+/// Where that fit separates the design load's teeth at some measured speed, eq. 13 does not
+/// hold there, and the fit is made again with the design-load curve from simulated up-sweeps
+/// ([`DesignModel::Swept`]), started from it.
 pub fn fit_design_load(
     dim: &Dimensional,
-    design: &[&MunroPoint],
+    (design_load_n, design): (f64, &[&MunroPoint]),
     others: &[(f64, Vec<&MunroPoint>)],
     given_ste: Option<f64>,
     noise: MunroNoise,
@@ -201,12 +265,14 @@ pub fn fit_design_load(
     let stop = Stop::converged(FIT_JACOBIANS).central();
     let alone = Curves {
         dim,
+        design_fm: dim.mean_force(design_load_n),
         design,
+        design_model: DesignModel::Linear,
         others: Vec::new(),
         given_ste,
     };
-    let run = |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>| {
-        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(c.model(p)) };
+    let run = |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>, stop: Stop| {
+        let model = |p: &[f64]| c.model(p);
         estimate(
             &model,
             &c.data(),
@@ -219,13 +285,11 @@ pub fn fit_design_load(
             },
         )
     };
-    let first = run(&alone, &params, starts)?;
+    let first = run(&alone, &params, starts, stop)?;
     let (zeta, wn) = (first.params[0], first.params[1]);
     let mut joined = Curves {
-        dim,
-        design,
         others: Vec::new(),
-        given_ste,
+        ..alone
     };
     let mut other_loads = Vec::new();
     let mut start = first.params.clone();
@@ -240,22 +304,35 @@ pub fn fit_design_load(
         other_loads.push((*load, part.len()));
         joined.others.push(part);
     }
-    let estimate = if other_loads.is_empty() {
+    let mut estimate = if other_loads.is_empty() {
         first
     } else {
-        run(&joined, &params, vec![start])?
+        run(&joined, &params, vec![start], stop)?
     };
-    let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(joined.model(p)) };
+    let mut profile_stop = stop;
+    if !joined.design_in_contact(&estimate.params) {
+        joined.design_model = DesignModel::Swept;
+        let swept = Stop::converged(SWEPT_JACOBIANS).central();
+        estimate = run(
+            &joined,
+            &params,
+            vec![estimate.params.clone()],
+            swept.or_stalled(SWEPT_FIT_STALL),
+        )?;
+        profile_stop = swept.or_stalled(SWEPT_PROFILE_STALL);
+    }
+    let model = |p: &[f64]| joined.model(p);
     let y = joined.data();
     let reported = 2 + usize::from(given_ste.is_none());
     let ci95_profile = (0..reported)
-        .map(|i| profile_interval(&model, &y, &estimate, i, stop))
+        .map(|i| profile_interval(&model, &y, &estimate, i, profile_stop))
         .collect::<Result<Vec<_>>>()?;
     Ok(DesignLoadFit {
         estimate,
         ci95_profile,
         other_loads,
         design_points: design.len(),
+        design_model: joined.design_model,
     })
 }
 
@@ -315,9 +392,12 @@ pub fn fit_design_geometry(
             .map(|pt| dte_pp_um_harmonics(&ste, p[0], dim.omega(pt.speed_rpm, p[1])))
             .collect())
     };
+    // Only the data and the noise setting of the curves are used: the model is `model`.
     let curves = Curves {
         dim,
+        design_fm: f64::NAN,
         design,
+        design_model: DesignModel::Linear,
         others: Vec::new(),
         given_ste: None,
     };
@@ -342,5 +422,6 @@ pub fn fit_design_geometry(
         ci95_profile,
         other_loads: Vec::new(),
         design_points: design.len(),
+        design_model: DesignModel::Linear,
     })
 }

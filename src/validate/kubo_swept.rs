@@ -40,7 +40,7 @@ const PROFILE_STALL: f64 = 1e-2;
 /// batch 515) ran zeta there and took over 12 minutes; the paper's lightest damping (Munro's
 /// rig, 0.0175) is 3.5 times the floor. A fit or profile end at the floor is reported as not
 /// determined by the curve.
-const SWEPT_ZETA_MIN: f64 = 0.005;
+pub(super) const SWEPT_ZETA_MIN: f64 = 0.005;
 
 /// Where the fit starts the pairs' relative STE half-spread h ([`SweptFit::curve`]).
 const PAIR_SPREAD_START: f64 = 0.05;
@@ -140,7 +140,7 @@ fn fit_with(
 /// A zeta within this factor of [`SWEPT_ZETA_MIN`] lies at the floor: the fit could not go
 /// below it (a curve that fails there counts as infinitely bad), so the profile's lower end
 /// found there is the floor's, not the data's.
-const FLOOR_REACHED: f64 = 1.1;
+pub(super) const FLOOR_REACHED: f64 = 1.1;
 
 /// Profile intervals with zeta's lower end removed (unbounded) where it lies at the floor.
 fn unbounded_at_the_floor(mut profile: ProfileIntervals) -> ProfileIntervals {

@@ -15,7 +15,7 @@ mod study;
 mod synth;
 
 pub use curve_metrics::{jump_location, min_max, rms, transition_location};
-pub use design_fit::{fit_design_load, DesignLoadFit, MunroNoise, LOW_SPEED_OMEGA};
+pub use design_fit::{fit_design_load, DesignLoadFit, DesignModel, MunroNoise, LOW_SPEED_OMEGA};
 pub use fit_check::{fit_failure, FITTED_ZETA};
 pub use geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryModel,
@@ -31,7 +31,7 @@ pub use linear::{
 };
 pub use munro::{
     fit_munro_design_load, noise_setting, validate_munro, GeometryValidation, LoadResult,
-    ModelPoint, MunroOptions, MunroValidation, SteMode, SteSource,
+    ModelPoint, MunroOptions, MunroValidation, SteMode, SteSource, MIN_DESIGN_POINTS,
 };
 pub use noise::Rng;
 pub use study::{

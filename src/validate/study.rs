@@ -6,7 +6,7 @@
 //! written, loaded, fitted by [`fit_munro_design_load`]); only the expensive noise-free curve
 //! is simulated once and shared by the seeds.
 
-use super::munro::fit_munro_design_load;
+use super::munro::{fit_munro_design_load, usable_design_fit};
 use super::noise::Rng;
 use super::synth::{clean_munro_curves, write_munro_set, MunroTruth, SynthNoise};
 use crate::data::load_munro;
@@ -109,6 +109,10 @@ pub struct Covered {
 #[derive(Clone, Debug, Serialize)]
 pub struct ValidateSeed {
     pub seed: u64,
+    /// Why the fit was refused as `validate munro` refuses it (a zeta the curve does not
+    /// determine, see `validate::munro::usable`); the other fields are then empty.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub refused: Option<String>,
     /// Estimates of zeta, omega_n_hz, ste_um.
     pub estimates: Vec<f64>,
     pub std_errors: Vec<f64>,
@@ -119,6 +123,24 @@ pub struct ValidateSeed {
     pub noise_relative: f64,
     pub student_t: bool,
     pub outliers: usize,
+}
+
+impl ValidateSeed {
+    /// The record of a seed whose fit was refused for `reason`.
+    fn refused(seed: u64, reason: String) -> Self {
+        ValidateSeed {
+            seed,
+            refused: Some(reason),
+            estimates: Vec::new(),
+            std_errors: Vec::new(),
+            interval_dof: Vec::new(),
+            covered: Vec::new(),
+            noise_floor_um: f64::NAN,
+            noise_relative: f64::NAN,
+            student_t: false,
+            outliers: 0,
+        }
+    }
 }
 
 /// Coverage of one parameter's intervals over the seeds.
@@ -140,7 +162,10 @@ pub struct ParameterCoverage {
 /// Summary of a validation study.
 #[derive(Clone, Debug, Serialize)]
 pub struct ValidateStudySummary {
+    /// Seeds whose fit was used: the coverage is over them.
     pub seeds: usize,
+    /// Seeds whose fit `validate munro` refuses (zeta not determined).
+    pub refused: usize,
     pub noise_family: &'static str,
     pub noise_floor_um: f64,
     pub noise_relative: f64,
@@ -195,12 +220,24 @@ pub fn run_validate_study(
     let mut names: Vec<String> = Vec::new();
     let dir = scratch.join("set");
     let mut seeds = Vec::with_capacity(opts.seeds);
+    let mut refused = 0;
     progress.start(opts.seeds as u64, "seeds");
     for k in 0..opts.seeds {
         t.seed = opts.first_seed + k as u64;
         write_munro_set(&t, &clean, &dir)?;
         let data = load_munro(&dir)?;
-        let (fit, _) = fit_munro_design_load(&data, opts.robust)?;
+        let fitted = fit_munro_design_load(&data, opts.robust)
+            .and_then(|(fit, _)| usable_design_fit(&data, fit));
+        let fit = match fitted {
+            Ok(f) => f,
+            Err(GearError::FitFailed { reason, .. }) => {
+                on_seed(&ValidateSeed::refused(t.seed, reason))?;
+                refused += 1;
+                progress.advance(1);
+                continue;
+            }
+            Err(e) => return Err(e),
+        };
         let e = &fit.estimate;
         if e.params.len() != truth.len() {
             return Err(GearError::Numerical(format!(
@@ -213,6 +250,7 @@ pub fn run_validate_study(
         names.clone_from(&e.names);
         let s = ValidateSeed {
             seed: t.seed,
+            refused: None,
             estimates: e.params.clone(),
             std_errors: e.std_errors.clone(),
             interval_dof: e.dof.clone(),
@@ -234,6 +272,11 @@ pub fn run_validate_study(
     }
     progress.finish();
     let n = seeds.len();
+    if n == 0 {
+        return Err(GearError::Numerical(format!(
+            "every one of the {refused} seeds' fits was refused (see the per-seed records)"
+        )));
+    }
     let rate = |k: usize| (k, k as f64 / n as f64, wilson95(k, n));
     let coverage = (0..names.len())
         .map(|i| {
@@ -260,6 +303,7 @@ pub fn run_validate_study(
         .collect();
     Ok(ValidateStudySummary {
         seeds: n,
+        refused,
         noise_family: opts.noise.family.name(),
         noise_floor_um: opts.noise.model.floor,
         noise_relative: opts.noise.model.relative,
