@@ -149,29 +149,29 @@ pub fn write_response_plot(
             ];
             series.splice(0..0, lines);
         }
-        let transient: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|p| p.transient)
-            .map(|p| (x(p), y(pick(p))))
-            .collect();
-        if !transient.is_empty() {
-            series.push(
-                Series::markers("transient set (trajectories leave it)", transient)
-                    .with_color(5)
-                    .with_marker(Marker::Ring),
-            );
-        }
-        let unstable: Vec<(f64, f64)> = rows
-            .iter()
-            .filter(|p| p.stable == Some(false))
-            .map(|p| (x(p), y(pick(p))))
-            .collect();
-        if !unstable.is_empty() {
-            series.push(
-                Series::markers("unstable", unstable)
-                    .with_color(7)
-                    .with_marker(Marker::Cross),
-            );
+        // Points that are not the impact cases' steady states, each kind its own marker.
+        let apart: [(&str, fn(&ResponseRow) -> bool, usize, Marker); 2] = [
+            (
+                "transient set (trajectories leave it)",
+                |p| p.transient,
+                5,
+                Marker::Ring,
+            ),
+            ("unstable", |p| p.stable == Some(false), 7, Marker::Cross),
+        ];
+        for (label, is, color, marker) in apart {
+            let pts: Vec<(f64, f64)> = rows
+                .iter()
+                .filter(|p| is(p))
+                .map(|p| (x(p), y(pick(p))))
+                .collect();
+            if !pts.is_empty() {
+                series.push(
+                    Series::markers(label, pts)
+                        .with_color(color)
+                        .with_marker(marker),
+                );
+            }
         }
         XyPlot {
             title: label.to_string(),

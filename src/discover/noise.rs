@@ -300,14 +300,7 @@ fn fit_kept(
     freedom: NoiseFreedom,
     dist: Distribution,
 ) -> Result<(NoiseModel, f64)> {
-    let (values, levels) = kept_values(pseudo, keep);
-    let leverages = vec![0.0; values.len()];
-    let data = NoiseData {
-        residuals: &values,
-        levels: &levels,
-        leverages: &leverages,
-    };
-    estimate_noise(&data, freedom, dist)
+    with_kept(pseudo, keep, |data| estimate_noise(data, freedom, dist))
 }
 
 /// [`fit_kept`] with the pseudo-residuals beyond [`TRIM_Z`] of the fitted scale trimmed,
@@ -417,19 +410,15 @@ fn components_of(
     freedom: NoiseFreedom,
     model: &NoiseModel,
 ) -> VarianceComponents {
-    let (values, levels) = kept_values(pseudo, keep);
-    let leverages = vec![0.0; values.len()];
-    let data = NoiseData {
-        residuals: &values,
-        levels: &levels,
-        leverages: &leverages,
-    };
-    let vc = held_variance_components(&data, freedom, model);
-    vc.inflated(pseudo.kappa)
+    with_kept(pseudo, keep, |data| {
+        held_variance_components(data, freedom, model)
+    })
+    .inflated(pseudo.kappa)
 }
 
-/// The values and levels of the pseudo-residuals `keep` selects.
-fn kept_values(pseudo: &Pseudo, keep: &[bool]) -> (Vec<f64>, Vec<f64>) {
+/// `f` of the pseudo-residuals `keep` selects, as the engine's noise data (no leverage: they
+/// are not a fit's residuals).
+fn with_kept<T>(pseudo: &Pseudo, keep: &[bool], f: impl FnOnce(&NoiseData) -> T) -> T {
     let pick = |v: &[f64]| -> Vec<f64> {
         v.iter()
             .zip(keep)
@@ -437,7 +426,13 @@ fn kept_values(pseudo: &Pseudo, keep: &[bool]) -> (Vec<f64>, Vec<f64>) {
             .map(|(x, _)| *x)
             .collect()
     };
-    (pick(&pseudo.values), pick(&pseudo.levels))
+    let (values, levels) = (pick(&pseudo.values), pick(&pseudo.levels));
+    let leverages = vec![0.0; values.len()];
+    f(&NoiseData {
+        residuals: &values,
+        levels: &levels,
+        leverages: &leverages,
+    })
 }
 
 #[cfg(test)]
