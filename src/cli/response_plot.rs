@@ -72,6 +72,9 @@ pub fn sweep_csv(points: &[SweepPoint], model: &Model) -> anyhow::Result<String>
     Ok(String::from_utf8(w.into_inner()?)?)
 }
 
+/// A series of points apart from the impact cases: label, which rows, colour, marker.
+type ApartSeries = (&'static str, fn(&ResponseRow) -> bool, usize, Marker);
+
 /// One point of a frequency response, whatever method produced it.
 pub struct ResponseRow {
     pub omega: f64,
@@ -150,7 +153,7 @@ pub fn write_response_plot(
             series.splice(0..0, lines);
         }
         // Points that are not the impact cases' steady states, each kind its own marker.
-        let apart: [(&str, fn(&ResponseRow) -> bool, usize, Marker); 2] = [
+        let apart: [ApartSeries; 2] = [
             (
                 "transient set (trajectories leave it)",
                 |p| p.transient,
