@@ -130,8 +130,10 @@ fn summary_text(s: &ValidateStudySummary) -> String {
     );
     if s.refused > 0 {
         msg.push_str(&format!(
-            "{} more seeds' fits were refused, as validate munro refuses them (zeta not determined by the curve; the per-seed records say why); the coverage is over the {} fitted\n",
-            s.refused, s.seeds
+            "{} more {} refused, as validate munro refuses it (zeta not determined by the curve; the per-seed records say why); the coverage is over the {} fitted\n",
+            s.refused,
+            if s.refused == 1 { "seed's fit was" } else { "seeds' fits were" },
+            s.seeds
         ));
     }
     msg.push_str("95% interval coverage (Wilson 95% interval of the rate):\n");
