@@ -609,14 +609,19 @@ fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
     );
 }
 
-/// The phase's profile likelihood (`--phase-profile`) where its Wald arc is too narrow. On
-/// this set (eps 0.15 at 273.6 deg, relative noise, the 100 rpm grid: study seed 14) the refit
-/// ends at 252 deg with a Wald arc of 248 .. 257 deg; the profile's upper side rises to 3.84
-/// only near 300 deg, so its arc holds the truth. The fit's intervals and name are those of
-/// the run without the option.
+/// The phase's profile likelihood (`--phase-profile`) where the refit's phase is not the
+/// likelihood's best. On this set (eps 0.15 at 273.6 deg, relative noise, the 100 rpm grid:
+/// study seed 14) the refit ends at 252 deg with a Wald arc of 248 .. 257 deg; the phase
+/// profile finds a point near 295 deg that fits the training curves better, and the refit
+/// continues from there: phase 295 deg, the arc the hull of its Wald arc (290 .. 300) and the
+/// profile's (286 .. 300). The likelihood over the phase has a minimum on each side of the
+/// truth, and a profile about one does not reach the other, so the arc misses the truth here
+/// (discover-studies.md, "Phase likelihood"). Before the intervals took the Satterthwaite
+/// quantile the profile's steps passed the better point without fitting there, and its arc
+/// about 252 deg, 248 .. 300, held the truth by that accident.
 #[test]
 #[ignore = "a study seed of about 40 s: cargo test --release --test discover -- --ignored (run by .ci/run)"]
-fn a_phase_profile_widens_a_wald_arc_that_misses_the_truth() {
+fn a_phase_profile_that_fits_better_restarts_the_refit() {
     let truth = 4.77585203754918;
     let tmp = tempfile::tempdir().unwrap();
     let mut t = MunroTruth::default_munro();
@@ -643,15 +648,12 @@ fn a_phase_profile_widens_a_wald_arc_that_misses_the_truth() {
         .iter()
         .find(|c| c.name == "mesh_stiffness_variation")
         .unwrap();
-    let t_deg = truth.to_degrees();
-    let on = |(lo, hi): (f64, f64)| (t_deg - lo).rem_euclid(360.0) <= hi - lo;
-    assert!(
-        !c.phase_wald95_deg.iter().any(|&a| on(a)),
-        "the Wald arcs {:?} hold the truth {t_deg}: the test no longer checks the profile",
-        c.phase_wald95_deg
-    );
+    // The refit moved from its own minimum at 252 deg to the profile's better point.
+    let phase = c.phase_deg.expect("a phase");
+    assert!((285.0..305.0).contains(&phase), "phase {phase} deg");
     let arc = c.phase_profile95_deg.expect("the phase was profiled");
-    assert!(on(arc), "profile arc {arc:?}, truth {t_deg} deg");
+    let on = |deg: f64, (lo, hi): (f64, f64)| (deg - lo).rem_euclid(360.0) <= hi - lo;
+    assert!(on(phase, arc) && !on(252.0, arc), "profile arc {arc:?}");
     // The profile's arc contains the Wald arc (the hull) and is not the whole circle.
     let w = c.phase_wald95_deg[0];
     assert!(arc.0 <= w.0 + 1e-9 && arc.1 >= w.1 - 1e-9 && arc.1 - arc.0 < 180.0);
