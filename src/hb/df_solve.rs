@@ -65,7 +65,8 @@ pub(crate) fn validate(fm: f64, fah: f64, zeta: f64) -> Result<()> {
         "F_m",
         fm,
         fm > 0.0,
-        "mean load must be finite and > 0 for the describing-function solution",
+        "mean load must be finite and > 0 for the describing-function solution (hbm starts \
+         every method from it; at F_m = 0 use the simulation: sweep, simulate)",
     )?;
     check(
         "F_ah",

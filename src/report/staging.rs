@@ -112,7 +112,8 @@ impl Staged {
             std::fs::remove_dir_all(&tmp).map_err(GearError::io(&tmp))?;
         }
         track_unfinished(&tmp);
-        std::fs::create_dir_all(&tmp).map_err(GearError::io(&tmp))?;
+        // The error names the folder the user gave, not the internal staging name.
+        std::fs::create_dir_all(&tmp).map_err(GearError::io(parent))?;
         Ok(Staged {
             tmp,
             dest: dest.to_path_buf(),

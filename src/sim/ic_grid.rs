@@ -77,6 +77,9 @@ impl IcGrid {
             .trim()
             .parse()
             .map_err(|_| bad("N is not a whole number >= 1"))?;
+        if n > 1 && hi <= lo {
+            return Err(bad("HI must exceed LO when N > 1 (N values from LO to HI)"));
+        }
         IcGrid::new(lo, hi, n)
     }
 
@@ -122,5 +125,8 @@ mod tests {
         assert!(IcGrid::parse("a:2:3").is_err());
         assert!(IcGrid::parse("2:-2:3").is_err());
         assert!(IcGrid::parse("nan:2:3").is_err());
+        // N equal values would be one point drawn N times (a basin map cannot be drawn).
+        assert!(IcGrid::parse("1:1:11").is_err());
+        assert!(IcGrid::parse("1:1:1").is_ok());
     }
 }
