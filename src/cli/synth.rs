@@ -224,7 +224,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 t.speeds_rpm = parse_speeds(&m.speeds)?;
             }
             check_out_replaced("--out", &m.out)?;
-            let stage = Staged::replacing(&m.out)?;
+            let stage = Staged::new(&m.out)?;
             synth_munro(&t, stage.dir(), &Bar::new())?;
             stage.commit()?;
             m.out
@@ -240,7 +240,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             k.hidden.check_kubo()?;
             t.hidden = k.hidden.effects();
             check_out_replaced("--out", &k.out)?;
-            let stage = Staged::replacing(&k.out)?;
+            let stage = Staged::new(&k.out)?;
             synth_kubo(&t, stage.dir(), &Bar::new())?;
             stage.commit()?;
             k.out

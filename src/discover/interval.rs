@@ -97,9 +97,9 @@ impl RefitNoise {
     /// `validate`), the normal's for a stated noise.
     ///
     /// Why: the variance of an effect's estimate rests on the scales at the resonances, which a
-    /// handful of points set, so it is itself uncertain. With the normal quantile the Wald
-    /// intervals of eps 0.2 were about 15% short (standardized errors of standard deviation
-    /// 1.11-1.40 over 120 sets).
+    /// handful of points set, so it is itself uncertain. On eps 0.2 sets the degrees of freedom
+    /// are 30-50 (q 2.02-2.07): this does not explain why the Wald standard errors there are
+    /// about 15% short (standardized errors of standard deviation 1.09-1.13 with it too).
     pub fn quantile(&self, cand: Candidate, lm: &LmFit, train: &[usize], mask: &Mask) -> f64 {
         let Some(vc) = &self.noise.components else {
             return t_quantile_975(f64::INFINITY);

@@ -365,7 +365,6 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
     let use_relative = relative_lr > BOUNDARY_LR_CRITICAL && general.relative > 0.0;
     let freedom = free(use_relative);
     let (mut model, _, mut kept) = trimmed_fit(&pseudo, freedom, gauss)?;
-    let mut trimmed = kept.iter().filter(|k| !**k).count();
     let mut tails_lr = None;
     if tails == TailChoice::Auto {
         let all = vec![true; pseudo.values.len()];
@@ -382,11 +381,11 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
             tails_lr = Some(lr);
             if lr > BOUNDARY_LR_CRITICAL {
                 model = t;
-                trimmed = 0;
                 kept = all;
             }
         }
     }
+    let trimmed = kept.iter().filter(|k| !**k).count();
     let components = components_of(&pseudo, &kept, freedom, &model);
     Ok(DiscoveryNoise {
         origin: NoiseOrigin::Estimated { floor_min },

@@ -349,6 +349,22 @@ fn curvatures(data: &NoiseData, freedom: NoiseFreedom, m: &NoiseModel) -> Curvat
     }
 }
 
+/// The inverse of the curvatures `c` of both components (the relative part's only where
+/// `relative`): infinite where the information is not positive definite.
+fn full_covariance(c: &Curvatures, relative: bool) -> [[f64; 2]; 2] {
+    let [d2a, d2t, d2at] = c.d2;
+    if !relative {
+        let v = if d2a > 0.0 { 1.0 / d2a } else { f64::INFINITY };
+        return [[v, 0.0], [0.0, 0.0]];
+    }
+    let det = d2a * d2t - d2at * d2at;
+    if det > 0.0 && d2a > 0.0 {
+        [[d2t / det, -d2at / det], [-d2at / det, d2a / det]]
+    } else {
+        [[f64::INFINITY, 0.0], [0.0, f64::INFINITY]]
+    }
+}
+
 /// [`VarianceComponents`] of a fitted noise model.
 pub fn variance_components(
     data: &NoiseData,
@@ -356,21 +372,9 @@ pub fn variance_components(
     m: &NoiseModel,
 ) -> VarianceComponents {
     let c = curvatures(data, freedom, m);
-    let [d2a, d2t, d2at] = c.d2;
-    let covariance = if !freedom.relative {
-        let v = if d2a > 0.0 { 1.0 / d2a } else { f64::INFINITY };
-        [[v, 0.0], [0.0, 0.0]]
-    } else {
-        let det = d2a * d2t - d2at * d2at;
-        if det > 0.0 && d2a > 0.0 {
-            [[d2t / det, -d2at / det], [-d2at / det, d2a / det]]
-        } else {
-            [[f64::INFINITY, 0.0], [0.0, f64::INFINITY]]
-        }
-    };
     VarianceComponents {
         value: c.value,
-        covariance,
+        covariance: full_covariance(&c, freedom.relative),
         step: c.step,
     }
 }
@@ -388,21 +392,26 @@ pub fn held_variance_components(
     freedom: NoiseFreedom,
     m: &NoiseModel,
 ) -> VarianceComponents {
-    let vc = variance_components(data, freedom, m);
-    if !freedom.relative || vc.covariance.iter().flatten().all(|v| v.is_finite()) {
-        return vc;
-    }
     let c = curvatures(data, freedom, m);
-    let [d2a, d2t, _] = c.d2;
-    let level_max = data.levels.iter().map(|l| l.abs()).fold(0.0, f64::max);
-    let floor_smaller = c.value[0] < c.value[1] * level_max * level_max;
-    let inverse = |d: f64| if d > 0.0 { 1.0 / d } else { f64::INFINITY };
-    let covariance = if (floor_smaller && d2t > 0.0) || d2a <= 0.0 {
-        [[0.0, 0.0], [0.0, inverse(d2t)]]
+    let full = full_covariance(&c, freedom.relative);
+    let covariance = if !freedom.relative || full.iter().flatten().all(|v| v.is_finite()) {
+        full
     } else {
-        [[inverse(d2a), 0.0], [0.0, 0.0]]
+        let [d2a, d2t, _] = c.d2;
+        let level_max = data.levels.iter().map(|l| l.abs()).fold(0.0, f64::max);
+        let floor_smaller = c.value[0] < c.value[1] * level_max * level_max;
+        let inverse = |d: f64| if d > 0.0 { 1.0 / d } else { f64::INFINITY };
+        if (floor_smaller && d2t > 0.0) || d2a <= 0.0 {
+            [[0.0, 0.0], [0.0, inverse(d2t)]]
+        } else {
+            [[inverse(d2a), 0.0], [0.0, 0.0]]
+        }
     };
-    VarianceComponents { covariance, ..vc }
+    VarianceComponents {
+        value: c.value,
+        covariance,
+        step: c.step,
+    }
 }
 
 /// 95% Wald intervals of the floor and the relative part, formed on the variance components

@@ -209,15 +209,8 @@ fn force_ratio_output(
             "external_eq4"
         }] = describe(at, omegas);
     }
-    rows.extend(df.iter().map(|s| StudyRow {
-        series: format!("F_hat = {fh}, eq. 5 df-exact"),
-        omega: s.omega,
-        qa: s.qa,
-        qm: Some(s.qm),
-        case: Some(s.case),
-        stable: s.stable,
-        period: Some(1),
-    }));
+    let df_series = format!("F_hat = {fh}, eq. 5 df-exact");
+    rows.extend(df.iter().map(|s| StudyRow::from_df(df_series.clone(), s)));
     let title = format!("F_hat = {fh}");
     Ok(RatioOutput {
         qa: panel(title.clone(), caption.clone(), "q_a", qa_series),

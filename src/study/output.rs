@@ -2,7 +2,7 @@
 
 use super::figures::Figure;
 use crate::error::{GearError, Result};
-use crate::hb::HbPoint;
+use crate::hb::{DfSolution, HbPoint};
 use crate::model::Impact;
 use crate::plot::write_panels;
 use serde::Serialize;
@@ -37,6 +37,19 @@ impl StudyRow {
             qm: Some(p.qm),
             case: Some(p.case),
             stable: p.stable,
+            period: Some(1),
+        }
+    }
+
+    /// A row from a describing-function solution (period 1).
+    pub fn from_df(series: impl Into<String>, s: &DfSolution) -> Self {
+        StudyRow {
+            series: series.into(),
+            omega: s.omega,
+            qa: s.qa,
+            qm: Some(s.qm),
+            case: Some(s.case),
+            stable: s.stable,
             period: Some(1),
         }
     }

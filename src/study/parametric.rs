@@ -151,15 +151,7 @@ fn family(
             "q_m",
             case_markers(&pick(|s| s.qm), ""),
         ));
-        rows.extend(sols.iter().map(|s| StudyRow {
-            series: label.clone(),
-            omega: s.omega,
-            qa: s.qa,
-            qm: Some(s.qm),
-            case: Some(s.case),
-            stable: s.stable,
-            period: Some(1),
-        }));
+        rows.extend(sols.iter().map(|s| StudyRow::from_df(label.clone(), s)));
         summaries.push(summarize(c, &sols, &omegas)?);
     }
     let figures = vec![

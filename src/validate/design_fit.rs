@@ -150,6 +150,24 @@ fn swept_curve(
     up_sweep_pp_um(dim, &model, wn, &speeds)
 }
 
+/// Whether eq. 13 keeps the teeth in contact at every point of a curve at mean force `fm`
+/// (dimensionless) for (zeta, omega_n, STE um).
+pub(super) fn curve_in_contact(
+    dim: &Dimensional,
+    fm: f64,
+    points: &[&MunroPoint],
+    (zeta, wn, ste_um): (f64, f64, f64),
+) -> bool {
+    points.iter().all(|pt| {
+        stays_in_contact(
+            fm,
+            dim.ste_amplitude(ste_um),
+            zeta,
+            dim.omega(pt.speed_rpm, wn),
+        )
+    })
+}
+
 /// The curves of a fit: the design load's, and the low-speed parts of the others.
 struct Curves<'a> {
     dim: &'a Dimensional,
@@ -182,14 +200,7 @@ impl Curves<'_> {
     /// under eq. 13.
     fn design_in_contact(&self, p: &[f64]) -> bool {
         let ste = self.given_ste.unwrap_or_else(|| p[2]);
-        self.design.iter().all(|pt| {
-            stays_in_contact(
-                self.design_fm,
-                self.dim.ste_amplitude(ste),
-                p[0],
-                self.dim.omega(pt.speed_rpm, p[1]),
-            )
-        })
+        curve_in_contact(self.dim, self.design_fm, self.design, (p[0], p[1], ste))
     }
 
     fn points(&self) -> impl Iterator<Item = &&MunroPoint> {

@@ -11,14 +11,15 @@
 
 use super::curve_metrics::{jump_location, location_error, location_error_text, min_max, rms};
 use super::design_fit::{
-    fit_design_geometry, fit_design_load, DesignLoadFit, DesignModel, MunroNoise, LOW_SPEED_OMEGA,
+    curve_in_contact, fit_design_geometry, fit_design_load, DesignLoadFit, DesignModel, MunroNoise,
+    LOW_SPEED_OMEGA,
 };
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule,
 };
 use super::kubo_swept::{FLOOR_REACHED, SWEPT_ZETA_MIN};
-use super::linear::{stays_in_contact, stays_in_contact_harmonics};
+use super::linear::stays_in_contact_harmonics;
 use super::synth::flow_with_rtol;
 use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
@@ -397,14 +398,12 @@ pub fn validate_munro(
         SteSource::Fitted
     };
     let design_ste_ci = ste_given.is_none().then(|| fit.estimate.ci95[2]);
-    let design_in_contact = design_curve.iter().all(|p| {
-        stays_in_contact(
-            dim.mean_force(design),
-            dim.ste_amplitude(ste_design),
-            zeta,
-            dim.omega(p.speed_rpm, wn),
-        )
-    });
+    let design_in_contact = curve_in_contact(
+        &dim,
+        dim.mean_force(design),
+        &design_curve,
+        (zeta, wn, ste_design),
+    );
     let loads = data.loads();
     progress.start(loads.len() as u64, "loads");
     let results: Vec<Result<LoadResult>> = loads
