@@ -15,7 +15,8 @@ use std::path::PathBuf;
 /// Parameters of eq. 5, dimensionless or in the rig's units.
 #[derive(ClapArgs, Debug, Clone)]
 pub struct ModelArgs {
-    /// Mean load F_m = F̄_m / (b k_h), dimensionless, in [0, 1e4] (or --rig with --load-n).
+    /// Mean load F_m = F̄_m / (b k_h), dimensionless, in [0, 1e4]; harmonic balance (hbm)
+    /// needs F_m > 0, simulate the unloaded case (or --rig with --load-n).
     #[arg(long = "fm", allow_hyphen_values = true, value_parser = real(FM.0, FM.1, false),
           required_unless_present = "rig", conflicts_with = "rig")]
     pub fm: Option<f64>,

@@ -444,12 +444,17 @@ impl SpeedColumns {
                 let rpm = rpm_col(r)?;
                 let other = from_hz(h)?;
                 if (rpm - other).abs() > SPEED_AGREEMENT * rpm {
+                    // The column's value back to its printed digits (not 1066.6700000000001).
+                    let hz = (other * self.pinion_teeth / 60.0 * 1e6).round() / 1e6;
                     return Err(row.error(
                         MESH_FREQ_HZ,
                         format!(
-                            "inconsistent units: mesh_freq_hz gives {other:.6} rpm with {} \
-                             pinion teeth but speed_rpm is {rpm}",
-                            self.pinion_teeth
+                            "the two speed columns disagree: mesh_freq_hz {hz} Hz is {} rpm \
+                             with {} pinion teeth, speed_rpm says {rpm} rpm; they agree for \
+                             {} teeth: is rig.toml's pinion_teeth right?",
+                            (other * 10.0).round() / 10.0,
+                            self.pinion_teeth,
+                            (hz * 60.0 / rpm * 10.0).round() / 10.0
                         ),
                     ));
                 }

@@ -74,7 +74,10 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
             path,
             line,
             WHOLE_FILE,
-            format!("not UTF-8 text (invalid byte at offset {good}); is this a binary file?"),
+            format!(
+                "not UTF-8 text (invalid byte at offset {good}); {}",
+                encoding_hint(bytes)
+            ),
         )
     })?;
     Ok(match text.strip_prefix('\u{feff}') {
@@ -83,9 +86,52 @@ pub(crate) fn read_text(path: &Path) -> Result<String> {
     })
 }
 
+/// What a file that is not UTF-8 probably is, and what to do: UTF-16 (a byte-order mark, or
+/// every other byte zero, as spreadsheet programs save "Unicode text"), a binary file (other
+/// zero bytes), else text in a single-byte code page (Latin-1, Windows-1252: a degree sign or
+/// a micro sign saved by an older editor).
+fn encoding_hint(bytes: &[u8]) -> &'static str {
+    let head = &bytes[..bytes.len().min(4096)];
+    let zeros_at = |parity: usize| {
+        head.iter()
+            .enumerate()
+            .filter(|(k, b)| k % 2 == parity && **b == 0)
+            .count()
+    };
+    let half = head.len() / 2;
+    let utf16 = head.starts_with(&[0xFF, 0xFE])
+        || head.starts_with(&[0xFE, 0xFF])
+        || (half > 0 && (zeros_at(0) * 4 > half * 3 || zeros_at(1) * 4 > half * 3));
+    if utf16 {
+        "it looks like UTF-16 (\"Unicode text\"): save it as UTF-8 (CSV UTF-8)"
+    } else if head.contains(&0) {
+        "is this a binary file (a spreadsheet, not its CSV export)?"
+    } else {
+        "it looks like text in a single-byte code page (Latin-1, Windows-1252): save it as UTF-8"
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// UTF-16 with and without its byte-order mark, a binary file and Latin-1 text are told
+    /// apart.
+    #[test]
+    fn a_file_that_is_not_utf8_gets_the_likely_encoding() {
+        let utf16le: Vec<u8> = "load_n,speed_rpm\n"
+            .encode_utf16()
+            .flat_map(u16::to_le_bytes)
+            .collect();
+        assert!(encoding_hint(&utf16le).contains("UTF-16"));
+        let with_bom = [&[0xFF, 0xFE][..], &utf16le].concat();
+        assert!(encoding_hint(&with_bom).contains("UTF-16"));
+        assert!(
+            encoding_hint(b"PK\x03\x04\x14\x00\x06\x00\x08\x00\x00\x00!\x00\xff")
+                .contains("binary")
+        );
+        assert!(encoding_hint(b"load_n,speed_rpm,note\n3780,1000,25\xb0C\n").contains("Latin-1"));
+    }
 
     #[test]
     fn line_numbers_are_one_based() {

@@ -361,7 +361,12 @@ fn speed_and_mesh_frequency_must_agree() {
     let bad = "load_n,speed_rpm,mesh_freq_hz,dte_pp_um\n1,1500,800,3\n1,1600,800,3\n";
     let (_, line, field, msg) = located(load_munro(munro_set(&[("c.csv", bad)]).path()));
     assert_eq!((line, field.as_str()), (3, "mesh_freq_hz"), "{msg}");
-    assert!(msg.contains("inconsistent units"), "{msg}");
+    assert!(
+        msg.contains(
+            "mesh_freq_hz 800 Hz is 1500 rpm with 32 pinion teeth, speed_rpm says 1600 rpm"
+        ) && msg.contains("they agree for 30 teeth"),
+        "{msg}"
+    );
 }
 
 #[test]

@@ -156,10 +156,35 @@ impl<'a> TomlDoc<'a> {
                 _ => message,
             }
         } else {
-            message
+            match (line > 0)
+                .then(|| self.text.lines().nth(line - 1))
+                .flatten()
+                .and_then(syntax_hint)
+            {
+                Some(hint) => format!("{message} ({hint})"),
+                None => message,
+            }
         };
         data_error(self.path, line, field, message)
     }
+}
+
+/// What a line whose value TOML cannot read probably meant: a decimal comma (`6,35`, as a
+/// spreadsheet in many locales writes it) or text without its quotes.
+fn syntax_hint(line: &str) -> Option<String> {
+    let value = line.split_once('=')?.1.split('#').next()?.trim();
+    let digits = |t: &str| !t.is_empty() && t.chars().all(|c| c.is_ascii_digit());
+    if let Some((int, frac)) = value.trim_start_matches(['-', '+']).split_once(',') {
+        if digits(int) && digits(frac) {
+            return Some(format!(
+                "`{value}` has a decimal comma: TOML numbers take a point, {}",
+                value.replace(',', ".")
+            ));
+        }
+    }
+    let first = value.chars().next()?;
+    let keyword = ["true", "false", "inf", "nan"].contains(&value);
+    (first.is_alphabetic() && !keyword).then(|| format!("text goes in double quotes: \"{value}\""))
 }
 
 #[cfg(test)]
@@ -178,6 +203,17 @@ mod tests {
         assert_eq!(d.line_of("ste", "load_n"), 0);
         assert_eq!(d.table_at(6), "source");
         assert_eq!(d.table_at(1), "");
+    }
+
+    /// A decimal comma and unquoted text are named; a value TOML reads is not.
+    #[test]
+    fn a_syntax_error_names_the_likely_slip() {
+        let hint = |l: &str| syntax_hint(l).unwrap_or_default();
+        assert!(hint("module_mm = 6,35").contains("decimal comma: TOML numbers take a point, 6.35"));
+        assert!(hint("name = Lab B rig # ours").contains("double quotes: \"Lab B rig\""));
+        assert_eq!(syntax_hint("module_mm = 6.35"), None);
+        assert_eq!(syntax_hint("uncertainty = [1, 2]"), None);
+        assert_eq!(syntax_hint("synthetic = true"), None);
     }
 
     #[test]
