@@ -610,19 +610,18 @@ fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
 }
 
 /// The phase's profile likelihood (`--phase-profile`) where the refit's phase is not the
-/// likelihood's best. On this set (eps 0.15 at 273.6 deg, relative noise, the 100 rpm grid:
-/// study seed 14) the refit ends at 252 deg with a Wald arc of 248 .. 257 deg; the phase
-/// profile finds a point near 295 deg that fits the training curves better, and the refit
-/// continues from there: phase 295 deg, the arc the hull of its Wald arc (290 .. 300) and the
-/// profile's (286 .. 300). The likelihood over the phase has a minimum on each side of the
-/// truth, and a profile about one does not reach the other, so the arc misses the truth here
-/// (discover-studies.md, "Phase likelihood"). Before the intervals took the Satterthwaite
-/// quantile the profile's steps passed the better point without fitting there, and its arc
-/// about 252 deg, 248 .. 300, held the truth by that accident.
+/// likelihood's best. On this set (eps 0.15 at 163.8 deg, relative noise, the 100 rpm grid:
+/// study seed 6) the refit ends at 181 deg (its Wald arc 169 .. 193 deg, as without the
+/// option); the phase profile finds a point that fits the training curves better, and the
+/// refit continues from there: phase 165 deg, the arc the hull of its Wald arc (154 .. 177)
+/// and the profile's (151 .. 181), which holds the truth. (Study seed 14 showed the restart
+/// until the Wald variance took the secants' too: its wider Wald arc starts the profile's
+/// search elsewhere, which no longer lands on the better point; its arc, 246 .. 313 deg, then
+/// spans both of the likelihood's minima and the truth between them.)
 #[test]
 #[ignore = "a study seed of about 40 s: cargo test --release --test discover -- --ignored (run by .ci/run)"]
 fn a_phase_profile_that_fits_better_restarts_the_refit() {
-    let truth = 4.77585203754918;
+    let truth = 2.858156548378564;
     let tmp = tempfile::tempdir().unwrap();
     let mut t = MunroTruth::default_munro();
     t.speeds_rpm = (1000.0, 5000.0, 100.0);
@@ -631,29 +630,37 @@ fn a_phase_profile_that_fits_better_restarts_the_refit() {
         stiffness_phase: truth,
         ..HiddenEffects::default()
     };
-    t.seed = 14;
+    t.seed = 6;
     t.noise = NoiseFamily::Relative.noise(0.15);
     t.dop853_rtol = Some(1e-9);
     synth_munro(&t, tmp.path(), &NoProgress).unwrap();
-    let opts = DiscoverOptions {
-        bootstrap: 999,
-        seed: 12_345 + 14,
-        phase_profile: true,
-        ..DiscoverOptions::default()
+    let with = |phase_profile: bool| {
+        let opts = DiscoverOptions {
+            bootstrap: 999,
+            seed: 12_345 + 6,
+            phase_profile,
+            ..DiscoverOptions::default()
+        };
+        let d = run_with(tmp.path(), &opts);
+        assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.15);
+        d.candidates
+            .into_iter()
+            .find(|c| c.name == "mesh_stiffness_variation")
+            .unwrap()
     };
-    let d = run_with(tmp.path(), &opts);
-    assert_named_with_truth_inside(&d, "mesh_stiffness_variation", 0.15);
-    let c = d
-        .candidates
-        .iter()
-        .find(|c| c.name == "mesh_stiffness_variation")
-        .unwrap();
-    // The refit moved from its own minimum at 252 deg to the profile's better point.
+    // Without the profile the refit stays at its own minimum.
+    let alone = with(false).phase_deg.expect("a phase");
+    assert!((176.0..186.0).contains(&alone), "phase {alone} deg");
+    // With it the refit moved to the profile's better point, near the truth.
+    let c = with(true);
     let phase = c.phase_deg.expect("a phase");
-    assert!((285.0..305.0).contains(&phase), "phase {phase} deg");
+    assert!((160.0..170.0).contains(&phase), "phase {phase} deg");
     let arc = c.phase_profile95_deg.expect("the phase was profiled");
     let on = |deg: f64, (lo, hi): (f64, f64)| (deg - lo).rem_euclid(360.0) <= hi - lo;
-    assert!(on(phase, arc) && !on(252.0, arc), "profile arc {arc:?}");
+    assert!(
+        on(phase, arc) && on(truth.to_degrees(), arc),
+        "profile arc {arc:?}"
+    );
     // The profile's arc contains the Wald arc (the hull) and is not the whole circle.
     let w = c.phase_wald95_deg[0];
     assert!(arc.0 <= w.0 + 1e-9 && arc.1 >= w.1 - 1e-9 && arc.1 - arc.0 < 180.0);
@@ -796,6 +803,43 @@ fn linear_start_does_not_end_at_a_negative_natural_frequency() {
     );
 }
 
+/// A small rig measured on a coarse grid (23/41 teeth, 0.05 mm backlash, design load 2000 N,
+/// 2 loads x 15 speeds 500 rpm apart, zeta 0.03, 2500 Hz; made by DOP853 with relative noise):
+/// at the design load the teeth separate for a moment at the resonance peak (6500 rpm) along
+/// one continuous branch, and those points stay; M0's zeta comes back near the truth. Dropping
+/// the peak and its neighbours as a jump left M0 without zeta, which ran to its floor 0.003.
+#[test]
+fn a_coarse_grid_keeps_the_resonance_peak_at_which_the_teeth_separate() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut t = MunroTruth::default_munro();
+    t.rig = geardyn::data::Rig {
+        name: "small rig, coarse grid".into(),
+        pinion_teeth: 23,
+        gear_teeth: 41,
+        module_mm: 3.0,
+        face_width_mm: 20.0,
+        design_load_n: 2000.0,
+        backlash_mm: 0.05,
+        ..t.rig
+    };
+    t.zeta = 0.03;
+    t.omega_n_hz = 2500.0;
+    t.ste_um = vec![(2000.0, 0.3), (1000.0, 0.8)];
+    t.speeds_rpm = (2000.0, 9000.0, 500.0);
+    t.noise = NoiseFamily::Relative.noise(0.05);
+    t.dop853_rtol = Some(1e-9);
+    t.seed = 4;
+    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
+    let d = run(tmp.path());
+    assert!(
+        d.excluded_by_load.iter().all(|e| e.load_n != 2000.0),
+        "{:?}",
+        d.excluded_by_load
+    );
+    assert!(!d.m0_zeta_at_lower_bound());
+    assert!((d.zeta_m0 / 0.03 - 1.0).abs() < 0.1, "zeta {}", d.zeta_m0);
+}
+
 /// On the design-load curve alone there is nothing to hold out: the held-out chi-square is not
 /// run (no statistic, no p-value, not in Holm's family), rather than a zero statistic with
 /// p 1 that counted as a test.
@@ -825,4 +869,24 @@ fn a_single_load_runs_no_held_out_test() {
         .find(|t| t.name == "chi_square_training")
         .expect("listed");
     assert!(training.p_value.is_some());
+    assert!(!d.design_load_missing());
+}
+
+/// Without a curve at the design load M0 is fitted to the highest load in its place, and the
+/// discovery says so.
+#[test]
+fn a_set_without_the_design_load_says_so() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path().join("light");
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy("data/munro/rig.toml", dir.join("rig.toml")).unwrap();
+    let csv = std::fs::read_to_string("data/munro/dte.csv").unwrap();
+    let light: Vec<&str> = csv
+        .lines()
+        .filter(|l| l.starts_with("load_n") || l.starts_with("2835,"))
+        .collect();
+    std::fs::write(dir.join("dte.csv"), light.join("\n") + "\n").unwrap();
+    let d = run(&dir);
+    assert_eq!(d.training_loads_n, vec![2835.0]);
+    assert!(d.design_load_missing());
 }

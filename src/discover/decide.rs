@@ -511,7 +511,7 @@ impl Rounds<'_> {
             Some(self.held0),
         )?;
         let every: Vec<usize> = (0..preds.len()).collect();
-        let m1 = make_mask(&preds, &every, self.noise);
+        let m1 = make_mask(self.setup, &preds, &every, self.noise)?;
         let zero: Mask = self
             .mask
             .iter()

@@ -13,7 +13,7 @@ use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, State, SteadyOptions};
 use crate::validate::{
     flow_with_rtol, min_max, noise_setting, simulate_near_up_sweep, simulate_up_sweep,
-    up_sweep_neighbour_starts, MunroNoise,
+    simulate_up_sweep_from, up_sweep_neighbour_starts, MunroNoise,
 };
 use rayon::prelude::*;
 
@@ -158,6 +158,17 @@ pub struct CurvePrediction {
     pub aperiodic_start: Vec<Option<State>>,
     /// Where a prediction at nearby parameters starts each speed ([`predict_near`]).
     pub neighbour_starts: Vec<State>,
+    /// The model the curve was simulated with, for [`jumps_between`] (`None`: unknown).
+    pub sweep_model: Option<SweepModel>,
+}
+
+/// The model of a predicted curve: its dimensional scales, its equation of motion and its
+/// natural frequency, which set the speed-to-Omega map.
+#[derive(Clone, Debug)]
+pub struct SweepModel {
+    dim: Dimensional,
+    model: GearPair,
+    omega_n_hz: f64,
 }
 
 /// Parameters shared by all loads.
@@ -246,7 +257,7 @@ fn simulated(
         &NoProgress,
     )?;
     let starts = up_sweep_neighbour_starts(&model, &pts);
-    Ok(prediction(&dim, &pts, starts))
+    Ok(prediction(&pts, starts, SweepModel::new(dim, model, g)))
 }
 
 /// [`predict`] at parameters a finite-difference step from those of `base` (a [`predict`] of
@@ -273,15 +284,30 @@ pub fn predict_near(
         &base.neighbour_starts,
         &fit_steady_options(),
     )?;
-    Ok(prediction(&dim, &pts, base.neighbour_starts.clone()))
+    Ok(prediction(
+        &pts,
+        base.neighbour_starts.clone(),
+        SweepModel::new(dim, model, g),
+    ))
 }
 
-/// The prediction of a simulated sweep `pts`.
+impl SweepModel {
+    fn new(dim: Dimensional, model: GearPair, g: Globals) -> Self {
+        SweepModel {
+            dim,
+            model,
+            omega_n_hz: g.omega_n_hz,
+        }
+    }
+}
+
+/// The prediction of a simulated sweep `pts` of `sweep`.
 fn prediction(
-    dim: &Dimensional,
     pts: &[crate::sim::SweepPoint],
     neighbour_starts: Vec<State>,
+    sweep: SweepModel,
 ) -> CurvePrediction {
+    let dim = &sweep.dim;
     CurvePrediction {
         dte_pp_um: pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect(),
         period1: pts.iter().map(|p| p.steady.period == Some(1)).collect(),
@@ -289,7 +315,93 @@ fn prediction(
         back_contact: pts.iter().map(|p| p.steady.q_min < -1.0).collect(),
         aperiodic_start: window_starts(pts),
         neighbour_starts,
+        sweep_model: Some(sweep),
     }
+}
+
+/// Speeds an interval is cut into at each level of [`jumps_between`].
+const REFINE_STEPS: usize = 8;
+
+/// Narrowest interval [`jumps_between`] refines, relative to its speed: 0.1%, about the
+/// standard error of omega_n in these fits, so that a step still left there cannot be told
+/// from a discontinuity by any fit on the data.
+const FINEST_REFINEMENT: f64 = 1e-3;
+
+/// Bound on [`jumps_between`]'s levels (8^4 pieces of an interval: below
+/// [`FINEST_REFINEMENT`] for any interval under 400% of its speed).
+const MAX_REFINE_LEVELS: usize = 4;
+
+/// Whether `pred`'s up-sweep jumps by more than `step_um` between its speeds `j - 1` and `j`
+/// (`speeds`, the curve's), rather than rising or falling steeply along one branch. The
+/// interval is cut into [`REFINE_STEPS`] speeds swept on from speed `j - 1`'s orbit as the
+/// sweep went on, and the piece with the largest step is cut again, down to
+/// [`FINEST_REFINEMENT`]. A step that stays above `step_um` is a jump (a branch ending at a
+/// fold, as the up-sweep's jump onto the separated branch at light loads); one that shrinks
+/// below it is a continuous stretch: on a coarse grid (500 rpm) the resonance peak at which
+/// the teeth separate for a moment, which is what determines zeta. Counted as a jump, so that
+/// the point is never kept by mistake: an end point or a piece that is not period-1, the
+/// refined sweep reaching speed `j` on another branch than the sweep did, a prediction
+/// without its model.
+pub fn jumps_between(
+    pred: &CurvePrediction,
+    speeds: &[f64],
+    j: usize,
+    step_um: f64,
+) -> Result<bool> {
+    let Some(sweep) = &pred.sweep_model else {
+        return Ok(true);
+    };
+    if j == 0 || j >= speeds.len() || !(pred.period1[j - 1] && pred.period1[j]) {
+        return Ok(true);
+    }
+    let (mut s_lo, mut x_lo, mut y_lo) = (
+        speeds[j - 1],
+        pred.neighbour_starts[j - 1],
+        pred.dte_pp_um[j - 1],
+    );
+    let (mut s_hi, mut y_hi) = (speeds[j], pred.dte_pp_um[j]);
+    for _ in 0..MAX_REFINE_LEVELS {
+        let width = (s_hi - s_lo) / REFINE_STEPS as f64;
+        let sub: Vec<f64> = (1..=REFINE_STEPS)
+            .map(|k| s_lo + width * k as f64)
+            .collect();
+        let pts = simulate_up_sweep_from(
+            &sweep.dim,
+            &sweep.model,
+            sweep.omega_n_hz,
+            &sub,
+            RK_RTOL,
+            &fit_steady_options(),
+            x_lo,
+            &NoProgress,
+        )?;
+        if pts.iter().any(|p| p.steady.period != Some(1)) {
+            return Ok(true);
+        }
+        let ys: Vec<f64> = pts
+            .iter()
+            .map(|p| sweep.dim.dte_um(p.steady.dte_pp))
+            .collect();
+        if (ys[REFINE_STEPS - 1] - y_hi).abs() > step_um {
+            return Ok(true);
+        }
+        let (k, step) = (0..REFINE_STEPS)
+            .map(|k| (k, (ys[k] - if k == 0 { y_lo } else { ys[k - 1] }).abs()))
+            .fold((0, 0.0), |best, c| if c.1 > best.1 { c } else { best });
+        if step <= step_um {
+            return Ok(false);
+        }
+        if width <= FINEST_REFINEMENT * s_hi {
+            return Ok(true);
+        }
+        if k > 0 {
+            s_lo = sub[k - 1];
+            y_lo = ys[k - 1];
+            x_lo = pts[k - 1].steady.poincare.first().copied().unwrap_or(x_lo);
+        }
+        (s_hi, y_hi) = (sub[k], ys[k]);
+    }
+    Ok(true)
 }
 
 /// Where the observation windows of each sweep point start: where no period up to 32 was
@@ -374,6 +486,91 @@ mod tests {
                 .collect(),
             MunroNoise::Estimate { floor_min: 0.0 },
         )
+    }
+
+    /// A small rig (23/41 teeth, module 3 mm, 0.05 mm backlash, design load 2000 N, zeta 0.03,
+    /// 2500 Hz) on a 500 rpm grid: at 2000 N the teeth separate at the resonance peak
+    /// (6500 rpm) for a moment, along one continuous branch; at 1000 N the up-sweep jumps onto
+    /// the separated branch between 5650 and 5700 rpm and leaves it continuously near
+    /// 7900 rpm. `jumps_between` agrees with a second, independent sweep of each curve on a
+    /// 5 rpm grid from its first speed: a jump is a step of more than 0.6 um (10 noise scales
+    /// of 0.06 um) between two of its speeds, a continuous stretch steps at most 0.2 um.
+    #[test]
+    fn a_separation_along_one_branch_is_not_a_jump_and_a_fold_is() {
+        let rig = crate::data::Rig {
+            name: "small rig".into(),
+            pinion_teeth: 23,
+            gear_teeth: 41,
+            module_mm: 3.0,
+            face_width_mm: 20.0,
+            design_load_n: 2000.0,
+            backlash_mm: 0.05,
+            ..crate::validate::munro_rig()
+        };
+        let coarse: Vec<f64> = (0..15).map(|k| 2000.0 + 500.0 * k as f64).collect();
+        let curve = |load_n: f64| Curve {
+            load_n,
+            speeds_rpm: coarse.clone(),
+            dte_pp_um: vec![0.0; coarse.len()],
+            sd_um: None,
+        };
+        let s = Setup::new(
+            Dimensional::from_rig(&rig).unwrap(),
+            2000.0,
+            vec![curve(2000.0), curve(1000.0)],
+            MunroNoise::Estimate { floor_min: 0.0 },
+        );
+        let g = Globals {
+            zeta: 0.0301,
+            omega_n_hz: 2498.6,
+        };
+        let step_um = 0.6;
+        let mut verdicts = Vec::new();
+        for (i, ste) in [(0, 0.300), (1, 0.799)] {
+            let p = predict(&s, i, g, ste, &Effect::none()).unwrap();
+            let (dim, model) = curve_model(&s, i, g, ste, &Effect::none()).unwrap();
+            let fine: Vec<f64> = (0..=1400).map(|k| 2000.0 + 5.0 * k as f64).collect();
+            let dense = simulate_up_sweep(
+                &dim,
+                &model,
+                g.omega_n_hz,
+                &fine,
+                RK_RTOL,
+                &fit_steady_options(),
+                &NoProgress,
+            )
+            .unwrap();
+            let dense_um: Vec<f64> = dense.iter().map(|q| dim.dte_um(q.steady.dte_pp)).collect();
+            for j in 1..coarse.len() {
+                if p.separated[j] == p.separated[j - 1] {
+                    continue;
+                }
+                let jump = jumps_between(&p, &coarse, j, step_um).unwrap();
+                let largest = (0..fine.len() - 1)
+                    .filter(|&k| fine[k] >= coarse[j - 1] && fine[k + 1] <= coarse[j])
+                    .map(|k| (dense_um[k + 1] - dense_um[k]).abs())
+                    .fold(0.0, f64::max);
+                assert_eq!(
+                    jump,
+                    largest > step_um,
+                    "{} N, {}-{} rpm: largest 5 rpm step {largest:.3} um",
+                    s.curves[i].load_n,
+                    coarse[j - 1],
+                    coarse[j]
+                );
+                assert!(jump || largest < 0.2, "continuous, yet steps {largest} um");
+                verdicts.push((i, coarse[j] as u32, jump));
+            }
+        }
+        assert_eq!(
+            verdicts,
+            vec![
+                (0, 6500, false),
+                (0, 7000, false),
+                (1, 6000, true),
+                (1, 8000, false)
+            ]
+        );
     }
 
     /// A repeated prediction is the stored one; a clone starts empty, and with its curve

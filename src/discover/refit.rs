@@ -6,7 +6,7 @@
 
 use super::ambiguity::CHI2_95_1DF;
 use super::effects::{Candidate, Effect};
-use super::fit::{fit_model, fit_ste, residuals_of, EffectInFit, Mask, ModelFit};
+use super::fit::{fit_model, fit_ste, relinearized, residuals_of, EffectInFit, Mask, ModelFit};
 use super::forward::{
     fitted_damping_admissible, predict, predict_many, CurvePrediction, Globals, Setup, MIN_ZETA,
 };
@@ -296,7 +296,7 @@ impl Refit<'_> {
         let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
         let mut m2 = self.mask.clone();
         for (k, &i) in train.iter().enumerate() {
-            let own = make_mask(std::slice::from_ref(&preds[k]), &[i], self.w.noise);
+            let own = make_mask(setup, std::slice::from_ref(&preds[k]), &[i], self.w.noise)?;
             for (j, keep) in own[0].iter().enumerate() {
                 m2[i][j] = m2[i][j] && *keep;
             }
@@ -321,6 +321,16 @@ impl Refit<'_> {
             &f2.lm.params.clone(),
             Stop::converged(self.iters / 2 + 1),
         )?;
+        let q = noise3.quantile(self.cand, &f3.lm, train, &m2);
+        let f3 = relinearized(
+            setup,
+            train,
+            &m2,
+            &scales3,
+            EffectInFit::Fitted(self.cand),
+            f3,
+            q,
+        );
         Ok((f3, m2, other, (scales3, noise3)))
     }
 }
@@ -714,6 +724,7 @@ fn refit_scales(
                 back_contact: vec![false; n],
                 aperiodic_start: vec![None; n],
                 neighbour_starts: Vec::new(),
+                sweep_model: None,
             }
         })
         .collect();
@@ -739,6 +750,9 @@ fn restandardized(lm: &LmFit, idx: &[usize], mask: &Mask, old: &Scales, new: &Sc
     for (r, (a, b)) in o.iter().zip(&n).enumerate() {
         if r < out.jacobian.nrows() {
             out.jacobian.row_mut(r).scale_mut(a / b);
+        }
+        if let Some(sec) = out.secant_jacobian.as_mut().filter(|j| r < j.nrows()) {
+            sec.row_mut(r).scale_mut(a / b);
         }
     }
     out

@@ -63,6 +63,8 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "omega_n_hz": d.omega_n_hz_m0,
             "zeta_at_lower_bound": d.m0_zeta_at_lower_bound(),
         },
+        "design_load_n": d.design_load_n,
+        "design_load_missing": d.design_load_missing(),
         "training_loads_n": d.training_loads_n,
         "held_out_loads_n": d.held_out_loads_n,
         "held_out_ste_um": d.held_out_ste_um.iter().map(|(l, b, a)| json!({
@@ -255,6 +257,15 @@ fn phase_text(c: &CandidateResult) -> String {
     }
 }
 
+/// The note when no curve was measured at the design load.
+fn design_load_text(d: &Discovery) -> Option<String> {
+    let highest = d.training_loads_n.first()?;
+    d.design_load_missing().then(|| format!(
+        "no curve at the design load ({} N of rig.toml): M0's zeta and omega_n are fitted with the highest load, {} N, in its place; the damping law and the torque ripple still refer to the design load",
+        d.design_load_n, highest
+    ))
+}
+
 /// The note when M0's zeta sits at the fits' lower bound.
 fn zeta_bound_text(d: &Discovery) -> Option<String> {
     d.m0_zeta_at_lower_bound().then(|| format!(
@@ -292,7 +303,10 @@ pub fn summary_text(d: &Discovery) -> String {
         d.omega_n_hz_m0,
         noise_text(d)
     );
-    if let Some(t) = zeta_bound_text(d) {
+    for t in [design_load_text(d), zeta_bound_text(d)]
+        .into_iter()
+        .flatten()
+    {
         s.push_str(&format!("NOTE: {t}\n"));
     }
     if let Some(t) = held_out_split_text(d) {
@@ -481,7 +495,10 @@ fn summary_section(page: &mut Page, d: &Discovery) {
         d.excluded_points,
         d.bootstrap
     ));
-    if let Some(t) = zeta_bound_text(d) {
+    for t in [design_load_text(d), zeta_bound_text(d)]
+        .into_iter()
+        .flatten()
+    {
         page.paragraph(&t);
     }
     if let Some(t) = held_out_split_text(d) {

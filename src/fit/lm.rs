@@ -97,6 +97,9 @@ pub struct LmFit {
     /// Jacobian of the residuals with respect to the parameter values (n x p) there; the
     /// column of a parameter held still as unseen is zero.
     pub jacobian: DMatrix<f64>,
+    /// The same as secants over a Wald interval's width ([`secant_jacobian`]), where the caller
+    /// took them: a Wald variance is then the larger of the two linearisations'.
+    pub secant_jacobian: Option<DMatrix<f64>>,
     /// Residual evaluations spent (Jacobian columns included).
     pub evaluations: usize,
 }
@@ -288,6 +291,65 @@ fn central_difference(a: f64, r: f64, b: f64, h: f64) -> f64 {
     } else {
         (a - b) / (2.0 * h)
     }
+}
+
+/// Jacobian (residuals per parameter value) at `params`, where the residuals are `r0`, by
+/// central secants of `steps` (one per parameter, > 0) through `near(p, params)`, with
+/// [`central_difference`]'s rule for a side that switches branch. Where a side fails the other
+/// is taken; where both fail, or a step is not positive, the column is `fallback`'s.
+///
+/// A Wald interval assumes the residuals linear over the interval. A point near a fold of a
+/// simulated response (where a branch ends and the up-sweep jumps) changes steeply and only
+/// over a tiny range: its infinitesimal derivative can outweigh every other point's, and the
+/// interval then follows from that one point. On a seeded second-STE-harmonic set one point's
+/// derivative was 200 times its neighbours' and the phase's Wald arc a third of the
+/// likelihood's. A secant over the interval's own width is the derivative the interval uses.
+pub fn secant_jacobian(
+    near: NearResiduals<'_>,
+    params: &[f64],
+    r0: &[f64],
+    steps: &[f64],
+    fallback: &DMatrix<f64>,
+) -> DMatrix<f64> {
+    let mut jac = fallback.clone();
+    let usable = |r: Result<Vec<f64>>| {
+        r.ok()
+            .filter(|r| r.len() == r0.len() && r.iter().all(|x| x.is_finite()))
+    };
+    let cols: Vec<Option<Vec<f64>>> = steps
+        .par_iter()
+        .enumerate()
+        .map(|(j, &h)| {
+            if !(h.is_finite() && h > 0.0) {
+                return None;
+            }
+            let shifted = |s: f64| {
+                let mut p = params.to_vec();
+                p[j] += s;
+                usable(near(&p, params))
+            };
+            match (shifted(h), shifted(-h)) {
+                (Some(a), Some(b)) => Some(
+                    a.iter()
+                        .zip(&b)
+                        .zip(r0)
+                        .map(|((a, b), r)| central_difference(*a, *r, *b, h))
+                        .collect(),
+                ),
+                (Some(a), None) => Some(a.iter().zip(r0).map(|(a, r)| (a - r) / h).collect()),
+                (None, Some(b)) => Some(r0.iter().zip(&b).map(|(r, b)| (r - b) / h).collect()),
+                (None, None) => None,
+            }
+        })
+        .collect();
+    for (j, col) in cols.into_iter().enumerate() {
+        if let Some(col) = col {
+            for (i, v) in col.into_iter().enumerate() {
+                jac[(i, j)] = v;
+            }
+        }
+    }
+    jac
 }
 
 /// Record the best sum of squares `best` at a new Jacobian in `history`; true when the fit has
@@ -498,6 +560,7 @@ where
             .map(|(u, p)| p.transform.value(*u))
             .collect(),
         rss: st.best_rss,
+        secant_jacobian: None,
         residuals: st.best_r,
         jacobian,
         evaluations: st.evaluations,

@@ -16,7 +16,9 @@ pub use estimate::{
     estimate, satterthwaite_dof_of, t_quantile_975, Estimate, EstimateOptions, NoiseFit,
     NoiseSetting, NoiseSource, Robust,
 };
-pub use lm::{least_squares, least_squares_warm, rss, LmFit, NearResiduals, Stop, UNSEEN};
+pub use lm::{
+    least_squares, least_squares_warm, rss, secant_jacobian, LmFit, NearResiduals, Stop, UNSEEN,
+};
 pub use noise::{
     estimate_noise, held_variance_components, log_likelihood, robust_weight, variance_components,
     Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,

@@ -41,7 +41,7 @@ pub use study::{
 pub(crate) use synth::flow_with_rtol;
 pub use synth::{
     clean_munro_curves, munro_rig, simulate_dte_curve, simulate_near_up_sweep, simulate_up_sweep,
-    synth_kubo, synth_munro, up_sweep_neighbour_starts, write_munro_set, CleanCurves,
-    HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
+    simulate_up_sweep_from, synth_kubo, synth_munro, up_sweep_neighbour_starts, write_munro_set,
+    CleanCurves, HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
     FAMILY_RELATIVE, FAMILY_T_DOF,
 };

@@ -390,15 +390,8 @@ pub fn simulate_up_sweep(
     opts: &SteadyOptions,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
-    up_sweep(
-        dim,
-        model,
-        omega_n_hz,
-        speeds,
-        &|m| flow_with_rtol(m, rk_rtol),
-        opts,
-        progress,
-    )
+    let x0 = up_sweep_start(model);
+    simulate_up_sweep_from(dim, model, omega_n_hz, speeds, rk_rtol, opts, x0, progress)
 }
 
 /// Where a sweep at parameters near those of `pts` (a [`simulate_up_sweep`] of `model`) starts
@@ -444,7 +437,26 @@ fn up_sweep_start(model: &GearPair) -> State {
     [1.0 + model.mean_force, 0.0]
 }
 
-/// [`simulate_up_sweep`] with the period map of `factory`.
+/// [`simulate_up_sweep`] over `speeds` carried on from state `x0` (the section point a sweep
+/// brought from a lower speed, e.g. [`up_sweep_neighbour_starts`] of a period-1 point, for a
+/// part of a sweep refined between two of its speeds).
+#[allow(clippy::too_many_arguments)]
+pub fn simulate_up_sweep_from(
+    dim: &Dimensional,
+    model: &GearPair,
+    omega_n_hz: f64,
+    speeds: &[f64],
+    rk_rtol: f64,
+    opts: &SteadyOptions,
+    x0: State,
+    progress: &dyn Progress,
+) -> Result<Vec<SweepPoint>> {
+    let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
+    up_sweep(dim, model, omega_n_hz, speeds, &flow, opts, x0, progress)
+}
+
+/// [`simulate_up_sweep`] from `x0` with the period map of `factory`.
+#[allow(clippy::too_many_arguments)]
 fn up_sweep(
     dim: &Dimensional,
     model: &GearPair,
@@ -452,13 +464,14 @@ fn up_sweep(
     speeds: &[f64],
     factory: FlowFactory<'_>,
     opts: &SteadyOptions,
+    x0: State,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
     let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
     let plan = SweepPlan {
         omegas,
         branch: Branch::Up,
-        x0: up_sweep_start(model),
+        x0,
         grid: IcGrid::new(-2.0, 2.0, 1)?,
         opts: opts.clone(),
     };
@@ -580,6 +593,7 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
             &speeds,
             &factory,
             &SteadyOptions::default(),
+            up_sweep_start(&model),
             progress,
         )?
         .iter()
@@ -788,6 +802,7 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         &speeds,
         &|m| synth_flow(m, truth.dop853_rtol),
         &SteadyOptions::default(),
+        up_sweep_start(&model),
         progress,
     )?;
     let mut rng = Rng::new(truth.seed);
