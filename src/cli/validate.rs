@@ -249,6 +249,11 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                     value_ci(g.zeta, e.ci95[0], 4),
                     value_ci(g.omega_n_hz, e.ci95[1], 1)
                 ));
+                if g.fit.design_model == DesignModel::Swept {
+                    s.push_str(
+                        "geometry path: design-load fit through simulated up-sweeps: the teeth separate at some speeds under eq. 13's closed form\n",
+                    );
+                }
                 for l in &g.loads {
                     s.push_str(&load_line(l));
                 }

@@ -73,6 +73,7 @@ pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
         "design_points": r.fit.design_points,
         "fit_points": e.n,
         "design_load_in_contact": r.design_load_in_contact,
+        "design_model": r.fit.design_model,
         "mesh_stiffness_n_per_um": r.mesh_stiffness_n_per_um,
         "mesh_stiffness_source": r.stiffness_source,
         "half_backlash_um": r.half_backlash_um,
@@ -145,6 +146,7 @@ fn geometry_json(g: &GeometryValidation) -> serde_json::Value {
         "noise_relative": e.noise.model.relative,
         "relief": g.relief,
         "design_load_in_contact": g.design_load_in_contact,
+        "design_model": g.fit.design_model,
         "per_load": g.loads.iter().zip(&g.excitation).map(|(l, x)| {
             let mut v = load_json(l);
             v["geometry"] = json!(x);
@@ -223,6 +225,10 @@ fn geometry_section(
             crate::validate::StiffnessChoice::Constant => "constant mesh stiffness (k = 1, k_h as the per-curve path)",
             crate::validate::StiffnessChoice::Geometry => "the geometry's loaded mesh stiffness k_h(F) and k(t) (ωₙ scaled by √(k_h(F)/k_h(design)))",
         },
+    ));
+    page.paragraph(&format!(
+        "{} (the geometry path's fit).",
+        design_model_text(g.fit.design_model, g.design_load_in_contact).trim_end_matches('.')
     ));
     let rows: Vec<Vec<String>> = (0..e.params.len())
         .map(|i| {
@@ -671,16 +677,17 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         e.residual_dof,
         super::stated_noise_verdict(e).map_or(String::new(), |(_, v)| format!(" ({v})")),
         if n.outliers.is_empty() { "none".to_string() } else { n.outliers.len().to_string() },
-        design_model_text(r),
+        design_model_text(r.fit.design_model, r.design_load_in_contact),
         r.mesh_stiffness_n_per_um,
         r.stiffness_source_text,
         r.half_backlash_um
     ));
 }
 
-/// How the design-load curve was modelled in the fit, as a sentence.
-pub(crate) fn design_model_text(r: &MunroValidation) -> &'static str {
-    match (r.fit.design_model, r.design_load_in_contact) {
+/// How the design-load curve was modelled in a fit (`model`; `in_contact`: whether the fit
+/// keeps the design load's teeth in contact), as a sentence.
+pub(crate) fn design_model_text(model: DesignModel, in_contact: bool) -> &'static str {
+    match (model, in_contact) {
         (DesignModel::Swept, _) => {
             "Under the closed form of eq. 13 the design load's teeth separate at some measured \
              speeds, where that form does not hold: the design-load curve was fitted through the \

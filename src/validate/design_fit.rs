@@ -5,7 +5,7 @@
 //! amplification and the design load's noise model.
 
 use super::kubo_swept::SWEPT_ZETA_MIN;
-use super::linear::{dte_pp_um, dte_pp_um_harmonics, stays_in_contact};
+use super::linear::{dte_pp_um, dte_pp_um_harmonics, stays_in_contact, stays_in_contact_harmonics};
 use super::munro::up_sweep_pp_um;
 use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
@@ -13,7 +13,7 @@ use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseFreedom, NoiseModel, NoiseSetting,
     Param, ProfileInterval, Robust, Stop,
 };
-use crate::model::{Dimensional, GearPair};
+use crate::model::{Dimensional, GearPair, Term};
 use serde::Serialize;
 
 /// Jacobians at most in each weighted fit (eq. 13 is smooth: 10-20 suffice).
@@ -131,21 +131,38 @@ fn low_speed_part<'a>(
     }
 }
 
-/// pp DTE of the exact solver's up-sweep at each point for (zeta, omega_n, STE) at mean force
-/// `fm` ([`DesignModel::Swept`]). A damping below [`SWEPT_ZETA_MIN`] is refused: its
-/// transients would make each sweep take minutes.
+/// pp DTE of the exact solver's up-sweep at each point for (zeta, omega_n) and the STE
+/// harmonics `ste` (order, amplitude um, phase rad) at mean force `fm`
+/// ([`DesignModel::Swept`]; one term (1, e, 0) is the paper's model). A damping below
+/// [`SWEPT_ZETA_MIN`] is refused: its transients would make each sweep take minutes.
 fn swept_curve(
     dim: &Dimensional,
     points: &[&MunroPoint],
     fm: f64,
-    (zeta, wn, e): (f64, f64, f64),
+    (zeta, wn): (f64, f64),
+    ste: &[(u32, f64, f64)],
 ) -> Result<Vec<f64>> {
     if zeta.is_nan() || zeta < SWEPT_ZETA_MIN {
         return Err(GearError::Numerical(format!(
             "zeta = {zeta} is below the least damping a fit through simulated sweeps takes ({SWEPT_ZETA_MIN})"
         )));
     }
-    let model = GearPair::paper(fm, dim.ste_amplitude(e), zeta, 1.0)?;
+    let model = GearPair {
+        zeta,
+        mean_force: fm,
+        omega: 1.0,
+        ste: ste
+            .iter()
+            .map(|&(order, um, phase)| Term {
+                order,
+                amplitude: dim.ste_amplitude(um),
+                phase,
+            })
+            .collect(),
+        torque: Vec::new(),
+        stiffness: Vec::new(),
+    }
+    .validated()?;
     let speeds: Vec<f64> = points.iter().map(|p| p.speed_rpm).collect();
     up_sweep_pp_um(dim, &model, wn, &speeds)
 }
@@ -186,9 +203,13 @@ impl Curves<'_> {
         let ste = self.given_ste.unwrap_or_else(|| p[2]);
         let mut v = match self.design_model {
             DesignModel::Linear => linear_curve(self.dim, self.design, zeta, wn, ste),
-            DesignModel::Swept => {
-                swept_curve(self.dim, self.design, self.design_fm, (zeta, wn, ste))?
-            }
+            DesignModel::Swept => swept_curve(
+                self.dim,
+                self.design,
+                self.design_fm,
+                (zeta, wn),
+                &[(1, ste, 0.0)],
+            )?,
         };
         for (k, pts) in self.others.iter().enumerate() {
             v.extend(linear_curve(self.dim, pts, zeta, wn, p[first + k]));
@@ -353,10 +374,12 @@ pub fn fit_design_load(
 /// (the tooth-contact model) and the pp DTE by the multi-harmonic form of eq. 13
 /// ([`dte_pp_um_harmonics`]). With `relief.1` false the depth is `relief.0` (the design rule's,
 /// or given) and only zeta and omega_n are fitted. Same engine, noise setting and starts as
-/// [`fit_design_load`] (three depths, 0.7, 1 and 1.4 times the start, when it is fitted).
+/// [`fit_design_load`] (three depths, 0.7, 1 and 1.4 times the start, when it is fitted), and
+/// as there, where that fit separates the teeth (`design_fm`: the design load's mean force,
+/// dimensionless), the fit again through simulated up-sweeps ([`DesignModel::Swept`]).
 pub fn fit_design_geometry(
     dim: &Dimensional,
-    design: &[&MunroPoint],
+    (design_fm, design): (f64, &[&MunroPoint]),
     ste_at: &(dyn Fn(f64) -> Result<Vec<(u32, f64, f64)>> + Sync),
     relief: (f64, bool),
     noise: MunroNoise,
@@ -393,46 +416,80 @@ pub fn fit_design_geometry(
     } else {
         Some(ste_at(depth)?)
     };
-    let model = |p: &[f64]| -> Result<Vec<f64>> {
-        let ste = match &fixed {
-            Some(s) => s.clone(),
-            None => ste_at(p[2])?,
-        };
+    let ste_of = |p: &[f64]| -> Result<Vec<(u32, f64, f64)>> {
+        match &fixed {
+            Some(s) => Ok(s.clone()),
+            None => ste_at(p[2]),
+        }
+    };
+    let closed_form = |p: &[f64]| -> Result<Vec<f64>> {
+        let ste = ste_of(p)?;
         Ok(design
             .iter()
             .map(|pt| dte_pp_um_harmonics(&ste, p[0], dim.omega(pt.speed_rpm, p[1])))
             .collect())
     };
-    // Only the data and the noise setting of the curves are used: the model is `model`.
+    let swept = |p: &[f64]| swept_curve(dim, design, design_fm, (p[0], p[1]), &ste_of(p)?);
+    // Only the data and the noise setting of the curves are used: the model is `closed_form`
+    // or `swept`.
     let curves = Curves {
         dim,
-        design_fm: f64::NAN,
+        design_fm,
         design,
         design_model: DesignModel::Linear,
         others: Vec::new(),
         given_ste: None,
     };
     let y = curves.data();
+    let options = |stop: Stop, starts: Vec<Vec<f64>>| EstimateOptions {
+        noise: curves.noise(noise),
+        robust,
+        stop,
+        starts,
+    };
     let stop = Stop::converged(FIT_JACOBIANS).central();
-    let estimate = estimate(
-        &model,
-        &y,
-        &params,
-        &EstimateOptions {
-            noise: curves.noise(noise),
-            robust,
-            stop,
-            starts,
-        },
-    )?;
+    let mut fit = estimate(&closed_form, &y, &params, &options(stop, starts))?;
+    let mut design_model = DesignModel::Linear;
+    let mut profile_stop = stop;
+    // As `fit_design_load`: where the closed form separates the teeth somewhere, it does not
+    // hold there, and the curve is fitted again through the exact solver's up-sweeps.
+    let terms = ste_of(&fit.params)?;
+    let bound: Vec<(u32, f64)> = terms
+        .iter()
+        .map(|t| (t.0, dim.ste_amplitude(t.1)))
+        .collect();
+    let in_contact = design.iter().all(|pt| {
+        stays_in_contact_harmonics(
+            design_fm,
+            &bound,
+            fit.params[0],
+            dim.omega(pt.speed_rpm, fit.params[1]),
+        )
+    });
+    if !in_contact {
+        design_model = DesignModel::Swept;
+        let sweeps = Stop::converged(SWEPT_JACOBIANS).central();
+        let start = vec![fit.params.clone()];
+        fit = estimate(
+            &swept,
+            &y,
+            &params,
+            &options(sweeps.or_stalled(SWEPT_FIT_STALL), start),
+        )?;
+        profile_stop = sweeps.or_stalled(SWEPT_PROFILE_STALL);
+    }
+    let model = |p: &[f64]| match design_model {
+        DesignModel::Linear => closed_form(p),
+        DesignModel::Swept => swept(p),
+    };
     let ci95_profile = (0..params.len())
-        .map(|i| profile_interval(&model, &y, &estimate, i, stop))
+        .map(|i| profile_interval(&model, &y, &fit, i, profile_stop))
         .collect::<Result<Vec<_>>>()?;
     Ok(DesignLoadFit {
-        estimate,
+        estimate: fit,
         ci95_profile,
         other_loads: Vec::new(),
         design_points: design.len(),
-        design_model: DesignModel::Linear,
+        design_model,
     })
 }

@@ -488,7 +488,7 @@ fn validate_geometry(
     };
     let fit = fit_design_geometry(
         &dim,
-        &curve,
+        (dim.mean_force(design), &curve),
         &ste_at,
         (start_um, fit_depth),
         noise_setting(data)?,
