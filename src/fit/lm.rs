@@ -216,17 +216,7 @@ where
                     ))
                 };
                 let col: Vec<f64> = if self.stop.central {
-                    match (shifted(h), shifted(-h)) {
-                        (Some(a), Some(b)) => a
-                            .iter()
-                            .zip(&b)
-                            .zip(r0)
-                            .map(|((a, b), r)| central_difference(*a, *r, *b, h))
-                            .collect(),
-                        (Some(a), None) => a.iter().zip(r0).map(|(a, b)| (a - b) / h).collect(),
-                        (None, Some(b)) => r0.iter().zip(&b).map(|(a, b)| (a - b) / h).collect(),
-                        (None, None) => return Err(fail()),
-                    }
+                    central_column(shifted(h), shifted(-h), r0, h).ok_or_else(fail)?
                 } else if let Some(a) = shifted(h) {
                     a.iter().zip(r0).map(|(a, b)| (a - b) / h).collect()
                 } else if let Some(b) = shifted(-h) {
@@ -293,6 +283,29 @@ fn central_difference(a: f64, r: f64, b: f64, h: f64) -> f64 {
     }
 }
 
+/// A Jacobian column from the residuals `up` at u + h and `down` at u - h (None where the
+/// evaluation failed) and `r0` at u: [`central_difference`] at each residual, the one-sided
+/// difference of the side that evaluated, or None when neither did.
+fn central_column(
+    up: Option<Vec<f64>>,
+    down: Option<Vec<f64>>,
+    r0: &[f64],
+    h: f64,
+) -> Option<Vec<f64>> {
+    match (up, down) {
+        (Some(a), Some(b)) => Some(
+            a.iter()
+                .zip(&b)
+                .zip(r0)
+                .map(|((a, b), r)| central_difference(*a, *r, *b, h))
+                .collect(),
+        ),
+        (Some(a), None) => Some(a.iter().zip(r0).map(|(a, r)| (a - r) / h).collect()),
+        (None, Some(b)) => Some(r0.iter().zip(&b).map(|(r, b)| (r - b) / h).collect()),
+        (None, None) => None,
+    }
+}
+
 /// Jacobian (residuals per parameter value) at `params`, where the residuals are `r0`, by
 /// central secants of `steps` (one per parameter, > 0) through `near(p, params)`, with
 /// [`central_difference`]'s rule for a side that switches branch. Where a side fails the other
@@ -328,18 +341,7 @@ pub fn secant_jacobian(
                 p[j] += s;
                 usable(near(&p, params))
             };
-            match (shifted(h), shifted(-h)) {
-                (Some(a), Some(b)) => Some(
-                    a.iter()
-                        .zip(&b)
-                        .zip(r0)
-                        .map(|((a, b), r)| central_difference(*a, *r, *b, h))
-                        .collect(),
-                ),
-                (Some(a), None) => Some(a.iter().zip(r0).map(|(a, r)| (a - r) / h).collect()),
-                (None, Some(b)) => Some(r0.iter().zip(&b).map(|(r, b)| (r - b) / h).collect()),
-                (None, None) => None,
-            }
+            central_column(shifted(h), shifted(-h), r0, h)
         })
         .collect();
     for (j, col) in cols.into_iter().enumerate() {

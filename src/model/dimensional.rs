@@ -17,6 +17,7 @@
 //! a mean over the mesh cycle, valid for loads above about 100 N/mm of face width; the source of
 //! k_h is recorded in [`StiffnessSource`] so that reports can say which was used.
 
+use super::Term;
 use crate::data::Rig;
 use crate::error::{GearError, Result};
 use serde::{Deserialize, Serialize};
@@ -169,6 +170,19 @@ impl Dimensional {
     /// Dimensionless STE amplitude F_ah = e_bar / b for an amplitude e_bar in micrometres.
     pub fn ste_amplitude(&self, ste_um: f64) -> f64 {
         ste_um * 1e-6 / self.half_backlash_m
+    }
+
+    /// The STE terms of eq. 5 / eq. 20 (order j, F_ahj, phase) of harmonics given as (order,
+    /// amplitude e_j in micrometres, phase rad).
+    pub fn ste_terms(&self, terms_um: &[(u32, f64, f64)]) -> Vec<Term> {
+        terms_um
+            .iter()
+            .map(|&(order, um, phase)| Term {
+                order,
+                amplitude: self.ste_amplitude(um),
+                phase,
+            })
+            .collect()
     }
 
     /// STE amplitude e_bar in micrometres for a dimensionless F_ah (inverse of

@@ -13,7 +13,7 @@ use crate::fit::{
     estimate, profile_interval, Estimate, EstimateOptions, NoiseFreedom, NoiseModel, NoiseSetting,
     Param, ProfileInterval, Robust, Stop,
 };
-use crate::model::{Dimensional, GearPair, Term};
+use crate::model::{Dimensional, GearPair};
 use serde::Serialize;
 
 /// Jacobians at most in each weighted fit (eq. 13 is smooth: 10-20 suffice).
@@ -151,14 +151,7 @@ fn swept_curve(
         zeta,
         mean_force: fm,
         omega: 1.0,
-        ste: ste
-            .iter()
-            .map(|&(order, um, phase)| Term {
-                order,
-                amplitude: dim.ste_amplitude(um),
-                phase,
-            })
-            .collect(),
+        ste: dim.ste_terms(ste),
         torque: Vec::new(),
         stiffness: Vec::new(),
     }
@@ -183,6 +176,25 @@ pub(super) fn curve_in_contact(
             dim.omega(pt.speed_rpm, wn),
         )
     })
+}
+
+/// [`curve_in_contact`] for an STE of several harmonics (order, e_j um, phase rad), by the
+/// triangle-inequality bound of [`stays_in_contact_harmonics`].
+pub(super) fn curve_in_contact_harmonics(
+    dim: &Dimensional,
+    fm: f64,
+    points: &[&MunroPoint],
+    (zeta, wn): (f64, f64),
+    ste_um: &[(u32, f64, f64)],
+) -> bool {
+    let bound: Vec<(u32, f64)> = dim
+        .ste_terms(ste_um)
+        .iter()
+        .map(|t| (t.order, t.amplitude))
+        .collect();
+    points
+        .iter()
+        .all(|pt| stays_in_contact_harmonics(fm, &bound, zeta, dim.omega(pt.speed_rpm, wn)))
 }
 
 /// The curves of a fit: the design load's, and the low-speed parts of the others.
@@ -453,20 +465,8 @@ pub fn fit_design_geometry(
     let mut profile_stop = stop;
     // As `fit_design_load`: where the closed form separates the teeth somewhere, it does not
     // hold there, and the curve is fitted again through the exact solver's up-sweeps.
-    let terms = ste_of(&fit.params)?;
-    let bound: Vec<(u32, f64)> = terms
-        .iter()
-        .map(|t| (t.0, dim.ste_amplitude(t.1)))
-        .collect();
-    let in_contact = design.iter().all(|pt| {
-        stays_in_contact_harmonics(
-            design_fm,
-            &bound,
-            fit.params[0],
-            dim.omega(pt.speed_rpm, fit.params[1]),
-        )
-    });
-    if !in_contact {
+    let fitted = (fit.params[0], fit.params[1]);
+    if !curve_in_contact_harmonics(dim, design_fm, design, fitted, &ste_of(&fit.params)?) {
         design_model = DesignModel::Swept;
         let sweeps = Stop::converged(SWEPT_JACOBIANS).central();
         let start = vec![fit.params.clone()];

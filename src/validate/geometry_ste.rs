@@ -290,14 +290,7 @@ pub fn geometry_model(
         StiffnessChoice::Constant => exc.ste_terms_um(harmonics),
         StiffnessChoice::Geometry => kinematic_terms_um(exc, harmonics)?,
     };
-    let ste: Vec<Term> = ste_terms
-        .iter()
-        .map(|&(order, amplitude_um, phase)| Term {
-            order,
-            amplitude: dim.ste_amplitude(amplitude_um),
-            phase,
-        })
-        .collect();
+    let ste = dim.ste_terms(&ste_terms);
     let (dim, stiffness, omega_n_hz) = match stiffness {
         StiffnessChoice::Constant => (dim.clone(), Vec::new(), omega_n_design_hz),
         StiffnessChoice::Geometry => {

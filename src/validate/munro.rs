@@ -11,15 +11,14 @@
 
 use super::curve_metrics::{jump_location, location_error, location_error_text, min_max, rms};
 use super::design_fit::{
-    curve_in_contact, fit_design_geometry, fit_design_load, DesignLoadFit, DesignModel, MunroNoise,
-    LOW_SPEED_OMEGA,
+    curve_in_contact, curve_in_contact_harmonics, fit_design_geometry, fit_design_load,
+    DesignLoadFit, DesignModel, MunroNoise, LOW_SPEED_OMEGA,
 };
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule,
 };
 use super::kubo_swept::{FLOOR_REACHED, SWEPT_ZETA_MIN};
-use super::linear::stays_in_contact_harmonics;
 use super::synth::flow_with_rtol;
 use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
@@ -517,19 +516,13 @@ fn validate_geometry(
         .iter()
         .position(|l| crate::data::same_load(*l, design))
         .unwrap_or(0)];
-    let design_terms: Vec<(u32, f64)> = design_exc
-        .ste_terms_um(harmonics)
-        .iter()
-        .map(|t| (t.0, dim.ste_amplitude(t.1)))
-        .collect();
-    let design_load_in_contact = curve.iter().all(|pt| {
-        stays_in_contact_harmonics(
-            dim.mean_force(design),
-            &design_terms,
-            zeta,
-            dim.omega(pt.speed_rpm, wn),
-        )
-    });
+    let design_load_in_contact = curve_in_contact_harmonics(
+        &dim,
+        dim.mean_force(design),
+        &curve,
+        (zeta, wn),
+        &design_exc.ste_terms_um(harmonics),
+    );
     progress.start(loads.len() as u64, "loads (geometry)");
     let results: Vec<Result<LoadResult>> = loads
         .par_iter()
