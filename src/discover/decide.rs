@@ -266,7 +266,7 @@ impl Rounds<'_> {
             // Two basins within chi2(0.95; 1) of each other: the interval spans both.
             let q = r.quantile(self.train);
             cands[c].interval_quantile = Some(q);
-            cands[c].ci95 = over_both_basins(wald_ci(cand, &r.fit.lm, q), &cands[c], delta);
+            cands[c].ci95 = over_both_basins(wald_ci(cand, &r.fit.lm, q), &cands[c]);
             cands[c].set_phase(&r.fit.lm, delta, q);
             cands[c].delta = Some(delta.clone());
             cands[c].refit_zeta = Some(r.fit.globals.zeta);
@@ -609,7 +609,7 @@ impl Rounds<'_> {
             // From the refit itself: on a second decision `ci95` is already a hull.
             let wald = refits.iter().find(|r| r.cand == c).and_then(|r| {
                 let w = wald_ci(cands[c].candidate, &r.fit.lm, r.quantile(self.train));
-                over_both_basins(w, &cands[c], &r.fit.effect.delta)
+                over_both_basins(w, &cands[c])
             });
             cands[c].wald_ci95 = wald;
             cands[c].ci95 = found.ci;

@@ -250,7 +250,7 @@ pub(super) fn profiled_refit(
             )
         });
         let found = IntervalFound {
-            ci: over_both_basins(ci, c, &current.fit.effect.delta),
+            ci: over_both_basins(ci, c),
             profile: Some(profile),
             phase_arc,
             method: "hull of the profile-likelihood and Wald intervals",
@@ -260,7 +260,7 @@ pub(super) fn profiled_refit(
     let current = better.as_ref().unwrap_or(refit);
     let ci = wald_ci(c.candidate, &current.fit.lm, current.quantile(train));
     let found = IntervalFound {
-        ci: over_both_basins(ci, c, &current.fit.effect.delta),
+        ci: over_both_basins(ci, c),
         profile: None,
         phase_arc: None,
         method: "Wald (the profile kept finding better fits)",
@@ -352,39 +352,27 @@ impl CandidateResult {
     pub(super) fn set_phase(&mut self, lm: &LmFit, delta: &[f64], q: f64) {
         if self.candidate.has_phase() {
             self.phase_deg = Some(Candidate::first_phase(delta).to_degrees().rem_euclid(360.0));
-            self.phase_wald95_deg = phase_arcs(self, lm, delta, q);
+            self.phase_wald95_deg = phase_arcs(self, lm, q);
         }
     }
 }
 
 /// The 95% arcs of a refitted candidate's phase (degrees, [`wald_phase_arc`]) from the kept
 /// fit `lm`, and the other phase basin's arc too when the phase is undetermined between it and
-/// the kept fit's `delta` ([`super::run::OtherStart`]): the likelihood-ratio confidence set then
+/// the kept fit ([`super::run::OtherStart`]): the likelihood-ratio confidence set then
 /// has a piece in each basin. Empty for a candidate without a phase.
-fn phase_arcs(c: &CandidateResult, lm: &LmFit, delta: &[f64], q: f64) -> Vec<(f64, f64)> {
+fn phase_arcs(c: &CandidateResult, lm: &LmFit, q: f64) -> Vec<(f64, f64)> {
     let mut arcs: Vec<(f64, f64)> = wald_phase_arc(c.candidate, lm, q).into_iter().collect();
-    if let Some(o) = c
-        .other_start
-        .as_ref()
-        .filter(|o| o.phase_undetermined(delta))
-    {
+    if let Some(o) = c.other_start.as_ref().filter(|o| o.phase_undetermined()) {
         arcs.extend(o.phase_wald95_deg);
     }
     arcs
 }
 
 /// `ci` widened over the other phase basin's Wald interval when the phase is undetermined
-/// between it and the kept fit's `delta` ([`super::run::OtherStart`]).
-pub(super) fn over_both_basins(
-    ci: Option<(f64, f64)>,
-    c: &CandidateResult,
-    delta: &[f64],
-) -> Option<(f64, f64)> {
-    match c
-        .other_start
-        .as_ref()
-        .filter(|o| o.phase_undetermined(delta))
-    {
+/// between it and the kept fit ([`super::run::OtherStart`]).
+pub(super) fn over_both_basins(ci: Option<(f64, f64)>, c: &CandidateResult) -> Option<(f64, f64)> {
+    match c.other_start.as_ref().filter(|o| o.phase_undetermined()) {
         Some(o) => ci.zip(o.ci95).map(|(a, b)| (a.0.min(b.0), a.1.max(b.1))),
         None => ci,
     }

@@ -217,7 +217,7 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
         deg(&o.delta),
         deg(kept),
         o.rss_increase,
-        if o.phase_undetermined(kept) {
+        if o.phase_undetermined() {
             "; within chi2(0.95; 1) = 3.84 at a different phase: the training loads do not determine the phase, and the interval spans both fits"
         } else {
             ""

@@ -115,8 +115,8 @@ pub struct CandidateResult {
     /// Zeta and omega_n (Hz) of the refit, which move with the effect.
     pub refit_zeta: Option<f64>,
     pub refit_omega_n_hz: Option<f64>,
-    /// A phase-carrying candidate's best refit in another phase basin (more than 90 degrees
-    /// from the kept phase), when one ended there.
+    /// A phase-carrying candidate's best refit in another phase basin (a distinct minimum:
+    /// each phase outside the other's Wald arc), when one ended there.
     pub other_start: Option<OtherStart>,
     /// A refitted phase-carrying candidate's phase psi of its first (A cos psi, A sin psi)
     /// pair, degrees in [0, 360): the stiffness variation's against the STE, the 2nd STE
@@ -143,8 +143,8 @@ pub struct CandidateResult {
 pub struct OtherStart {
     pub delta: Vec<f64>,
     /// Its residual sum of squares minus the kept fit's, sigma^2 units, both before the last
-    /// stage (on the same points). Below chi2(0.95; 1) = 3.84 at a different phase, the
-    /// training loads do not determine the phase.
+    /// stage (on the same points) and under the last stage's noise. Below chi2(0.95; 1) =
+    /// 3.84, the training loads do not determine the phase.
     pub rss_increase: f64,
     /// Its own 95% Wald interval of the estimate.
     pub ci95: Option<(f64, f64)>,
@@ -153,11 +153,10 @@ pub struct OtherStart {
 }
 
 impl OtherStart {
-    /// Whether it is a distinct minimum (phase of the first pair more than 90 degrees from the
-    /// kept fit's) that fits within chi2(0.95; 1) = 3.84 sigma^2 of it.
-    pub fn phase_undetermined(&self, kept: &[f64]) -> bool {
+    /// Whether it fits within chi2(0.95; 1) = 3.84 sigma^2 of the kept fit (it is a distinct
+    /// minimum from it: `super::refit::distinct_minima`).
+    pub fn phase_undetermined(&self) -> bool {
         self.rss_increase < super::ambiguity::CHI2_95_1DF
-            && Candidate::phase_distance(&self.delta, kept) > std::f64::consts::FRAC_PI_2
     }
 }
 
@@ -1416,28 +1415,18 @@ mod tests {
         );
     }
 
-    /// A distinct minimum (phase 180 degrees away) within 3.84 sigma^2 leaves the phase
-    /// undetermined; the same minimum reached twice, a phase 60 degrees away, or a distinct one
-    /// 5 sigma^2 worse does not. The phase difference wraps at +-180 degrees.
+    /// A distinct minimum within 3.84 sigma^2 leaves the phase undetermined; one 5 sigma^2
+    /// worse does not.
     #[test]
-    fn phase_is_undetermined_only_for_a_distinct_minimum_within_the_threshold() {
-        let at = |deg: f64, rss_increase: f64| OtherStart {
-            delta: vec![0.1 * deg.to_radians().cos(), 0.1 * deg.to_radians().sin()],
+    fn phase_is_undetermined_only_within_the_threshold() {
+        let at = |rss_increase: f64| OtherStart {
+            delta: vec![-0.1, 0.0],
             rss_increase,
             ci95: None,
             phase_wald95_deg: None,
         };
-        let kept = [0.1, 0.0];
-        assert!(at(180.0, 1.0).phase_undetermined(&kept));
-        assert!(at(-120.0, 3.8).phase_undetermined(&kept));
-        assert!(!at(0.0, 0.0).phase_undetermined(&kept));
-        assert!(!at(60.0, 1.0).phase_undetermined(&kept));
-        assert!(!at(180.0, 5.0).phase_undetermined(&kept));
-        // 170 and -170 degrees are 20 degrees apart, not 340.
-        let kept170 = [
-            0.1 * 170f64.to_radians().cos(),
-            0.1 * 170f64.to_radians().sin(),
-        ];
-        assert!(!at(-170.0, 1.0).phase_undetermined(&kept170));
+        assert!(at(1.0).phase_undetermined());
+        assert!(at(3.8).phase_undetermined());
+        assert!(!at(5.0).phase_undetermined());
     }
 }

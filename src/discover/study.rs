@@ -402,12 +402,8 @@ fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
         .iter()
         .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
         .collect();
-    let phase_undetermined = cand.and_then(|c| {
-        c.other_start
-            .as_ref()
-            .zip(c.delta.as_ref())
-            .map(|(o, kept)| o.phase_undetermined(kept))
-    });
+    let phase_undetermined =
+        cand.and_then(|c| c.other_start.as_ref().map(|o| o.phase_undetermined()));
     let ci95 = cand.and_then(|c| c.ci95);
     let phase_deg = cand.and_then(|c| c.phase_deg);
     let phase_wald95_deg = cand.map(|c| c.phase_wald95_deg.clone()).unwrap_or_default();
