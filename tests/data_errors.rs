@@ -336,6 +336,13 @@ fn munro_rig_errors_are_located() {
             "(toml)",
             "TOML syntax",
         ),
+        // toml notices the open array on the next key's line; the slip is where it opens.
+        (
+            r.replace("2835.0, 1890.0, 945.0]", "2835.0, 1890.0, 945.0"),
+            12,
+            "ste.load_n",
+            "array not closed",
+        ),
     ];
     for (rig, line, field, case) in &cases {
         munro_rig_error(rig, *line, field, case);

@@ -120,11 +120,18 @@ impl<'a> TomlDoc<'a> {
             .collect::<Vec<_>>()
             .join("; ");
         // An empty span at the start is how toml reports a missing top-level table: no line.
-        let line = err
+        let at = err
             .span()
             .filter(|s| !(s.start == 0 && s.end == 0))
             .map(|s| line_of_offset(self.text, s.start))
             .unwrap_or(0);
+        // toml meets an array left open where the next key starts; the slip is on the line
+        // that opened it.
+        let unclosed = message
+            .starts_with("invalid array")
+            .then(|| unclosed_array_before(self.text, at))
+            .flatten();
+        let line = unclosed.unwrap_or(at);
         let table = if line > 0 {
             self.table_at(line)
         } else {
@@ -155,11 +162,15 @@ impl<'a> TomlDoc<'a> {
                 (Some(k), false) => format!("missing key `{k}` in [{table}]"),
                 _ => message,
             }
+        } else if unclosed.is_some() {
+            "this array is not closed with `]` before the next key".to_string()
         } else {
-            match (line > 0)
+            let text = (line > 0)
                 .then(|| self.text.lines().nth(line - 1))
-                .flatten()
+                .flatten();
+            match text
                 .and_then(syntax_hint)
+                .or_else(|| text.and_then(header_hint))
             {
                 Some(hint) => format!("{message} ({hint})"),
                 None => message,
@@ -187,6 +198,38 @@ fn syntax_hint(line: &str) -> Option<String> {
     (first.is_alphabetic() && !keyword).then(|| format!("text goes in double quotes: \"{value}\""))
 }
 
+/// The line (1-based) before `line` on which a key's array opens and is still open there:
+/// brackets counted outside strings and comments. None when every array before is closed.
+fn unclosed_array_before(text: &str, line: usize) -> Option<usize> {
+    let (mut depth, mut opened) = (0i64, None);
+    for (k, l) in text.lines().enumerate().take(line.saturating_sub(1)) {
+        let mut in_string = false;
+        for c in l.chars() {
+            match c {
+                '"' => in_string = !in_string,
+                '#' if !in_string => break,
+                // A header's bracket is no array; a nested one inside an open array is.
+                '[' if !in_string && (depth > 0 || key_of_line(l).is_some()) => {
+                    if depth == 0 {
+                        opened = Some(k + 1);
+                    }
+                    depth += 1;
+                }
+                ']' if !in_string && depth > 0 => depth -= 1,
+                _ => {}
+            }
+        }
+    }
+    (depth > 0).then_some(opened).flatten()
+}
+
+/// What a table header TOML cannot read probably lacks: its closing bracket.
+fn header_hint(line: &str) -> Option<String> {
+    let t = line.split('#').next()?.trim();
+    (t.starts_with('[') && !t.ends_with(']'))
+        .then(|| format!("a table header is closed with `]`: {t}]"))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -203,6 +246,30 @@ mod tests {
         assert_eq!(d.line_of("ste", "load_n"), 0);
         assert_eq!(d.table_at(6), "source");
         assert_eq!(d.table_at(1), "");
+    }
+
+    /// An array left open is reported on the line that opened it, not where toml noticed; a
+    /// table header without its bracket is named.
+    #[test]
+    fn an_open_array_is_reported_where_it_opens() {
+        let text = "[rig]\nname = \"a [b\" # [\nloads = [1, 2,\n  3\nbacklash_mm = 0.1\n";
+        assert_eq!(unclosed_array_before(text, 5), Some(3));
+        assert_eq!(unclosed_array_before("a = [1,\n 2]\nb = 3\n", 3), None);
+        assert_eq!(
+            unclosed_array_before("a = [\n [1, 2],\n [3\nb = 3\n", 4),
+            Some(1)
+        );
+        let d = TomlDoc::new(Path::new("rig.toml"), text);
+        let err = toml::from_str::<toml::Value>(text).unwrap_err();
+        let shown = d.toml_error(&err).to_string();
+        assert!(shown.contains("rig.toml:3"), "{shown}");
+        assert!(shown.contains("rig.loads"), "{shown}");
+        assert!(shown.contains("not closed with `]`"), "{shown}");
+        assert_eq!(
+            header_hint("[rig # the rig").as_deref(),
+            Some("a table header is closed with `]`: [rig]")
+        );
+        assert_eq!(header_hint("[rig]"), None);
     }
 
     /// A decimal comma and unquoted text are named; a value TOML reads is not.
