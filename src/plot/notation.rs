@@ -4,7 +4,7 @@
 
 /// ASCII word and its symbol. F̂ is F with a combining circumflex (there is no precomposed
 /// character); the PNG renderer places the mark above the letter (see `raster_text`).
-const SYMBOLS: [(&str, &str); 16] = [
+const SYMBOLS: [(&str, &str); 18] = [
     ("Omega", "Ω"),
     ("Omega_h", "Ωₕ"),
     ("Omega_T", "Ω_T"),
@@ -21,6 +21,8 @@ const SYMBOLS: [(&str, &str); 16] = [
     ("um2", "µm²"),
     ("sigma", "σ"),
     ("Delta", "Δ"),
+    ("q_a", "qₐ"),
+    ("q_m", "qₘ"),
 ];
 
 /// `text` with every whole word of [`SYMBOLS`] replaced by its symbol. A word is a run of ASCII
@@ -60,6 +62,7 @@ mod tests {
             "F\u{302} = 2, ζ = 0.05, Ωₕ 0.3, pp DTE (µm)"
         );
         assert_eq!(symbols("omega_n = 1600 Hz"), "ωₙ = 1600 Hz");
+        assert_eq!(symbols("(a) q_a, (b) q_m - q_a"), "(a) qₐ, (b) qₘ - qₐ");
         assert_eq!(symbols("Ω_h = 1, Ω_T, x_h"), "Ωₕ = 1, Ω_T, x_h");
         // Keys, file names and longer words are left alone.
         assert_eq!(
