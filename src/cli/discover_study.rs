@@ -174,6 +174,15 @@ fn summary_text(s: &StudySummary) -> String {
         "warning about excluded points far outside M0's range in {}/{} seeds\n",
         s.warned, s.seeds
     ));
+    if let Some((seed, e)) = s.failed.first() {
+        let seeds: Vec<String> = s.failed.iter().map(|(k, _)| k.to_string()).collect();
+        msg.push_str(&format!(
+            "discover FAILED on {}/{} seeds ({}; counted as not correct), seed {seed}: {e}\n  (--keep-sets DIR --first-seed {seed} --seeds 1 keeps that set to run `geardyn discover --data` on it)\n",
+            s.failed.len(),
+            s.seeds,
+            seeds.join(", ")
+        ));
+    }
     if !s.calibration.is_empty() {
         msg.push_str(
             "raw p-values per test (calibrated under the null: 5% below 0.05, 1% below 0.01):\n",

@@ -7,7 +7,7 @@
 
 use super::effects::{Candidate, Effect};
 use super::forward::{
-    fitted_damping_admissible, predict, predict_near, CurvePrediction, Globals, Setup,
+    fitted_damping_admissible, predict, predict_near, CurvePrediction, Globals, Setup, MIN_ZETA,
 };
 use super::noise::Scales;
 use crate::error::{GearError, Result};
@@ -393,7 +393,11 @@ pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
     })?;
     Ok((
         Globals {
-            zeta: b.params[0].abs().clamp(1e-3, 0.5),
+            // Not below the fits' floor, where every prediction is refused: on a 300 rpm grid
+            // the design load's peak can fall between two speeds, and eq. 13 then narrows it
+            // towards zeta 0 (a null set, relative noise, study seed 2, ended at 1e-3 and the
+            // whole run failed).
+            zeta: b.params[0].abs().clamp(MIN_ZETA, 0.5),
             // Eq. 13 depends on Omega^2 only, so the signed fit can end at -omega_n (a Student-t
             // null set of the discover study did, and every later prediction was refused).
             omega_n_hz: b.params[1].abs(),

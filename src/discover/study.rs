@@ -169,6 +169,9 @@ pub struct SeedOutcome {
     /// [`Discovery::decided_on`].
     pub decided_on: Vec<&'static str>,
     pub seconds: f64,
+    /// The run's error, when `discover` failed on this set (`effect` is then "error" and the
+    /// seed counts as not answered correctly).
+    pub error: Option<String>,
 }
 
 /// How often one test's raw p-value fell below 0.05 and 0.01 over the seeds, with Wilson 95%
@@ -224,6 +227,8 @@ pub struct StudySummary {
     pub phase_profile_coverage: Option<(usize, usize, (f64, f64))>,
     /// Seeds whose run warned about excluded points far outside M0's range.
     pub warned: usize,
+    /// Seeds on which `discover` failed, with the error (counted as not correct).
+    pub failed: Vec<(u64, String)>,
     /// Per test (detection and candidates), its raw p-values over the seeds.
     pub calibration: Vec<TestCalibration>,
     pub outcomes: Vec<SeedOutcome>,
@@ -312,14 +317,17 @@ pub fn run_study(
         let start = std::time::Instant::now();
         let mut dopts = opts.discover.clone();
         dopts.seed = opts.discover.seed.wrapping_add(seed);
-        let d: Discovery = discover(&data, &dopts, &crate::progress::NoProgress)?;
         let truth_of_seed = SeedTruth {
             seed,
             hidden,
             value: truth,
             phase: true_phase,
         };
-        let outcome = seed_outcome(&d, &truth_of_seed, start.elapsed().as_secs_f64());
+        // One set's failure is one seed's outcome: the study goes on, and says so.
+        let outcome = match discover(&data, &dopts, &crate::progress::NoProgress) {
+            Ok(d) => seed_outcome(&d, &truth_of_seed, start.elapsed().as_secs_f64()),
+            Err(e) => failed_outcome(&truth_of_seed, &e, start.elapsed().as_secs_f64()),
+        };
         on_seed(&outcome)?;
         outcomes.push(outcome);
         progress.advance(1);
@@ -385,6 +393,40 @@ struct SeedTruth {
 }
 
 /// One seed's discovery `d` scored against what it hid.
+/// The outcome of a seed on which `discover` failed with `error`: effect "error", nothing
+/// estimated.
+fn failed_outcome(truth: &SeedTruth, error: &GearError, seconds: f64) -> SeedOutcome {
+    SeedOutcome {
+        seed: truth.seed,
+        true_phase: truth.phase,
+        effect: "error".to_string(),
+        correct: false,
+        estimate: None,
+        ci95: None,
+        covered: None,
+        wald_ci95: None,
+        profile_ci95: None,
+        interval_quantile: None,
+        phase_undetermined: None,
+        phase_deg: None,
+        phase_wald95_deg: Vec::new(),
+        phase_covered: None,
+        phase_profile95_deg: None,
+        phase_profile_covered: None,
+        phase_error_deg: None,
+        held_out_rms_before_um: None,
+        held_out_rms_after_um: None,
+        p_values: Vec::new(),
+        leading_refit: None,
+        post_fit_p_values: Vec::new(),
+        excluded_far_outside: 0,
+        refitted: Vec::new(),
+        decided_on: Vec::new(),
+        seconds,
+        error: Some(error.to_string()),
+    }
+}
+
 fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
     let cand = d.candidates.iter().find(|c| c.name == d.effect);
     let p_values = d
@@ -453,6 +495,7 @@ fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
         leading_refit: d.leading_refit().map(str::to_string),
         post_fit_p_values,
         seconds,
+        error: None,
     }
 }
 
@@ -528,6 +571,10 @@ fn summarise(
             .iter()
             .filter(|o| o.excluded_far_outside > 0)
             .count(),
+        failed: outcomes
+            .iter()
+            .filter_map(|o| o.error.clone().map(|e| (o.seed, e)))
+            .collect(),
         calibration: calibration(&outcomes),
         outcomes,
     }
@@ -582,5 +629,33 @@ mod tests {
             assert_eq!(Hidden::parse(h.name()), Some(h), "{}", h.name());
         }
         assert_eq!(Hidden::parse("None"), None);
+    }
+
+    /// A seed on which `discover` failed is an outcome of its own: listed with its error,
+    /// counted as not correct (for the null study, not "none").
+    #[test]
+    fn a_failed_seed_is_listed_and_counted_as_not_correct() {
+        let truth = |seed| SeedTruth {
+            seed,
+            hidden: Hidden::None,
+            value: None,
+            phase: None,
+        };
+        let e = GearError::Numerical("no start converged".into());
+        let outcomes = vec![
+            failed_outcome(&truth(3), &e, 0.1),
+            failed_outcome(&truth(5), &e, 0.2),
+        ];
+        let s = summarise(Hidden::None, &StudyOptions::default(), None, outcomes);
+        assert_eq!(s.correct, 0);
+        assert_eq!(
+            s.failed,
+            [
+                (3, "numerical failure: no start converged".to_string()),
+                (5, "numerical failure: no start converged".to_string())
+            ]
+        );
+        assert_eq!(s.false_positive_rate.map(|r| r.0), Some(1.0));
+        assert_eq!(s.outcomes[0].effect, "error");
     }
 }
