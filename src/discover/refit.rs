@@ -289,8 +289,8 @@ impl Refit<'_> {
 
     /// The last stage: from the better all-load fit `f2`, once more with the points around its
     /// own jumps dropped and the noise estimated about it ([`refit_scales`]). Returns the fit,
-    /// its mask, the other start (`other`, with its interval under the new scales) and the
-    /// scales.
+    /// its mask, the best distinct minimum among the other all-load fits `rest`
+    /// ([`Refit::other_basin`], with its interval under the new scales) and the scales.
     fn last_stage(&self, f2: ModelFit, rest: Vec<ModelFit>) -> Result<RefitOutcome> {
         let (setup, train) = (self.setup, self.train);
         let preds = predict_many(setup, train, f2.globals, &f2.ste_um, &f2.effect)?;
@@ -329,9 +329,9 @@ impl Refit<'_> {
     /// (`kept`, its quantile; [`distinct_minima`]), with its interval and its residual sum of
     /// squares above `f2`'s (the kept fit before the last stage, on the same points), both
     /// under the last stage's noise (`last`: its scales and noise). That difference is held
-    /// against chi2(0.95; 1), and under the run's scales, inflated by M0's misfit, it was
-    /// 1/4 to 1/6 of itself: on an eps 0.2 set (relative noise, study seed 4) two minima 55
-    /// deg apart differed by 1.0 there and by 3.9 under the refit's noise.
+    /// against chi2(0.95; 1); under the run's scales, inflated by M0's misfit, it was a fraction
+    /// of itself: on an eps 0.2 set (relative noise, study seed 4) two minima 55 deg apart
+    /// differed by 1.0 there and by 4.8 under the refit's noise.
     fn other_basin(
         &self,
         f2: &ModelFit,
@@ -365,7 +365,7 @@ impl Refit<'_> {
 /// other's arc, so neither fit's linearised confidence set holds the other. Without an arc,
 /// more than 90 deg apart. A fixed 90 deg missed distinct minima nearer: on an eps 0.2 set
 /// (relative noise, study seed 4, truth 301 deg) the refit kept 248 deg (arc 244-253) while a
-/// fit at 303 deg ended 3.9 sigma^2 worse.
+/// fit at 304 deg ended 4.8 sigma^2 worse.
 pub(super) fn distinct_minima(
     a: (&[f64], Option<(f64, f64)>),
     b: (&[f64], Option<(f64, f64)>),
@@ -810,10 +810,6 @@ mod tests {
     use crate::discover::effects::{Candidate, Effect};
     use crate::error::GearError;
 
-    /// The admissible STEs closest to M0's amplitude: both roots where both are positive; the
-    /// upper root and zero where the lower root is negative and |ste + w| falls at zero (study
-    /// seed 9's design load: a 3.02 um, w (-1.52, 2.39) um, roots -0.32 and 3.36 um); the upper
-    /// root alone where it rises there; the vertex where no root exists.
     /// Two fits are distinct minima when each phase lies outside the other's Wald arc (study
     /// seed 4's pair, 55 deg apart with arcs of +-4 deg, is); the same minimum reached twice,
     /// or a fit inside a wide arc, is not; without arcs, more than 90 deg apart. The phase
@@ -852,6 +848,10 @@ mod tests {
         ));
     }
 
+    /// The admissible STEs closest to M0's amplitude: both roots where both are positive; the
+    /// upper root and zero where the lower root is negative and |ste + w| falls at zero (study
+    /// seed 9's design load: a 3.02 um, w (-1.52, 2.39) um, roots -0.32 and 3.36 um); the upper
+    /// root alone where it rises there; the vertex where no root exists.
     #[test]
     fn ste_roots_are_the_admissible_local_best_matches() {
         let close = |got: &[f64], want: &[f64]| {

@@ -117,8 +117,8 @@ impl Hidden {
     }
 }
 
-/// One seed's outcome.
-#[derive(Clone, Debug, Serialize)]
+/// One seed's outcome (its default: nothing answered, nothing estimated).
+#[derive(Clone, Debug, Default, Serialize)]
 pub struct SeedOutcome {
     pub seed: u64,
     /// Phase of the hidden effect (rad), when it has one.
@@ -392,7 +392,6 @@ struct SeedTruth {
     phase: Option<f64>,
 }
 
-/// One seed's discovery `d` scored against what it hid.
 /// The outcome of a seed on which `discover` failed with `error`: effect "error", nothing
 /// estimated.
 fn failed_outcome(truth: &SeedTruth, error: &GearError, seconds: f64) -> SeedOutcome {
@@ -400,33 +399,13 @@ fn failed_outcome(truth: &SeedTruth, error: &GearError, seconds: f64) -> SeedOut
         seed: truth.seed,
         true_phase: truth.phase,
         effect: "error".to_string(),
-        correct: false,
-        estimate: None,
-        ci95: None,
-        covered: None,
-        wald_ci95: None,
-        profile_ci95: None,
-        interval_quantile: None,
-        phase_undetermined: None,
-        phase_deg: None,
-        phase_wald95_deg: Vec::new(),
-        phase_covered: None,
-        phase_profile95_deg: None,
-        phase_profile_covered: None,
-        phase_error_deg: None,
-        held_out_rms_before_um: None,
-        held_out_rms_after_um: None,
-        p_values: Vec::new(),
-        leading_refit: None,
-        post_fit_p_values: Vec::new(),
-        excluded_far_outside: 0,
-        refitted: Vec::new(),
-        decided_on: Vec::new(),
         seconds,
         error: Some(error.to_string()),
+        ..SeedOutcome::default()
     }
 }
 
+/// One seed's discovery `d` scored against what it hid.
 fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
     let cand = d.candidates.iter().find(|c| c.name == d.effect);
     let p_values = d
