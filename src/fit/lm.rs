@@ -774,6 +774,7 @@ mod tests {
             start: 1.0,
             transform: Transform::Bounded { lo: 0.0, hi: 2.0 },
             scale: 1.0,
+            profile_floor: None,
         }];
         let fit = least_squares(&f, &params, Stop::converged(50)).unwrap();
         assert!(

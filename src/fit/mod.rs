@@ -24,5 +24,5 @@ pub use noise::{
     Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 pub use params::{Param, Transform};
-pub use profile::{profile_interval, ProfileInterval};
+pub use profile::{profile_interval, profile_interval_or_better, ProfileInterval, Profiled};
 pub use profile_search::{search_side, Fitted, InnerFit, SearchOptions, SideEnd};

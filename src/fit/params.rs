@@ -63,6 +63,12 @@ pub struct Param {
     /// Typical size of the parameter: the finite-difference step of a signed parameter is
     /// 1e-4 max(|p|, scale), and below a change of `scale` the residuals count as not seeing it.
     pub scale: f64,
+    /// The least value the model is trusted at: a profile interval ([`super::profile_interval`])
+    /// still inside there is unbounded below, and goes no lower. A model that cannot be
+    /// evaluated below some value (a fit through simulated sweeps refuses zeta where its
+    /// transients would take minutes) otherwise has its profile halve towards that value with
+    /// ever slower fits, to report an end that is the floor's, not the data's.
+    pub profile_floor: Option<f64>,
 }
 
 impl Param {
@@ -73,6 +79,7 @@ impl Param {
             start,
             transform: Transform::Log,
             scale: start.abs(),
+            profile_floor: None,
         }
     }
 
@@ -83,6 +90,16 @@ impl Param {
             start,
             transform: Transform::Signed,
             scale,
+            profile_floor: None,
+        }
+    }
+
+    /// This parameter with its profile interval going no lower than `floor` (see
+    /// [`Param::profile_floor`]).
+    pub fn with_profile_floor(self, floor: f64) -> Param {
+        Param {
+            profile_floor: Some(floor),
+            ..self
         }
     }
 }
