@@ -64,7 +64,8 @@ pub struct Param {
     /// 1e-4 max(|p|, scale), and below a change of `scale` the residuals count as not seeing it.
     pub scale: f64,
     /// The least value the model is trusted at: a profile interval ([`super::profile_interval`])
-    /// still inside there is unbounded below, and goes no lower. A model that cannot be
+    /// still inside there, or whose stepped end (the Wald end) lies below it, is unbounded
+    /// below, and the profile goes no lower. A model that cannot be
     /// evaluated below some value (a fit through simulated sweeps refuses zeta where its
     /// transients would take minutes) otherwise has its profile halve towards that value with
     /// ever slower fits, to report an end that is the floor's, not the data's.

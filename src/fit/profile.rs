@@ -103,7 +103,8 @@ pub enum Profiled {
 
 /// [`profile_interval`], except that a point whose -2 log L lies more than `better_by` (sigma^2)
 /// below the estimate's ends the search as [`Profiled::Better`] (None: no point does, as in
-/// [`profile_interval`]). A curve with jumps has minima the fit's starts may miss and its
+/// [`profile_interval`]; nor does any of a one-parameter model, whose profile points have no
+/// other parameters fitted to hand back). A curve with jumps has minima the fit's starts may miss and its
 /// profile walks into (a two-pair whole-curve Kubo fit at zeta 0.032 whose profile fitted 30
 /// sigma^2 better towards the floor): its interval would be about a point that is not the fit,
 /// and the search would go on through every step of it (over a minute of sweeps).
@@ -343,6 +344,11 @@ where
         } else {
             distance
         };
+        // A stepped side's Wald end may lie beyond the floor, where the model is not trusted:
+        // the side is then as unbounded as one still inside there.
+        if limit.is_some_and(|l| end >= l) {
+            return Ok(Ended::End(None));
+        }
         let t = self.est.param_defs[self.index].transform;
         Ok(Ended::End(Some((
             t.value(self.centre + dir * end),
@@ -584,6 +590,28 @@ mod tests {
         let plain = profile_interval(&line, &y, &est, 0, stop).unwrap();
         let with = profile_interval_or_better(&line, &y, &est, 0, stop, Some(0.1)).unwrap();
         assert_eq!(with, Profiled::Interval(plain));
+    }
+
+    /// A step inside the floor whose Wald end lies beyond it: the step 0.3 standard errors
+    /// below the estimate (as in the test above), the floor 1.5 below, inside the Wald end at
+    /// about 2. The lower side is unbounded, not the Wald end below the floor.
+    #[test]
+    fn a_stepped_end_beyond_the_floor_is_unbounded() {
+        let (x, y, sd) = data(|x| 1.0 + 2.0 * x);
+        let (line, params) = line(&x);
+        let mut est = fit(&line, &y, &sd, &params);
+        let (a, se) = (est.params[0], est.std_errors[0]);
+        let stepped = |p: &[f64]| -> Result<Vec<f64>> {
+            let mut m = line(p)?;
+            if p[0] < a - 0.3 * se {
+                m[0] += 10.0 * sd[0];
+            }
+            Ok(m)
+        };
+        est.param_defs[0] = est.param_defs[0].clone().with_profile_floor(a - 1.5 * se);
+        let p = profile_interval(&stepped, &y, &est, 0, Stop::converged(100)).unwrap();
+        assert_eq!(p.lower, None, "{p:?}");
+        assert!(p.upper.is_some(), "{p:?}");
     }
 
     /// Under Student-t errors (a line, 400 points, 3 degrees of freedom, the scale stated and

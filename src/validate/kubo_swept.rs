@@ -139,7 +139,13 @@ fn fit_with(
             (profile, None) => break profile,
             (_, Some(better)) if refits < MAX_REFITS => {
                 refits += 1;
-                fit = problem.fit(&[better])?;
+                // A refit from one start may fail where the first fit's many did not: that
+                // refuses this model (the one-pair fit follows), it does not end the run.
+                fit = problem.fit(&[better]).map_err(|e| {
+                    let reason =
+                        format!("the refit from a better point of its profile failed: {e}");
+                    fit_failed(&data.dir, "fit to the whole curve", reason)
+                })?;
             }
             (_, Some(_)) => {
                 let reason = format!(
