@@ -65,10 +65,10 @@ pub struct Param {
     pub scale: f64,
     /// The least value the model is trusted at: a profile interval ([`super::profile_interval`])
     /// still inside there, or whose stepped end (the Wald end) lies below it, is unbounded
-    /// below, and the profile goes no lower. A model that cannot be
-    /// evaluated below some value (a fit through simulated sweeps refuses zeta where its
-    /// transients would take minutes) otherwise has its profile halve towards that value with
-    /// ever slower fits, to report an end that is the floor's, not the data's.
+    /// below, and the profile goes no lower. A model that cannot be evaluated below some value
+    /// (a fit through simulated sweeps refuses zeta where its transients would take minutes)
+    /// otherwise has its profile halve towards that value with ever slower fits, to report an
+    /// end that is the floor's, not the data's.
     pub profile_floor: Option<f64>,
 }
 

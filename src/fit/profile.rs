@@ -50,7 +50,8 @@ const SURPRISE: f64 = 2.0;
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct ProfileInterval {
     /// None where the profile does not rise enough within 2^11 standard errors (the parameter
-    /// is not identifiable that way).
+    /// is not identifiable that way), or, below, before the parameter's
+    /// [`Param::profile_floor`].
     pub lower: Option<f64>,
     pub upper: Option<f64>,
     /// For the lower and the upper end: the profile steps there rather than rises (see the
@@ -104,10 +105,11 @@ pub enum Profiled {
 /// [`profile_interval`], except that a point whose -2 log L lies more than `better_by` (sigma^2)
 /// below the estimate's ends the search as [`Profiled::Better`] (None: no point does, as in
 /// [`profile_interval`]; nor does any of a one-parameter model, whose profile points have no
-/// other parameters fitted to hand back). A curve with jumps has minima the fit's starts may miss and its
-/// profile walks into (a two-pair whole-curve Kubo fit at zeta 0.032 whose profile fitted 30
-/// sigma^2 better towards the floor): its interval would be about a point that is not the fit,
-/// and the search would go on through every step of it (over a minute of sweeps).
+/// other parameters fitted to hand back). A curve with jumps has minima the fit's starts may
+/// miss and its profile walks into (a two-pair whole-curve Kubo fit at zeta 0.032 whose
+/// profile fitted 30 sigma^2 better towards the floor): its interval would be about a point
+/// that is not the fit, and the search would go on through every step of it (over a minute
+/// of sweeps).
 pub fn profile_interval_or_better<M>(
     model: &M,
     y: &[f64],

@@ -4,7 +4,7 @@
 //! of another load from the low-speed part of its curve, with the model's own quasi-static
 //! amplification and the design load's noise model.
 
-use super::kubo_swept::{FLOOR_REACHED, SWEPT_ZETA_MIN};
+use super::kubo_swept::{SWEPT_ZETA_FLOOR, SWEPT_ZETA_MIN};
 use super::linear::{dte_pp_um, dte_pp_um_harmonics, stays_in_contact, stays_in_contact_harmonics};
 use super::munro::up_sweep_pp_um;
 use crate::data::MunroPoint;
@@ -132,12 +132,11 @@ fn low_speed_part<'a>(
 }
 
 /// `zeta` as a fit through simulated sweeps takes it: its profile goes no lower than where
-/// [`swept_curve`] is trusted (see [`FLOOR_REACHED`]), so that an interval reaching the floor
+/// [`swept_curve`] is trusted ([`SWEPT_ZETA_FLOOR`]), so that an interval reaching the floor
 /// is unbounded below and the fit refused ([`super::fit_check::fit_failure`]), as a fit ending
 /// there is.
 fn swept_zeta(zeta: &Param) -> Param {
-    zeta.clone()
-        .with_profile_floor(FLOOR_REACHED * SWEPT_ZETA_MIN)
+    zeta.clone().with_profile_floor(SWEPT_ZETA_FLOOR)
 }
 
 /// pp DTE of the exact solver's up-sweep at each point for (zeta, omega_n) and the STE

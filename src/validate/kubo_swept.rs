@@ -126,7 +126,7 @@ fn fit_with(
     from.extend(problem.screened(ste));
     let mut fit = problem.fit(&from)?;
     progress.advance(1);
-    let zeta_range = (FLOOR_REACHED * SWEPT_ZETA_MIN, FITTED_ZETA.1);
+    let zeta_range = (SWEPT_ZETA_FLOOR, FITTED_ZETA.1);
     let refused =
         |fit: &Estimate, profile: &[ProfileInterval]| fit_failure(fit, profile, zeta_range);
     let mut refits = 0;
@@ -174,12 +174,12 @@ const BETTER_BY: f64 = 3.84;
 /// Refits from better profile points at most (each costs a fit and the profiles before it).
 const MAX_REFITS: usize = 3;
 
-/// A zeta within this factor of [`SWEPT_ZETA_MIN`] lies at the floor: the fit could not go
+/// A zeta below this, 1.1 times [`SWEPT_ZETA_MIN`], lies at the floor: the fit could not go
 /// below it (a curve that fails there counts as infinitely bad), so a fit or a profile's
 /// lower end there is the floor's, not the data's. Profiles go no lower
 /// ([`Param::profile_floor`](crate::fit::Param::profile_floor)): halving towards the floor
 /// with sweeps ever slower took 135 s of a refused fit's 216.
-pub(super) const FLOOR_REACHED: f64 = 1.1;
+pub(super) const SWEPT_ZETA_FLOOR: f64 = 1.1 * SWEPT_ZETA_MIN;
 
 /// Starts of the whole-curve fit: each of [`START_ZETAS`] at the contact fit's natural
 /// frequency (when it reached one) and at 1.05 times the mesh frequency of the measured peak
@@ -332,7 +332,7 @@ impl SweptFit<'_> {
             stop.or_stalled(FIT_STALL),
             stop.or_stalled(PROFILE_STALL),
         )
-        .with_zeta_floor(FLOOR_REACHED * SWEPT_ZETA_MIN)
+        .with_zeta_floor(SWEPT_ZETA_FLOOR)
     }
 
     fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {

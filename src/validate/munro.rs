@@ -18,7 +18,7 @@ use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryOptions, ReliefRule,
 };
-use super::kubo_swept::{FLOOR_REACHED, SWEPT_ZETA_MIN};
+use super::kubo_swept::SWEPT_ZETA_FLOOR;
 use super::synth::flow_with_rtol;
 use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
@@ -310,7 +310,7 @@ fn usable(data: &MunroData, what: &str, fit: DesignLoadFit) -> Result<DesignLoad
     let (zeta_range, what) = match fit.design_model {
         DesignModel::Linear => (FITTED_ZETA, what.to_string()),
         DesignModel::Swept => (
-            (FLOOR_REACHED * SWEPT_ZETA_MIN, FITTED_ZETA.1),
+            (SWEPT_ZETA_FLOOR, FITTED_ZETA.1),
             format!(
                 "{what} through simulated up-sweeps (the teeth separate at the design load, where \
                  eq. 13 does not hold)"
