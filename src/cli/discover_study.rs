@@ -97,7 +97,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let s = result?;
     let text = serde_json::to_string_pretty(&s)?;
     geardyn::report::write_file_atomic(&a.out, &format!("{text}\n"))?;
-    print_study(summary_text(&s), &a.out, &seeds_path)
+    print_study(summary_text(&s), &a.out, &seeds_path)?;
+    // The study is whole (its rates count a failed seed as not correct), but a run that failed
+    // is a defect to look at, so a script must not take the study for a clean one.
+    match s.failed.first() {
+        Some((seed, _)) => anyhow::bail!(
+            "discover failed on {} of {} seeds (first: seed {seed}; all listed above and in {}); the study's outputs are written",
+            s.failed.len(),
+            s.seeds,
+            a.out.display()
+        ),
+        None => Ok(()),
+    }
 }
 
 fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {

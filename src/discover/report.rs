@@ -371,8 +371,14 @@ fn excluded_text(d: &Discovery) -> String {
         } else {
             windows
         };
+        let region = e.region_range_um.map_or_else(String::new, |r| {
+            format!(
+                ", {} over the fits at the ends of M0's 95% confidence region in zeta and omega_n",
+                range(r)
+            )
+        });
         s.push_str(&format!(
-            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {}, M0 predicted {predicted} ({over_windows} over 32 observation windows at its points that are not period-1), {} measured far outside M0's range\n",
+            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {}, M0 predicted {predicted} ({over_windows} over 32 observation windows at its points that are not period-1{region}), {} measured far outside the widest of these\n",
             e.load_n,
             e.points,
             e.non_period1,
@@ -391,7 +397,7 @@ fn excluded_text(d: &Discovery) -> String {
 fn excluded_warning(d: &Discovery) -> Option<String> {
     let outside = d.excluded_far_outside();
     (outside > 0).then(|| format!(
-        "WARNING: {outside} excluded point(s) lie far outside every pp M0 produces there, in any observation window (by more than 3 sigma + 10% of M0's largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
+        "WARNING: {outside} excluded point(s) lie far outside every pp M0 produces there, in any observation window and at the ends of its 95% confidence region (by more than 3 sigma + 10% of M0's largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
     ))
 }
 
@@ -595,6 +601,8 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
                     e.predicted_range_um.0, e.predicted_range_um.1
                 ),
                 format!("{:.1} .. {:.1}", e.model_range_um.0, e.model_range_um.1),
+                e.region_range_um
+                    .map_or_else(|| "-".into(), |r| format!("{:.1} .. {:.1}", r.0, r.1)),
                 e.outside_model_range.to_string(),
             ]
         })
@@ -607,6 +615,7 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
             "measured pp (um)",
             "M0 predicted pp (um)",
             "M0 pp over 32 windows (um)",
+            "over M0's 95% confidence region (um)",
             "measured outside M0's range by > 3 sigma + 10% of its top",
         ],
         &rows,
