@@ -373,7 +373,7 @@ fn excluded_text(d: &Discovery) -> String {
         };
         let region = e.region_range_um.map_or_else(String::new, |r| {
             format!(
-                ", {} over the fits at the ends of M0's 95% confidence region in zeta and omega_n",
+                ", {} over the models at the ends of M0's 95% confidence region in zeta and omega_n",
                 range(r)
             )
         });
@@ -397,7 +397,7 @@ fn excluded_text(d: &Discovery) -> String {
 fn excluded_warning(d: &Discovery) -> Option<String> {
     let outside = d.excluded_far_outside();
     (outside > 0).then(|| format!(
-        "WARNING: {outside} excluded point(s) lie far outside every pp M0 produces there, in any observation window and at the ends of its 95% confidence region (by more than 3 sigma + 10% of M0's largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
+        "WARNING: {outside} excluded point(s) lie far outside every pp M0 produces there, in any observation window and at the ends of its 95% confidence region (by more than 3 sigma + 10% of the largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
     ))
 }
 
@@ -583,7 +583,7 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
         return;
     }
     page.heading("Points excluded from the tests");
-    page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one. Measured points far outside that range (by more than 3 sigma plus 10% of M0's largest pp: beyond the noise, beyond any window of M0's motion and beyond the onset of non-period-1 motion moving a little with the parameters) are a discrepancy the tests cannot see.");
+    page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one. Where a measured point lies far outside that range, the range is widened over the models at the ends of M0's 95% confidence region in zeta and omega_n (the training STE amplitudes at their conditional best, the held-out ones fitted again): the question is whether any model the data allow reaches the point. Measured points far outside the widest range (by more than 3 sigma plus 10% of its largest pp: beyond the noise, beyond any window of the motion and beyond the onset of non-period-1 motion moving a little with the parameters) are a discrepancy the tests cannot see.");
     let rows: Vec<Vec<String>> = d
         .excluded_by_load
         .iter()
@@ -616,7 +616,7 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
             "M0 predicted pp (um)",
             "M0 pp over 32 windows (um)",
             "over M0's 95% confidence region (um)",
-            "measured outside M0's range by > 3 sigma + 10% of its top",
+            "measured outside the widest range by > 3 sigma + 10% of its top",
         ],
         &rows,
     );
