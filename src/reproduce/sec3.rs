@@ -825,7 +825,7 @@ pub(crate) fn basin_map(
         map: CategoryMap {
             title: title.into(),
             caption: Some(format!(
-                "{}, {}x{} initial conditions in [-2, 2]^2",
+                "{}, {}×{} initial conditions in [-2, 2]²",
                 pt.caption(),
                 m.grid.n,
                 m.grid.n
