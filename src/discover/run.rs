@@ -253,12 +253,7 @@ fn excluded_by_load(setup: &Setup, m0: &M0Fit, train: &[usize]) -> Result<Vec<Ex
         .collect();
     let mut at_m0 = Vec::with_capacity(dropped.len());
     for (i, d) in &dropped {
-        let ste = curve_ste(*i, train, &m0.m0, &m0.held0).ok_or_else(|| {
-            GearError::Numerical(format!(
-                "no M0 STE amplitude for load {} N",
-                setup.curves[*i].load_n
-            ))
-        })?;
+        let ste = m0_ste(setup, m0, train, *i)?;
         at_m0.push(model_range(setup, *i, &m0.m0, ste, &m0.f0[*i], d)?);
     }
     let far = |ranges: &[(f64, f64)]| -> Vec<usize> {
@@ -268,8 +263,9 @@ fn excluded_by_load(setup: &Setup, m0: &M0Fit, train: &[usize]) -> Result<Vec<Ex
             .map(|((i, d), &r)| far_from(setup, &m0.noise, *i, d, r))
             .collect()
     };
+    let far_at_m0 = far(&at_m0);
     let mut region = None;
-    if far(&at_m0).iter().any(|&n| n > 0) {
+    if far_at_m0.iter().any(|&n| n > 0) {
         let mut widened = at_m0.clone();
         let mut reached = 0;
         for end in confidence_ends(m0, train) {
@@ -285,7 +281,7 @@ fn excluded_by_load(setup: &Setup, m0: &M0Fit, train: &[usize]) -> Result<Vec<Ex
         }
         region = (reached > 0).then_some(widened);
     }
-    let outside = far(region.as_deref().unwrap_or(&at_m0));
+    let outside = region.as_deref().map_or(far_at_m0, far);
     Ok(dropped
         .iter()
         .enumerate()
@@ -308,6 +304,17 @@ fn excluded_by_load(setup: &Setup, m0: &M0Fit, train: &[usize]) -> Result<Vec<Ex
         .collect())
 }
 
+/// M0's STE amplitude (um) of curve `i`: fitted with M0 on a training load, alone on a
+/// held-out one.
+fn m0_ste(setup: &Setup, m0: &M0Fit, train: &[usize], i: usize) -> Result<f64> {
+    curve_ste(i, train, &m0.m0, &m0.held0).ok_or_else(|| {
+        GearError::Numerical(format!(
+            "no M0 STE amplitude for load {} N",
+            setup.curves[i].load_n
+        ))
+    })
+}
+
 /// [`model_range`] of each load of `dropped` (curve, excluded points) under `end`: a training
 /// load with `end`'s STE, a held-out one with its STE fitted again at `end`'s zeta and
 /// omega_n (from M0's, under M0's final noise scales).
@@ -321,15 +328,10 @@ fn ranges_at(
     dropped
         .par_iter()
         .map(|(i, d)| {
-            let ste = match train.iter().position(|t| t == i) {
-                Some(k) => end.ste_um[k],
+            let ste = match curve_ste(*i, train, end, &[]) {
+                Some(e) => e,
                 None => {
-                    let start = curve_ste(*i, train, &m0.m0, &m0.held0).ok_or_else(|| {
-                        GearError::Numerical(format!(
-                            "no M0 STE amplitude for load {} N",
-                            setup.curves[*i].load_n
-                        ))
-                    })?;
+                    let start = m0_ste(setup, m0, train, *i)?;
                     let g = end.globals;
                     fit_ste(setup, *i, &m0.mask, &m0.scales, g, &end.effect, start)?.0
                 }
