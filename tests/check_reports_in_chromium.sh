@@ -2,7 +2,8 @@
 # Render every HTML report under the given folders (default: reports) in headless Chromium and
 # fail on a page that does not load, an image that does not render (naturalWidth 0), a link to a
 # local file that is not there, or a console error. Installs Debian's chromium with apt-get when
-# it is missing. With SCREENSHOTS=DIR, also saves a screenshot of each page's top to DIR.
+# it is missing (`--install-only` does only that: .ci/run starts it while the tests build).
+# With SCREENSHOTS=DIR, also saves a screenshot of each page's top to DIR.
 # Called by .ci/run after the reports are regenerated; not part of `cargo test`.
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -12,6 +13,7 @@ if ! command -v chromium >/dev/null; then
   export DEBIAN_FRONTEND=noninteractive
   apt-get update -qq && apt-get install -y -qq chromium >/dev/null
 fi
+[ "${1:-}" != "--install-only" ] || exit 0
 
 roots=("$@")
 [ ${#roots[@]} -gt 0 ] || roots=(reports)
