@@ -3,7 +3,9 @@
 
 use super::html::Page;
 use super::staging::{finish_report, Staged};
-use super::{any_stepped, data_kind_banner, interval_digits, profile_cell, STEPPED_NOTE};
+use super::{
+    any_stepped, data_kind_banner, interval_digits, narrow_fisher_note, profile_cell, STEPPED_NOTE,
+};
 use crate::data::{DataKind, KuboData};
 use crate::error::Result;
 use crate::plot::{write_xy, Series, XyPlot};
@@ -271,6 +273,16 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
         page.paragraph(STEPPED_NOTE);
     }
     if let Some(fit) = &r.fit {
+        let compared: Vec<_> = [("ζ", zeta), ("ωₙ", omega), ("the STE amplitude", ste)]
+            .into_iter()
+            .filter_map(|(label, i)| {
+                let i = i?;
+                Some((label, *fit.ci95.get(i)?, r.ci95_profile.get(i)))
+            })
+            .collect();
+        if let Some(note) = narrow_fisher_note(&compared) {
+            page.paragraph(&note);
+        }
         page.paragraph(&format!(
             "Noise of the fit: each point's standard deviation is s times its level (the \
              model's D_L there: the scatter between tooth pairs grows with D_L), s = {:.2}% \

@@ -4,7 +4,8 @@
 use super::html::Page;
 use super::staging::{finish_report, Staged};
 use super::{
-    any_stepped, data_kind_banner, interval_digits, measured_label, profile_cell, STEPPED_NOTE,
+    any_stepped, data_kind_banner, interval_digits, measured_label, narrow_fisher_note,
+    profile_cell, STEPPED_NOTE,
 };
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
@@ -630,6 +631,15 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
     );
     if any_stepped(&r.fit.ci95_profile) {
         page.paragraph(STEPPED_NOTE);
+    }
+    let compared: Vec<_> = rows
+        .iter()
+        .zip(&e.ci95)
+        .enumerate()
+        .map(|(i, (row, &fisher))| (row[0].as_str(), fisher, r.fit.ci95_profile.get(i)))
+        .collect();
+    if let Some(note) = narrow_fisher_note(&compared) {
+        page.paragraph(&note);
     }
     let n = &e.noise;
     let noise_rows = if n.source == crate::fit::NoiseSource::PerPoint {
