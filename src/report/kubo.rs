@@ -276,8 +276,7 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
         let compared: Vec<_> = [("ζ", zeta), ("ωₙ", omega), ("the STE amplitude", ste)]
             .into_iter()
             .filter_map(|(label, i)| {
-                let i = i?;
-                Some((label, *fit.ci95.get(i)?, r.ci95_profile.get(i)))
+                Some((label, fisher(i)?, i.and_then(|i| r.ci95_profile.get(i))))
             })
             .collect();
         if let Some(note) = narrow_fisher_note(&compared) {
