@@ -6,7 +6,8 @@ use std::path::Path;
 
 use super::frame::Frame;
 use super::image::RgbImage;
-use crate::error::{GearError, Result};
+use crate::error::Result;
+use crate::plot::write_rgb_png;
 
 const FRAME: [u8; 3] = [0, 150, 0];
 const POINT: [u8; 3] = [200, 0, 200];
@@ -90,14 +91,6 @@ pub fn check_image(
 
 /// Writes `img` as an 8-bit RGB PNG.
 pub fn write_png(img: &RgbImage, path: &Path) -> Result<()> {
-    let file = std::fs::File::create(path).map_err(GearError::io(path))?;
-    let mut enc = png::Encoder::new(std::io::BufWriter::new(file), img.width, img.height);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
     let data: Vec<u8> = img.pixels.iter().flatten().copied().collect();
-    let png_err = |e: png::EncodingError| GearError::io(path)(std::io::Error::other(e.to_string()));
-    enc.write_header()
-        .map_err(png_err)?
-        .write_image_data(&data)
-        .map_err(png_err)
+    write_rgb_png(path, (img.width, img.height), &data)
 }

@@ -9,7 +9,7 @@
 //! n / (n - p) correction) form beside it for a misspecified noise model; a t quantile with the
 //! residual degrees of freedom for both (the noise model is estimated from the same data).
 
-use super::lm::{least_squares, LmFit, Stop};
+use super::lm::{least_squares_warm, LmFit, NearResiduals, Stop};
 use super::noise::{
     estimate_noise, held_variance_components, log_likelihood, noise_intervals, robust_weight,
     Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
@@ -202,8 +202,15 @@ pub(super) fn pinv_sym(a: &DMatrix<f64>) -> Option<DMatrix<f64>> {
     Some(out)
 }
 
+/// The model's curve at p given a nearby point `base` where it was evaluated: `near(p, base)`,
+/// equal to the model at p to its solver's accuracy but cheaper (a simulated curve started
+/// from base's steady states). The fits take their Jacobian columns from it
+/// ([`least_squares_warm`]).
+pub type NearModel<'a> = &'a (dyn Fn(&[f64], &[f64]) -> Result<Vec<f64>> + Sync);
+
 struct Weighted<'a, M> {
     model: &'a M,
+    near: Option<NearModel<'a>>,
     y: &'a [f64],
 }
 
@@ -212,8 +219,7 @@ where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
     fn fit(&self, params: &[Param], weights: &[f64], stop: Stop) -> Result<LmFit> {
-        let f = |p: &[f64]| -> Result<Vec<f64>> {
-            let m = (self.model)(p)?;
+        let residuals = |m: Vec<f64>| -> Result<Vec<f64>> {
             if m.len() != self.y.len() {
                 return Err(GearError::Numerical(
                     "the model's curve has another length than the data".into(),
@@ -227,7 +233,12 @@ where
                 .map(|((y, f), w)| (y - f) * w.sqrt())
                 .collect())
         };
-        least_squares(&f, params, stop)
+        let f = |p: &[f64]| residuals((self.model)(p)?);
+        let near = self
+            .near
+            .map(|near| move |p: &[f64], base: &[f64]| residuals(near(p, base)?));
+        let near = near.as_ref().map(|n| n as NearResiduals<'_>);
+        least_squares_warm(&f, near, params, stop)
     }
 }
 
@@ -418,6 +429,20 @@ pub fn estimate<M>(
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
+    estimate_warm(model, None, y, params, opts)
+}
+
+/// [`estimate`] whose fits take their Jacobian columns from `near` (see [`NearModel`]).
+pub fn estimate_warm<M>(
+    model: &M,
+    near: Option<NearModel<'_>>,
+    y: &[f64],
+    params: &[Param],
+    opts: &EstimateOptions,
+) -> Result<Estimate>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
     let p = params.len();
     let n = y.len();
     let noise_params = opts.noise.estimated_parameters();
@@ -426,7 +451,7 @@ where
             "{n} data points cannot determine {p} parameters and {noise_params} noise parameters"
         )));
     }
-    let w = Weighted { model, y };
+    let w = Weighted { model, near, y };
     // First fit from every start, under the initial weights.
     let starts: Vec<Vec<f64>> = if opts.starts.is_empty() {
         vec![params.iter().map(|d| d.start).collect()]

@@ -13,8 +13,8 @@ mod profile;
 mod profile_search;
 
 pub use estimate::{
-    estimate, satterthwaite_dof_of, t_quantile_975, Estimate, EstimateOptions, NoiseFit,
-    NoiseSetting, NoiseSource, Robust,
+    estimate, estimate_warm, satterthwaite_dof_of, t_quantile_975, Estimate, EstimateOptions,
+    NearModel, NoiseFit, NoiseSetting, NoiseSource, Robust,
 };
 pub use lm::{
     least_squares, least_squares_warm, rss, secant_jacobian, LmFit, NearResiduals, Stop, UNSEEN,
@@ -24,5 +24,7 @@ pub use noise::{
     Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 pub use params::{Param, Transform};
-pub use profile::{profile_interval, profile_interval_or_better, ProfileInterval, Profiled};
+pub use profile::{
+    profile_interval, profile_interval_or_better, profile_interval_warm, ProfileInterval, Profiled,
+};
 pub use profile_search::{search_side, Fitted, InnerFit, SearchOptions, SideEnd};

@@ -22,8 +22,9 @@
 //! A side whose root is a step that no start avoids (see [`super::profile_search`]) ends at the
 //! Wald end instead, or at the step if that is farther.
 
+use super::estimate::NearModel;
 use super::estimate::{pinv_sym, Estimate};
-use super::lm::{least_squares, rss, Stop};
+use super::lm::{least_squares_warm, rss, NearResiduals, Stop};
 use super::noise::{deviance_residual, Distribution};
 use super::params::{restarted, Param};
 use super::profile_search::{search_side, Fitted, InnerFit, SearchOptions, SideEnd};
@@ -121,7 +122,24 @@ pub fn profile_interval_or_better<M>(
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    let mut profile = Profile::new(model, y, est, index, stop)?;
+    profile_interval_warm(model, None, y, est, index, stop, better_by)
+}
+
+/// [`profile_interval_or_better`] whose inner fits take their Jacobian columns from `near`
+/// (see [`NearModel`]).
+pub fn profile_interval_warm<M>(
+    model: &M,
+    near: Option<NearModel<'_>>,
+    y: &[f64],
+    est: &Estimate,
+    index: usize,
+    stop: Stop,
+    better_by: Option<f64>,
+) -> Result<Profiled>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    let mut profile = Profile::new(model, near, y, est, index, stop)?;
     profile.better_by = better_by;
     let (lo, hi) = rayon::join(|| profile.side(-1.0), || profile.side(1.0));
     let (lo, hi) = match (lo?, hi?) {
@@ -145,6 +163,8 @@ enum Ended {
 /// The profile of one parameter, in its internal coordinate u measured from the estimate.
 struct Profile<'a, M> {
     model: &'a M,
+    /// The inner fits' Jacobian columns (see [`NearModel`]).
+    near: Option<NearModel<'a>>,
     y: &'a [f64],
     est: &'a Estimate,
     index: usize,
@@ -177,6 +197,7 @@ where
 {
     fn new(
         model: &'a M,
+        near: Option<NearModel<'a>>,
         y: &'a [f64],
         est: &'a Estimate,
         index: usize,
@@ -196,6 +217,7 @@ where
         let q = est.quantile[index];
         let mut profile = Profile {
             model,
+            near,
             y,
             est,
             index,
@@ -225,8 +247,12 @@ where
     /// (dof + 3) / (dof + 1) times as curved as the Fisher information (dof 3: intervals 18%
     /// short; validate-study's Student-t sets covered 84-90%).
     fn likelihood_residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
-        let m = (self.model)(p)?;
-        let residuals = self.y.iter().zip(&m).map(|(y, f)| y - f);
+        self.likelihood_residuals_of(&(self.model)(p)?)
+    }
+
+    /// [`Profile::likelihood_residuals`] of the model's curve `m`.
+    fn likelihood_residuals_of(&self, m: &[f64]) -> Result<Vec<f64>> {
+        let residuals = self.y.iter().zip(m).map(|(y, f)| y - f);
         Ok(match self.est.noise.model.distribution {
             Distribution::Gaussian => residuals
                 .zip(&self.est.weights)
@@ -246,7 +272,13 @@ where
             return Ok((rss(&self.likelihood_residuals(&self.full(u, &[]))?), None));
         }
         let f = |p: &[f64]| self.likelihood_residuals(&self.full(u, p));
-        Ok(least_squares(&f, start, self.stop)
+        let near = self.near.map(|near| {
+            move |p: &[f64], base: &[f64]| {
+                self.likelihood_residuals_of(&near(&self.full(u, p), &self.full(u, base))?)
+            }
+        });
+        let near = near.as_ref().map(|n| n as NearResiduals<'_>);
+        Ok(least_squares_warm(&f, near, start, self.stop)
             .map_or((f64::INFINITY, None), |fit| (fit.rss, Some(fit.params))))
     }
 

@@ -39,6 +39,7 @@ mod tests;
 
 pub use map::{write_category_map, CategoryMap};
 pub use notation::symbols;
+pub(crate) use output::write_rgb_png;
 pub use panels::write_panels;
 pub use series::Series;
 pub use style::{palette_color, Marker, SeriesStyle, PALETTE};

@@ -21,7 +21,9 @@ use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
-use crate::sim::{sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan};
+use crate::sim::{
+    sweep, Branch, ExactFlow, IcGrid, PeriodFlow, State, SteadyOptions, SweepPlan, SweepPoint,
+};
 use serde::Serialize;
 
 /// D_L below which the teeth are taken to stay in contact for the fit (the linear model
@@ -186,7 +188,7 @@ impl ContactFit<'_> {
     }
 
     fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {
-        self.problem().fit(&|p: &[f64]| self.curve(p), starts)
+        self.problem().fit(&|p: &[f64]| self.curve(p), None, starts)
     }
 
     fn profile(&self, est: &Estimate) -> Result<Vec<ProfileInterval>> {
@@ -571,16 +573,7 @@ pub(super) fn carried_branch(
     omega_n_hz: f64,
     branch: Branch,
 ) -> Result<Vec<(f64, f64, u8)>> {
-    let factory =
-        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
-    let plan = SweepPlan {
-        omegas: speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect(),
-        branch,
-        x0: [1.0 + fm, 0.0],
-        grid: IcGrid::new(-2.0, 2.0, 1)?,
-        opts: SteadyOptions::default(),
-    };
-    let pts = sweep(&factory, model, &plan, &crate::progress::NoProgress)?;
+    let pts = carried_sweep(dim, model, fm, speeds, omega_n_hz, branch)?;
     Ok(pts
         .iter()
         .map(|p| {
@@ -591,6 +584,35 @@ pub(super) fn carried_branch(
             )
         })
         .collect())
+}
+
+/// The steady states behind [`carried_branch`], in increasing speed.
+pub(super) fn carried_sweep(
+    dim: &Dimensional,
+    model: &GearPair,
+    fm: f64,
+    speeds: &[f64],
+    omega_n_hz: f64,
+    branch: Branch,
+) -> Result<Vec<SweepPoint>> {
+    let plan = SweepPlan {
+        omegas: speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect(),
+        branch,
+        x0: carried_start(fm),
+        grid: IcGrid::new(-2.0, 2.0, 1)?,
+        opts: SteadyOptions::default(),
+    };
+    sweep(&exact_flow, model, &plan, &crate::progress::NoProgress)
+}
+
+/// Where a carried sweep at mean load `fm` starts: at rest at the static deflection.
+pub(super) fn carried_start(fm: f64) -> State {
+    [1.0 + fm, 0.0]
+}
+
+/// The exact solver's period map of `m`, as every Kubo sweep takes it.
+pub(super) fn exact_flow(m: &GearPair) -> Result<Box<dyn PeriodFlow>> {
+    Ok(Box::new(ExactFlow::new(m)?))
 }
 
 /// At each measured speed, how far the up branch's D_L lies outside the measured envelope

@@ -6,8 +6,8 @@
 use crate::data::KuboPoint;
 use crate::error::Result;
 use crate::fit::{
-    estimate, profile_interval_or_better, Estimate, EstimateOptions, NoiseSetting, Param,
-    ProfileInterval, Profiled, Robust, Stop,
+    estimate_warm, profile_interval_warm, Estimate, EstimateOptions, NearModel, NoiseSetting,
+    Param, ProfileInterval, Profiled, Robust, Stop,
 };
 
 /// The midline of the envelope at each of `points`: the data both fits take.
@@ -94,13 +94,20 @@ impl MidlineFit {
         self
     }
 
-    /// The fit of `curve` (D_L at every point for a parameter vector) from each of `starts`.
-    pub fn fit<C>(&self, curve: &C, starts: &[Vec<f64>]) -> Result<Estimate>
+    /// The fit of `curve` (D_L at every point for a parameter vector) from each of `starts`,
+    /// its Jacobian columns from `near` when given.
+    pub fn fit<C>(
+        &self,
+        curve: &C,
+        near: Option<NearModel<'_>>,
+        starts: &[Vec<f64>],
+    ) -> Result<Estimate>
     where
         C: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
     {
-        estimate(
+        estimate_warm(
             curve,
+            near,
             &self.y,
             &self.params,
             &EstimateOptions {
@@ -129,7 +136,7 @@ impl MidlineFit {
     where
         C: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
     {
-        let (intervals, _) = self.profile_while(curve, est, None, |_| true)?;
+        let (intervals, _) = self.profile_while(curve, None, est, None, |_| true)?;
         Ok(intervals)
     }
 
@@ -138,10 +145,12 @@ impl MidlineFit {
     /// worth the others' (on a rig whose teeth separate at nearly every speed, 81 s of the
     /// refused two-pair fit's 216). With `better_by`, a profile point fitting better than
     /// `est` by more than that (sigma^2) also stops them, and is handed back (the full parameter
-    /// vector) to fit again from ([`profile_interval_or_better`]).
+    /// vector) to fit again from ([`crate::fit::profile_interval_or_better`]). The inner
+    /// fits take their Jacobian columns from `near` when given.
     pub fn profile_while<C>(
         &self,
         curve: &C,
+        near: Option<NearModel<'_>>,
         est: &Estimate,
         better_by: Option<f64>,
         go_on: impl Fn(&[ProfileInterval]) -> bool,
@@ -151,8 +160,8 @@ impl MidlineFit {
     {
         let mut out = Vec::new();
         for i in 0..self.profiled.min(est.params.len()) {
-            match profile_interval_or_better(curve, &self.y, est, i, self.profile_stop, better_by)?
-            {
+            let stop = self.profile_stop;
+            match profile_interval_warm(curve, near, &self.y, est, i, stop, better_by)? {
                 Profiled::Interval(interval) => out.push(interval),
                 Profiled::Better(p) => return Ok((out, Some(p))),
             }

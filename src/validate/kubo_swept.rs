@@ -11,15 +11,17 @@
 //! so this fit takes the whole curve through the nonlinear model.
 
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo::{carried_branch, ste_of, ModelParameters, SteSetting};
+use super::kubo::{carried_start, carried_sweep, exact_flow, ste_of, ModelParameters, SteSetting};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use crate::data::KuboData;
 use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
-use crate::sim::Branch;
+use crate::sim::{from_starts, neighbour_starts, Branch, State, SteadyOptions};
+use quick_cache::sync::Cache;
 use rayon::prelude::*;
+use std::sync::Arc;
 
 /// Jacobians at most in the fit (a simulated curve: 10-30 on the sets tried).
 const SWEPT_JACOBIANS: usize = 60;
@@ -120,6 +122,7 @@ fn fit_with(
         midline: midline(&data.points),
         ste_um: ste.held,
         pair_spread: pairs.then_some(PAIR_SPREAD_START),
+        sweeps: Cache::new(REMEMBERED_SWEEPS),
     };
     progress.start(2, "whole-curve fit (simulated up-sweeps)");
     let mut from = starts(data, dim, near, ste, problem.pair_spread);
@@ -228,6 +231,32 @@ struct SweptFit<'a> {
     ste_um: Option<f64>,
     /// Where the pairs' STE half-spread h starts; None: one pair (h = 0, not fitted).
     pair_spread: Option<f64>,
+    /// Where each speed of a tooth pair's up-sweep starts at nearby parameters
+    /// ([`neighbour_starts`]), by the pair's parameters: the Jacobian columns start there
+    /// ([`SweptFit::curve_near`]).
+    sweeps: Cache<PairKey, Arc<Vec<State>>>,
+}
+
+/// Tooth-pair sweeps [`SweptFit`] remembers: the bases of the Jacobians in progress (a fit's,
+/// the two sides of a profile, two pairs each) and many more.
+const REMEMBERED_SWEEPS: usize = 256;
+
+/// One tooth pair's model in the whole-curve fit: zeta, omega_n (Hz) and its STE amplitude
+/// (um).
+#[derive(Clone, Copy, Debug)]
+struct Pair {
+    zeta: f64,
+    omega_n_hz: f64,
+    ste_um: f64,
+}
+
+/// A [`Pair`] by the bits of its numbers.
+type PairKey = [u64; 3];
+
+impl Pair {
+    fn key(&self) -> PairKey {
+        [self.zeta, self.omega_n_hz, self.ste_um].map(f64::to_bits)
+    }
 }
 
 impl SweptFit<'_> {
@@ -243,6 +272,41 @@ impl SweptFit<'_> {
     /// intervals covering 84%). In contact D_L - 1 is proportional to the amplitude and h
     /// drops out.
     fn curve(&self, p: &[f64]) -> Result<Vec<f64>> {
+        match self.pairs(p)?.as_slice() {
+            [one] => Ok(self.pair_sweep(one)?.0),
+            [low, high] => {
+                let (low, high) = rayon::join(|| self.pair_sweep(low), || self.pair_sweep(high));
+                Ok(mean_of(&low?.0, &high?.0))
+            }
+            _ => Err(GearError::Numerical(
+                "internal: one or two tooth pairs".into(),
+            )),
+        }
+    }
+
+    /// [`SweptFit::curve`] at `p`, a finite-difference neighbour of `base`: each pair's speeds
+    /// started from the steady states of base's pair ([`neighbour_starts`]), its periodic
+    /// orbits without their transients. Equal to the curve at p at its period-1 points to the
+    /// orbit's Newton tolerance, except where the step moves a jump across a measured speed:
+    /// there the curve at p is on the other branch and this stays on base's, which is the
+    /// derivative the fit's linearisation wants (the sum of squares steps at such a speed).
+    /// The carried sweeps were 72% of the fit's time, mostly transients.
+    fn curve_near(&self, p: &[f64], base: &[f64]) -> Result<Vec<f64>> {
+        let (pairs, bases) = (self.pairs(p)?, self.pairs(base)?);
+        let near = |i: usize| self.pair_near(&pairs[i], &bases[i]);
+        match (pairs.len(), bases.len()) {
+            (1, 1) => near(0),
+            (2, 2) => {
+                let (low, high) = rayon::join(|| near(0), || near(1));
+                Ok(mean_of(&low?, &high?))
+            }
+            _ => self.curve(p),
+        }
+    }
+
+    /// The tooth pairs of the parameters `p` (zeta, omega_n[, STE], h): one at the STE when
+    /// h = 0, else two at STE (1 - h) and STE (1 + h).
+    fn pairs(&self, p: &[f64]) -> Result<Vec<Pair>> {
         if p[0].is_nan() || p[0] < SWEPT_ZETA_MIN {
             return Err(GearError::Numerical(format!(
                 "zeta = {} is below the least damping the whole-curve fit simulates ({SWEPT_ZETA_MIN})",
@@ -260,16 +324,64 @@ impl SweptFit<'_> {
                 "the pairs' STE half-spread {h} is outside [0, {PAIR_SPREAD_MAX})"
             )));
         }
-        let pair = |e: f64| -> Result<Vec<f64>> {
-            let model = GearPair::paper(self.fm, self.dim.ste_amplitude(e), p[0], 1.0)?;
-            let up = carried_branch(self.dim, &model, self.fm, &self.speeds, p[1], Branch::Up)?;
-            Ok(up.iter().map(|u| u.1).collect())
+        let pair = |ste_um| Pair {
+            zeta: p[0],
+            omega_n_hz: p[1],
+            ste_um,
         };
-        if h == 0.0 {
-            return pair(ste);
-        }
-        let (low, high) = rayon::join(|| pair(ste * (1.0 - h)), || pair(ste * (1.0 + h)));
-        Ok(low?.iter().zip(high?).map(|(a, b)| 0.5 * (a + b)).collect())
+        Ok(if h == 0.0 {
+            vec![pair(ste)]
+        } else {
+            vec![pair(ste * (1.0 - h)), pair(ste * (1.0 + h))]
+        })
+    }
+
+    /// The model of `pair` at Omega = 1 (the sweeps set Omega).
+    fn model(&self, pair: &Pair) -> Result<GearPair> {
+        GearPair::paper(self.fm, self.dim.ste_amplitude(pair.ste_um), pair.zeta, 1.0)
+    }
+
+    /// D_L of `pair` at each measured speed on its carried up-sweep, and where a sweep at
+    /// nearby parameters starts each speed (remembered for [`SweptFit::pair_near`]).
+    fn pair_sweep(&self, pair: &Pair) -> Result<(Vec<f64>, Arc<Vec<State>>)> {
+        let model = self.model(pair)?;
+        let pts = carried_sweep(
+            self.dim,
+            &model,
+            self.fm,
+            &self.speeds,
+            pair.omega_n_hz,
+            Branch::Up,
+        )?;
+        let dl = pts
+            .iter()
+            .map(|p| p.steady.dl_max.unwrap_or(f64::NAN))
+            .collect();
+        let starts = Arc::new(neighbour_starts(
+            pts.iter().map(|p| &p.steady),
+            carried_start(self.fm),
+        ));
+        self.sweeps.insert(pair.key(), Arc::clone(&starts));
+        Ok((dl, starts))
+    }
+
+    /// D_L of `pair` at each measured speed, each started where `base`'s up-sweep puts it.
+    fn pair_near(&self, pair: &Pair, base: &Pair) -> Result<Vec<f64>> {
+        let starts = match self.sweeps.get(&base.key()) {
+            Some(starts) => starts,
+            None => self.pair_sweep(base)?.1,
+        };
+        let model = self.model(pair)?;
+        let models = self
+            .speeds
+            .iter()
+            .map(|&s| model.at_omega(self.dim.omega(s, pair.omega_n_hz)))
+            .collect::<Result<Vec<_>>>()?;
+        let states = from_starts(&exact_flow, &models, &starts, &SteadyOptions::default())?;
+        Ok(states
+            .iter()
+            .map(|s| s.dl_max.unwrap_or(f64::NAN))
+            .collect())
     }
 
     /// The [`SCREENED_STARTS`] best points of a coarse grid, [`START_ZETAS`] times
@@ -336,7 +448,9 @@ impl SweptFit<'_> {
     }
 
     fn fit(&self, starts: &[Vec<f64>]) -> Result<Estimate> {
-        self.problem().fit(&|p: &[f64]| self.curve(p), starts)
+        let near = |p: &[f64], base: &[f64]| self.curve_near(p, base);
+        self.problem()
+            .fit(&|p: &[f64]| self.curve(p), Some(&near), starts)
     }
 
     fn profile_while(
@@ -345,7 +459,18 @@ impl SweptFit<'_> {
         better_by: Option<f64>,
         go_on: impl Fn(&[ProfileInterval]) -> bool,
     ) -> Result<(ProfileIntervals, Option<Vec<f64>>)> {
-        self.problem()
-            .profile_while(&|p: &[f64]| self.curve(p), est, better_by, go_on)
+        let near = |p: &[f64], base: &[f64]| self.curve_near(p, base);
+        self.problem().profile_while(
+            &|p: &[f64]| self.curve(p),
+            Some(&near),
+            est,
+            better_by,
+            go_on,
+        )
     }
+}
+
+/// The mean of two pairs' curves, point by point.
+fn mean_of(low: &[f64], high: &[f64]) -> Vec<f64> {
+    low.iter().zip(high).map(|(a, b)| 0.5 * (a + b)).collect()
 }
