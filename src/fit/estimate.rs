@@ -825,6 +825,59 @@ mod tests {
     use super::*;
     use crate::validate::Rng;
 
+    /// The Jacobian columns come from the near model, the trial steps from the model: a near
+    /// model equal to the model gives the same fit and intervals (and is called), one whose
+    /// differences from its base are twice the model's halves the standard errors (the
+    /// covariance is the Jacobian's) while the estimate stays where the model's residuals put
+    /// it.
+    #[test]
+    fn the_near_model_gives_the_jacobian_columns() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let t: Vec<f64> = (0..40).map(|i| 0.1 * i as f64).collect();
+        let curve =
+            |p: &[f64]| -> Vec<f64> { t.iter().map(|t| p[0] * (-p[1] * t).exp()).collect() };
+        let mut rng = Rng::new(11);
+        let y: Vec<f64> = curve(&[3.0, 0.7])
+            .iter()
+            .map(|v| v + 0.02 * rng.normal())
+            .collect();
+        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(curve(p)) };
+        let calls = AtomicUsize::new(0);
+        let same = |p: &[f64], _base: &[f64]| -> Result<Vec<f64>> {
+            calls.fetch_add(1, Ordering::Relaxed);
+            Ok(curve(p))
+        };
+        let doubled = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
+            let (at, b) = (curve(p), curve(base));
+            Ok(at.iter().zip(&b).map(|(a, b)| b + 2.0 * (a - b)).collect())
+        };
+        let params = [Param::positive("a", 1.0), Param::positive("k", 1.0)];
+        let opts = EstimateOptions {
+            noise: NoiseSetting::Estimate(NoiseFreedom {
+                floor_min: 0.0,
+                relative: false,
+            }),
+            robust: Robust::Off,
+            stop: Stop::converged(50),
+            starts: Vec::new(),
+        };
+        let plain = estimate(&model, &y, &params, &opts).unwrap();
+        let warm = estimate_warm(&model, Some(&same), &y, &params, &opts).unwrap();
+        assert!(calls.load(Ordering::Relaxed) > 0);
+        for i in 0..2 {
+            let rel = |a: f64, b: f64| (a / b - 1.0).abs();
+            assert!(rel(warm.params[i], plain.params[i]) < 1e-8, "{i}");
+            assert!(rel(warm.std_errors[i], plain.std_errors[i]) < 1e-6, "{i}");
+        }
+        let steep = estimate_warm(&model, Some(&doubled), &y, &params, &opts).unwrap();
+        for i in 0..2 {
+            let ratio = steep.std_errors[i] / plain.std_errors[i];
+            assert!((ratio - 0.5).abs() < 0.01, "{i}: {ratio}");
+            let shift = (steep.params[i] - plain.params[i]) / plain.std_errors[i];
+            assert!(shift.abs() < 0.01, "{i}: {shift}");
+        }
+    }
+
     /// A constant level a = 2 measured 400 times with errors of 20% of it: noise proportional
     /// to the model's level recovers a without bias (the IRLS estimate is the plain mean here,
     /// standard error a s / sqrt(n) = 0.02) and s within 15% (its standard error is about

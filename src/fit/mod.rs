@@ -24,7 +24,5 @@ pub use noise::{
     Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 pub use params::{Param, Transform};
-pub use profile::{
-    profile_interval, profile_interval_or_better, profile_interval_warm, ProfileInterval, Profiled,
-};
+pub use profile::{profile_interval, profile_interval_or_better, ProfileInterval, Profiled};
 pub use profile_search::{search_side, Fitted, InnerFit, SearchOptions, SideEnd};

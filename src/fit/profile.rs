@@ -83,7 +83,7 @@ pub fn profile_interval<M>(
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    match profile_interval_or_better(model, y, est, index, stop, None)? {
+    match profile_interval_or_better(model, None, y, est, index, stop, None)? {
         Profiled::Interval(interval) => Ok(interval),
         // Without a threshold no point counts as better.
         Profiled::Better(_) => Err(crate::error::GearError::Numerical(
@@ -111,23 +111,9 @@ pub enum Profiled {
 /// profile fitted 30 sigma^2 better towards the floor): its interval would be about a point
 /// that is not the fit, and the search would go on through every step of it (over a minute
 /// of sweeps).
+///
+/// The inner fits take their Jacobian columns from `near` when given (see [`NearModel`]).
 pub fn profile_interval_or_better<M>(
-    model: &M,
-    y: &[f64],
-    est: &Estimate,
-    index: usize,
-    stop: Stop,
-    better_by: Option<f64>,
-) -> Result<Profiled>
-where
-    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
-{
-    profile_interval_warm(model, None, y, est, index, stop, better_by)
-}
-
-/// [`profile_interval_or_better`] whose inner fits take their Jacobian columns from `near`
-/// (see [`NearModel`]).
-pub fn profile_interval_warm<M>(
     model: &M,
     near: Option<NearModel<'_>>,
     y: &[f64],
@@ -611,7 +597,7 @@ mod tests {
             line(p)
         };
         let stop = Stop::converged(100);
-        match profile_interval_or_better(&two_minima, &y, &est, 0, stop, Some(0.1)).unwrap() {
+        match profile_interval_or_better(&two_minima, None, &y, &est, 0, stop, Some(0.1)).unwrap() {
             Profiled::Better(p) => {
                 assert!(p[0] < a - 1.5 * se, "{p:?}");
                 assert!(
@@ -622,7 +608,7 @@ mod tests {
             other => panic!("expected the better fit, got {other:?}"),
         }
         let plain = profile_interval(&line, &y, &est, 0, stop).unwrap();
-        let with = profile_interval_or_better(&line, &y, &est, 0, stop, Some(0.1)).unwrap();
+        let with = profile_interval_or_better(&line, None, &y, &est, 0, stop, Some(0.1)).unwrap();
         assert_eq!(with, Profiled::Interval(plain));
     }
 
@@ -735,6 +721,39 @@ mod tests {
         assert!((hi.unwrap() - hi_ref).abs() < 1e-5 * se, "{hi:?} {hi_ref}");
         // Not the Wald interval: the check above could not pass by accident.
         assert!(((hi_ref - k) - (k - lo_ref)).abs() > 1e-3 * se);
+    }
+
+    /// The inner fits of a two-parameter profile take their Jacobian columns from the near
+    /// model: one equal to the model is called and gives the same ends.
+    #[test]
+    fn inner_fits_take_their_jacobians_from_the_near_model() {
+        use std::sync::atomic::{AtomicUsize, Ordering};
+        let (x, y, sd) = data(|x| 1.5 * (-0.8 * x).exp());
+        let curve =
+            |p: &[f64]| -> Vec<f64> { x.iter().map(|x| p[0] * (-p[1] * x).exp()).collect() };
+        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(curve(p)) };
+        let calls = AtomicUsize::new(0);
+        let near = |p: &[f64], _base: &[f64]| -> Result<Vec<f64>> {
+            calls.fetch_add(1, Ordering::Relaxed);
+            Ok(curve(p))
+        };
+        let params = [Param::positive("a", 1.0), Param::positive("k", 0.5)];
+        let est = fit(&model, &y, &sd, &params);
+        let stop = Stop::converged(100);
+        let ends = |near: Option<NearModel<'_>>| match profile_interval_or_better(
+            &model, near, &y, &est, 1, stop, None,
+        )
+        .unwrap()
+        {
+            Profiled::Interval(i) => i.ends(),
+            Profiled::Better(p) => panic!("better at {p:?}"),
+        };
+        let (plain, warm) = (ends(None), ends(Some(&near)));
+        assert!(calls.load(Ordering::Relaxed) > 0);
+        let se = est.std_errors[1];
+        for (a, b) in [(plain.0, warm.0), (plain.1, warm.1)] {
+            assert!((a.unwrap() - b.unwrap()).abs() < 1e-6 * se, "{a:?} {b:?}");
+        }
     }
 
     /// A parameter the data do not determine on one side has no end there: the level

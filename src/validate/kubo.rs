@@ -254,7 +254,10 @@ pub fn validate_kubo(
     let model = GearPair::paper(fm, fah, par.zeta, 1.0)?;
     let speeds = drawing_speeds(&data.points, opts.dense_points);
     progress.start(2, "branches");
-    let carried = |branch| carried_branch(&dim, &model, fm, &speeds, par.omega_n_hz, branch);
+    let carried = |branch| -> Result<Vec<(f64, f64, u8)>> {
+        let pts = carried_sweep(&dim, &model, fm, &speeds, par.omega_n_hz, branch)?;
+        Ok(branch_points(&dim, par.omega_n_hz, &pts))
+    };
     let up = carried(Branch::Up)?;
     progress.advance(1);
     let down = carried(Branch::Down)?;
@@ -564,18 +567,9 @@ fn drawing_speeds(points: &[KuboPoint], dense_points: usize) -> Vec<f64> {
     speeds
 }
 
-/// (speed, D_L, impact case) along a sweep with the state carried in `branch`'s direction.
-pub(super) fn carried_branch(
-    dim: &Dimensional,
-    model: &GearPair,
-    fm: f64,
-    speeds: &[f64],
-    omega_n_hz: f64,
-    branch: Branch,
-) -> Result<Vec<(f64, f64, u8)>> {
-    let pts = carried_sweep(dim, model, fm, speeds, omega_n_hz, branch)?;
-    Ok(pts
-        .iter()
+/// (speed, D_L, impact case) at each point of a sweep `pts` (see [`carried_sweep`]).
+fn branch_points(dim: &Dimensional, omega_n_hz: f64, pts: &[SweepPoint]) -> Vec<(f64, f64, u8)> {
+    pts.iter()
         .map(|p| {
             (
                 dim.speed_rpm(p.omega, omega_n_hz),
@@ -583,10 +577,11 @@ pub(super) fn carried_branch(
                 p.steady.impact.case(),
             )
         })
-        .collect())
+        .collect()
 }
 
-/// The steady states behind [`carried_branch`], in increasing speed.
+/// The steady states along a sweep of `model` over `speeds` with the state carried in
+/// `branch`'s direction, from rest at the static deflection, in increasing speed.
 pub(super) fn carried_sweep(
     dim: &Dimensional,
     model: &GearPair,

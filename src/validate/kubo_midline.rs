@@ -6,7 +6,7 @@
 use crate::data::KuboPoint;
 use crate::error::Result;
 use crate::fit::{
-    estimate_warm, profile_interval_warm, Estimate, EstimateOptions, NearModel, NoiseSetting,
+    estimate_warm, profile_interval_or_better, Estimate, EstimateOptions, NearModel, NoiseSetting,
     Param, ProfileInterval, Profiled, Robust, Stop,
 };
 
@@ -145,7 +145,7 @@ impl MidlineFit {
     /// worth the others' (on a rig whose teeth separate at nearly every speed, 81 s of the
     /// refused two-pair fit's 216). With `better_by`, a profile point fitting better than
     /// `est` by more than that (sigma^2) also stops them, and is handed back (the full parameter
-    /// vector) to fit again from ([`crate::fit::profile_interval_or_better`]). The inner
+    /// vector) to fit again from ([`profile_interval_or_better`]). The inner
     /// fits take their Jacobian columns from `near` when given.
     pub fn profile_while<C>(
         &self,
@@ -161,7 +161,7 @@ impl MidlineFit {
         let mut out = Vec::new();
         for i in 0..self.profiled.min(est.params.len()) {
             let stop = self.profile_stop;
-            match profile_interval_warm(curve, near, &self.y, est, i, stop, better_by)? {
+            match profile_interval_or_better(curve, near, &self.y, est, i, stop, better_by)? {
                 Profiled::Interval(interval) => out.push(interval),
                 Profiled::Better(p) => return Ok((out, Some(p))),
             }
