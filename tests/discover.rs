@@ -226,6 +226,7 @@ fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
 /// effect, come back to their true values (1.5 and 3.5 um) within 5% (about two noise sigma of
 /// the quasi-static pp at 945 N), and the held-out gap falls below twice the noise (0.15 um).
 #[test]
+#[ignore = "about 21 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
 fn hidden_second_ste_harmonic_is_named_and_sized() {
     let h = HiddenEffects {
         ste2_ratio: 0.4,
@@ -632,6 +633,7 @@ fn a_damping_law_only_its_own_test_sees_is_detected_and_named() {
 /// With zero STE scored as well, the stiffness variation leads from the first decision
 /// (only its profile is taken) and is named with the truth inside its interval.
 #[test]
+#[ignore = "about 33 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
 fn a_stiffness_variation_whose_matched_ste_is_near_zero_is_named() {
     let hidden = HiddenEffects {
         stiffness_eps: 0.2,
