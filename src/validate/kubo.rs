@@ -22,7 +22,7 @@ use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
 use crate::sim::{
-    sweep, Branch, ExactFlow, IcGrid, PeriodFlow, State, SteadyOptions, SweepPlan, SweepPoint,
+    sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan, SweepPoint,
 };
 use serde::Serialize;
 
@@ -593,21 +593,13 @@ pub(super) fn carried_sweep(
     let plan = SweepPlan {
         omegas: speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect(),
         branch,
-        x0: carried_start(fm),
+        x0: [1.0 + fm, 0.0],
         grid: IcGrid::new(-2.0, 2.0, 1)?,
         opts: SteadyOptions::default(),
     };
-    sweep(&exact_flow, model, &plan, &crate::progress::NoProgress)
-}
-
-/// Where a carried sweep at mean load `fm` starts: at rest at the static deflection.
-pub(super) fn carried_start(fm: f64) -> State {
-    [1.0 + fm, 0.0]
-}
-
-/// The exact solver's period map of `m`, as every Kubo sweep takes it.
-pub(super) fn exact_flow(m: &GearPair) -> Result<Box<dyn PeriodFlow>> {
-    Ok(Box::new(ExactFlow::new(m)?))
+    let factory =
+        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
+    sweep(&factory, model, &plan, &crate::progress::NoProgress)
 }
 
 /// At each measured speed, how far the up branch's D_L lies outside the measured envelope

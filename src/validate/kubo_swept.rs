@@ -11,14 +11,15 @@
 //! so this fit takes the whole curve through the nonlinear model.
 
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo::{carried_start, carried_sweep, exact_flow, ste_of, ModelParameters, SteSetting};
+use super::kubo::{carried_sweep, ste_of, ModelParameters, SteSetting};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
+use super::synth::{simulate_near_up_sweep, up_sweep_neighbour_starts};
 use crate::data::KuboData;
 use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::Progress;
-use crate::sim::{from_starts, neighbour_starts, Branch, State, SteadyOptions};
+use crate::sim::{Branch, State, SteadyOptions};
 use quick_cache::sync::Cache;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -232,7 +233,7 @@ struct SweptFit<'a> {
     /// Where the pairs' STE half-spread h starts; None: one pair (h = 0, not fitted).
     pair_spread: Option<f64>,
     /// Where each speed of a tooth pair's up-sweep starts at nearby parameters
-    /// ([`neighbour_starts`]), by the pair's parameters: the Jacobian columns start there
+    /// ([`up_sweep_neighbour_starts`]), by the pair's parameters: the Jacobian columns start there
     /// ([`SweptFit::curve_near`]).
     sweeps: Cache<PairKey, Arc<Vec<State>>>,
 }
@@ -249,6 +250,10 @@ struct Pair {
     omega_n_hz: f64,
     ste_um: f64,
 }
+
+/// The Runge-Kutta tolerance [`simulate_near_up_sweep`] asks for: unused, as a pair's mesh
+/// stiffness is constant and its flow the exact solver's, as the carried sweep's.
+const UNUSED_RK_RTOL: f64 = 1e-9;
 
 /// A [`Pair`] by the bits of its numbers.
 type PairKey = [u64; 3];
@@ -285,7 +290,7 @@ impl SweptFit<'_> {
     }
 
     /// [`SweptFit::curve`] at `p`, a finite-difference neighbour of `base`: each pair's speeds
-    /// started from the steady states of base's pair ([`neighbour_starts`]), its periodic
+    /// started from the steady states of base's pair ([`up_sweep_neighbour_starts`]), its periodic
     /// orbits without their transients. Equal to the curve at p at its period-1 points to the
     /// orbit's Newton tolerance, except where the step moves a jump across a measured speed:
     /// there the curve at p is on the other branch and this stays on base's, which is the
@@ -357,10 +362,7 @@ impl SweptFit<'_> {
             .iter()
             .map(|p| p.steady.dl_max.unwrap_or(f64::NAN))
             .collect();
-        let starts = Arc::new(neighbour_starts(
-            pts.iter().map(|p| &p.steady),
-            carried_start(self.fm),
-        ));
+        let starts = Arc::new(up_sweep_neighbour_starts(&model, &pts));
         self.sweeps.insert(pair.key(), Arc::clone(&starts));
         Ok((dl, starts))
     }
@@ -371,16 +373,18 @@ impl SweptFit<'_> {
             Some(starts) => starts,
             None => self.pair_sweep(base)?.1,
         };
-        let model = self.model(pair)?;
-        let models = self
-            .speeds
+        let pts = simulate_near_up_sweep(
+            self.dim,
+            &self.model(pair)?,
+            pair.omega_n_hz,
+            &self.speeds,
+            UNUSED_RK_RTOL,
+            &starts,
+            &SteadyOptions::default(),
+        )?;
+        Ok(pts
             .iter()
-            .map(|&s| model.at_omega(self.dim.omega(s, pair.omega_n_hz)))
-            .collect::<Result<Vec<_>>>()?;
-        let states = from_starts(&exact_flow, &models, &starts, &SteadyOptions::default())?;
-        Ok(states
-            .iter()
-            .map(|s| s.dl_max.unwrap_or(f64::NAN))
+            .map(|p| p.steady.dl_max.unwrap_or(f64::NAN))
             .collect())
     }
 
