@@ -176,9 +176,9 @@ impl Linearized {
     }
 
     /// One replicate data set under the null curves: y* = f0 + sigma_ij e, e drawn from the
-    /// data's noise model.
+    /// data's noise model (with its relative part free, [`DiscoveryNoise::replicate_model`]).
     pub fn replicate(&self, rng: &mut Rng) -> Vec<Vec<f64>> {
-        let scales = self.noise.scales(&self.f0);
+        let scales = self.noise.replicate_scales(&self.f0);
         self.f0
             .iter()
             .zip(&scales)

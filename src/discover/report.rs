@@ -99,6 +99,8 @@ fn noise_json(d: &Discovery) -> serde_json::Value {
         "dof": dof,
         "scale_range_um": [d.noise_range_um.0, d.noise_range_um.1],
         "relative_lr_adjusted": n.relative_lr,
+        "replicates_floor_um": n.replicate_model.map(|m| m.floor),
+        "replicates_relative": n.replicate_model.map(|m| m.relative),
         "tails_lr_adjusted": n.tails_lr,
         "pseudo_residuals": n.pseudo_residuals,
         "trimmed": n.trimmed,
@@ -130,7 +132,18 @@ pub fn noise_text(d: &Discovery) -> String {
     } else {
         format!("; {lo:.3}-{hi:.3} µm over the kept points")
     };
-    format!("noise {model} ({tails}{range}), {}", n.origin.describe())
+    // Where the test dropped the relative part, the bootstrap draws with it free.
+    let replicates = n.replicate_model.map_or(String::new(), |m| {
+        format!(
+            "; bootstrap replicates drawn with the relative part free, floor {:.3} µm + {:.2}% of the level",
+            m.floor,
+            100.0 * m.relative
+        )
+    });
+    format!(
+        "noise {model} ({tails}{range}), {}{replicates}",
+        n.origin.describe()
+    )
 }
 
 /// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
