@@ -589,7 +589,10 @@ fn replicates_carry_the_relative_part_a_coarse_grid_could_not_establish() {
     t.speeds_rpm = (1000.0, 5000.0, 300.0);
     let d = study_seed(t, NoiseFamily::Quantized, 48);
     assert_eq!(d.noise.model.relative, 0.0, "{:?}", d.noise);
-    let drawn = d.noise.replicate_model.expect("drawn with the relative part free");
+    let drawn = d
+        .noise
+        .replicate_model
+        .expect("drawn with the relative part free");
     assert!(drawn.relative > 0.01, "{drawn:?}");
     let window = d
         .detection

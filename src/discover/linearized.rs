@@ -178,14 +178,15 @@ impl Linearized {
     /// One replicate data set under the null curves: y* = f0 + sigma_ij e, e drawn from the
     /// data's noise model (with its relative part free, [`DiscoveryNoise::replicate_model`]).
     pub fn replicate(&self, rng: &mut Rng) -> Vec<Vec<f64>> {
-        let scales = self.noise.replicate_scales(&self.f0);
+        let noise = self.noise.replicates();
+        let scales = noise.scales(&self.f0);
         self.f0
             .iter()
             .zip(&scales)
             .map(|(c, s)| {
                 c.iter()
                     .zip(s)
-                    .map(|(v, s)| v + self.noise.draw(*s, rng))
+                    .map(|(v, s)| v + noise.draw(*s, rng))
                     .collect()
             })
             .collect()

@@ -85,16 +85,20 @@ pub struct DiscoveryNoise {
     /// Whether an estimate carries a relative part (chosen on the data, kept for replicates).
     pub relative_estimated: bool,
     /// The model the bootstrap replicates are drawn from when it is not [`Self::model`]: the
-    /// fit with the relative part free, where the test of [`estimate`] dropped that part.
+    /// fit with the relative part free (under the chosen distribution), where the test of
+    /// [`estimate`] dropped that part. The replicates are standardized by [`Self::model`]
+    /// re-estimated, as the data are.
     ///
-    /// Why: on a coarse grid the few points high on a resonance hardly inform the relative
-    /// part, and the test drops it on about a quarter of sets whose noise has 3% of the level
-    /// (relative and quantized families, 300 rpm grid). Replicates drawn from the constant
-    /// model then carry the floor's scatter at the resonance, while the data carry 3% of a
-    /// level of tens of um, and the Omega = 1 window's test rejected 29-36% of those sets
-    /// (10-13% of all). Drawn from the fit that left the part free, the replicates scatter at
-    /// the resonance as the data may, and are standardized by the same constant model as the
-    /// data are (docs/discover-studies.md, "A coarse grid").
+    /// Why: a part the test drops is not shown absent. On a coarse grid the few points high on
+    /// a resonance hardly inform the relative part, and the test dropped a true 3% of the
+    /// level on about a quarter of the sets (relative and quantized families, 300 rpm grid);
+    /// replicates drawn from the constant model scattered by the floor at the resonance while
+    /// the data scatter by 3% of tens of um, and the Omega = 1 window's test rejected 29-36%
+    /// of those null sets (10-13% of all). Dropped tails were tried the same way (Student-t
+    /// replicates where the tails test kept Gaussian errors): on 3-dof noise on that grid the
+    /// training chi-square still rejected 15/100 (13/100 before), the best dof there being
+    /// 10-20, while every Gaussian set's replicates changed (docs/discover-studies.md, "A
+    /// coarse grid").
     pub replicate_model: Option<NoiseModel>,
     /// Adjusted likelihood-ratio statistics of the relative part and of Student-t errors (on
     /// the data's pseudo-residuals; estimated noise only).
@@ -176,17 +180,13 @@ impl DiscoveryNoise {
         }
     }
 
-    /// Standard deviation of the bootstrap replicates' errors at every point at the model
-    /// levels `levels`: [`Self::scales`] of [`Self::replicate_model`] when there is one.
-    pub fn replicate_scales(&self, levels: &[Vec<f64>]) -> Scales {
-        match self.replicate_model {
-            Some(model) => DiscoveryNoise {
-                model,
-                replicate_model: None,
-                ..self.clone()
-            }
-            .scales(levels),
-            None => self.scales(levels),
+    /// The noise the bootstrap replicates are drawn from: this one, or its
+    /// [`Self::replicate_model`] where there is one.
+    pub fn replicates(&self) -> DiscoveryNoise {
+        DiscoveryNoise {
+            model: self.replicate_model.unwrap_or(self.model),
+            replicate_model: None,
+            ..self.clone()
         }
     }
 
@@ -227,7 +227,7 @@ impl DiscoveryNoise {
 /// `floor_min`, tails as `tails` allows).
 #[derive(Clone, Debug)]
 pub enum NoiseSpec {
-    Stated(DiscoveryNoise),
+    Stated(Box<DiscoveryNoise>),
     Estimate { floor_min: f64, tails: TailChoice },
 }
 
@@ -396,7 +396,9 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
     } else {
         trimmed_fit(&pseudo, freedom, gauss)?
     };
-    let mut replicate_model = (!use_relative && general.relative > 0.0).then_some(general);
+    // The model the replicates are drawn from: the one the tests chose, with the relative part
+    // free (see `DiscoveryNoise::replicate_model`).
+    let mut unrestricted = general;
     let mut tails_lr = None;
     if tails == TailChoice::Auto {
         let all = vec![true; pseudo.values.len()];
@@ -413,14 +415,16 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
             tails_lr = Some(lr);
             if lr > BOUNDARY_LR_CRITICAL {
                 model = t;
-                if replicate_model.is_some() {
-                    let (free_t, _) = fit_kept(&pseudo, &all, free(true), t.distribution)?;
-                    replicate_model = (free_t.relative > 0.0).then_some(free_t);
-                }
+                unrestricted = if use_relative {
+                    t
+                } else {
+                    fit_kept(&pseudo, &all, free(true), t.distribution)?.0
+                };
                 kept = all;
             }
         }
     }
+    let replicate_model = (!use_relative && unrestricted.relative > 0.0).then_some(unrestricted);
     let trimmed = kept.iter().filter(|k| !**k).count();
     let components = components_of(&pseudo, &kept, freedom, &model);
     Ok(DiscoveryNoise {

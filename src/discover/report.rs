@@ -8,7 +8,7 @@ use super::forward::MIN_ZETA;
 use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
-use crate::fit::Distribution;
+use crate::fit::{Distribution, NoiseModel};
 use crate::plot::{write_xy, Series, XyPlot};
 use crate::report::{data_kind_banner, Page, Staged};
 use crate::validate::min_max;
@@ -82,14 +82,23 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
     })
 }
 
+/// A noise model's distribution for discovery.json: its name and degrees of freedom.
+fn distribution_json(m: &NoiseModel) -> (&'static str, Option<f64>) {
+    match m.distribution {
+        Distribution::Gaussian => ("gaussian", None),
+        Distribution::StudentT { dof } => ("student_t", Some(dof)),
+    }
+}
+
 /// The noise record of discovery.json: where it came from, the model (floor in um, relative part,
 /// distribution), the scales it gives over the kept points, and how it was chosen.
 fn noise_json(d: &Discovery) -> serde_json::Value {
     let n = &d.noise;
-    let (dist, dof) = match n.model.distribution {
-        Distribution::Gaussian => ("gaussian", None),
-        Distribution::StudentT { dof } => ("student_t", Some(dof)),
-    };
+    let (dist, dof) = distribution_json(&n.model);
+    let replicates = n.replicate_model.map(|m| {
+        let (dist, dof) = distribution_json(&m);
+        json!({"floor_um": m.floor, "relative": m.relative, "distribution": dist, "dof": dof})
+    });
     json!({
         "source": n.origin,
         "description": n.origin.describe(),
@@ -99,12 +108,32 @@ fn noise_json(d: &Discovery) -> serde_json::Value {
         "dof": dof,
         "scale_range_um": [d.noise_range_um.0, d.noise_range_um.1],
         "relative_lr_adjusted": n.relative_lr,
-        "replicates_floor_um": n.replicate_model.map(|m| m.floor),
-        "replicates_relative": n.replicate_model.map(|m| m.relative),
+        "replicates": replicates,
         "tails_lr_adjusted": n.tails_lr,
         "pseudo_residuals": n.pseudo_residuals,
         "trimmed": n.trimmed,
     })
+}
+
+/// A noise model in words: its scale ("0.150 µm", or "floor 0.150 µm + 3.00% of the level").
+fn scale_text(m: &NoiseModel) -> String {
+    if m.relative > 0.0 {
+        format!(
+            "floor {:.3} µm + {:.2}% of the level",
+            m.floor,
+            100.0 * m.relative
+        )
+    } else {
+        format!("{:.3} µm", m.floor)
+    }
+}
+
+/// A noise model's distribution in words.
+fn tails_text(m: &NoiseModel) -> String {
+    match m.distribution {
+        Distribution::Gaussian => "Gaussian".to_string(),
+        Distribution::StudentT { dof } => format!("Student-t, {dof} degrees of freedom"),
+    }
 }
 
 /// One line on the noise, for the terminal and the report.
@@ -112,19 +141,10 @@ pub fn noise_text(d: &Discovery) -> String {
     let n = &d.noise;
     let model = if n.per_point.is_some() {
         "a stated scale per point".to_string()
-    } else if n.model.relative > 0.0 {
-        format!(
-            "floor {:.3} µm + {:.2}% of the level",
-            n.model.floor,
-            100.0 * n.model.relative
-        )
     } else {
-        format!("{:.3} µm", n.model.floor)
+        scale_text(&n.model)
     };
-    let tails = match n.model.distribution {
-        Distribution::Gaussian => "Gaussian".to_string(),
-        Distribution::StudentT { dof } => format!("Student-t, {dof} degrees of freedom"),
-    };
+    let tails = tails_text(&n.model);
     let (lo, hi) = d.noise_range_um;
     // A range only where the scales differ at the printed digits.
     let range = if format!("{lo:.3}") == format!("{hi:.3}") {
@@ -135,9 +155,9 @@ pub fn noise_text(d: &Discovery) -> String {
     // Where the test dropped the relative part, the bootstrap draws with it free.
     let replicates = n.replicate_model.map_or(String::new(), |m| {
         format!(
-            "; bootstrap replicates drawn with the relative part free, floor {:.3} µm + {:.2}% of the level",
-            m.floor,
-            100.0 * m.relative
+            "; bootstrap replicates drawn with the relative part free: {} ({})",
+            scale_text(&m),
+            tails_text(&m)
         )
     });
     format!(

@@ -869,7 +869,7 @@ pub(super) fn noise_about(
     mask: &Mask,
 ) -> Result<DiscoveryNoise> {
     match spec {
-        NoiseSpec::Stated(n) => Ok(n.clone()),
+        NoiseSpec::Stated(n) => Ok((**n).clone()),
         NoiseSpec::Estimate { floor_min, tails } => {
             let speeds: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.speeds_rpm.clone()).collect();
             let levels: Vec<Vec<f64>> = preds.iter().map(|p| p.dte_pp_um.clone()).collect();
@@ -892,7 +892,7 @@ pub(super) fn noise_about(
 /// (Gasser et al. 1986, median-based), for the first fit's weights.
 fn first_noise(setup: &Setup, spec: &NoiseSpec) -> Result<DiscoveryNoise> {
     match spec {
-        NoiseSpec::Stated(n) => Ok(n.clone()),
+        NoiseSpec::Stated(n) => Ok((**n).clone()),
         NoiseSpec::Estimate { floor_min, .. } => {
             let measured: Vec<Vec<f64>> =
                 setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
@@ -1126,10 +1126,10 @@ fn check_options(opts: &DiscoverOptions) -> Result<()> {
 /// column, rig.toml `[noise]`), else an estimate (floor at least a stated reading uncertainty).
 fn noise_spec(setup: &Setup, opts: &DiscoverOptions) -> Result<NoiseSpec> {
     if let Some(s) = opts.noise_um {
-        return Ok(NoiseSpec::Stated(DiscoveryNoise::stated(
+        return Ok(NoiseSpec::Stated(Box::new(DiscoveryNoise::stated(
             NoiseOrigin::StatedOption,
             crate::fit::NoiseModel::constant(s),
-        )));
+        ))));
     }
     Ok(match &setup.noise {
         MunroNoise::PerPoint => {
@@ -1137,10 +1137,10 @@ fn noise_spec(setup: &Setup, opts: &DiscoverOptions) -> Result<NoiseSpec> {
             let scales = scales.ok_or_else(|| {
                 GearError::Numerical("a per-point noise needs dte_pp_sd_um on every point".into())
             })?;
-            NoiseSpec::Stated(DiscoveryNoise::per_point(scales))
+            NoiseSpec::Stated(Box::new(DiscoveryNoise::per_point(scales)))
         }
         MunroNoise::Stated(m) => {
-            NoiseSpec::Stated(DiscoveryNoise::stated(NoiseOrigin::StatedRig, *m))
+            NoiseSpec::Stated(Box::new(DiscoveryNoise::stated(NoiseOrigin::StatedRig, *m)))
         }
         MunroNoise::Estimate { floor_min } => NoiseSpec::Estimate {
             floor_min: *floor_min,
