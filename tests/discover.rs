@@ -604,6 +604,30 @@ fn replicates_carry_the_relative_part_a_coarse_grid_could_not_establish() {
     assert_eq!(d.effect, "none");
 }
 
+/// Where the information of M0's fit is nearly singular, an end of its confidence region can
+/// lie below the fits' floor in zeta; it is clamped there, and an end at the floor can reach
+/// almost any pp, so the run says so. On this null set (Student-t noise, 300 rpm grid, study
+/// seed 90) a chaotic point at 945 N lies far outside M0's range, and the region's zeta ends
+/// reach the floor.
+#[test]
+fn a_confidence_region_clamped_at_the_floor_is_reported() {
+    let mut t = MunroTruth::default_munro();
+    t.speeds_rpm = (1000.0, 5000.0, 300.0);
+    let d = study_seed(t, NoiseFamily::StudentT, 90);
+    let e945 = d
+        .excluded_by_load
+        .iter()
+        .find(|e| e.load_n == 945.0)
+        .expect("points excluded at 945 N");
+    assert!(e945.region_range_um.is_some(), "{e945:?}");
+    assert_eq!(e945.region_clamped, ["zeta at the fits' floor"], "{e945:?}");
+    let text = geardyn::discover::summary_text(&d);
+    assert!(
+        text.contains("ends clamped: zeta at the fits' floor"),
+        "{text}"
+    );
+}
+
 /// A candidate significant among the candidates' tests where M0's tests together do not reject
 /// it is neither refitted nor named, and the run says why. On this null set (constant noise,
 /// DOP853, the 50 rpm grid: study seed 1031) the torque ripple's test gives p 0.006, below

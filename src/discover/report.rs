@@ -391,6 +391,18 @@ pub fn summary_text(d: &Discovery) -> String {
     s
 }
 
+/// Where the ends of M0's confidence region were clamped, as a clause (empty when none was).
+fn clamped_text(clamped: &[&str]) -> String {
+    if clamped.is_empty() {
+        String::new()
+    } else {
+        format!(
+            " (ends clamped: {}; the region there is the linearisation's, not the data's)",
+            clamped.join(", ")
+        )
+    }
+}
+
 /// One line per load with excluded points, and a warning when measured points lie outside
 /// everything M0 predicts there.
 fn excluded_text(d: &Discovery) -> String {
@@ -406,8 +418,9 @@ fn excluded_text(d: &Discovery) -> String {
         };
         let region = e.region_range_um.map_or_else(String::new, |r| {
             format!(
-                ", {} over the models at the ends of M0's 95% confidence region in zeta and omega_n",
-                range(r)
+                ", {} over the models at the ends of M0's 95% confidence region in zeta and omega_n{}",
+                range(r),
+                clamped_text(&e.region_clamped)
             )
         });
         s.push_str(&format!(
@@ -653,6 +666,16 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
         ],
         &rows,
     );
+    if let Some(e) = d
+        .excluded_by_load
+        .iter()
+        .find(|e| !e.region_clamped.is_empty())
+    {
+        page.paragraph(&format!(
+            "M0's confidence region{}.",
+            clamped_text(&e.region_clamped)
+        ));
+    }
     if let Some(w) = excluded_warning(d) {
         page.paragraph(&w);
     }

@@ -222,6 +222,11 @@ pub struct ExcludedPoints {
     /// omega_n ([`confidence_ends`]), um; computed only when a measured point lies far outside
     /// `model_range_um` at some load, and None otherwise or when no end could be predicted.
     pub region_range_um: Option<(f64, f64)>,
+    /// Where the ends that widened `region_range_um` were clamped ([`CLAMPED_ZETA`],
+    /// [`CLAMPED_OMEGA_N`], [`CLAMPED_STE`]): past those the region is the linearisation's, not
+    /// the data's, and with zeta at the floor an end's resonance can reach almost any pp, so a
+    /// point within the range says less. Empty when none was (or no range was widened).
+    pub region_clamped: Vec<&'static str>,
     /// Excluded points whose measured pp lies outside the widest range computed
     /// (`region_range_um`, else `model_range_um`) by more than 3 noise scales (at its largest
     /// pp) plus 10% of that pp: a gross disagreement, beyond the noise, beyond any window of
@@ -265,17 +270,23 @@ fn excluded_by_load(setup: &Setup, m0: &M0Fit, train: &[usize]) -> Result<Vec<Ex
     };
     let far_at_m0 = far(&at_m0);
     let mut region = None;
+    let mut clamped: Vec<&'static str> = Vec::new();
     if far_at_m0.iter().any(|&n| n > 0) {
         let mut widened = at_m0.clone();
         let mut reached = 0;
         for end in confidence_ends(m0, train) {
             // The ends only widen the range: one whose prediction fails (its zeta at the
             // floor, say) is left out rather than ending the run.
-            let Ok(ranges) = ranges_at(setup, m0, &end, train, &dropped) else {
+            let Ok(ranges) = ranges_at(setup, m0, &end.fit, train, &dropped) else {
                 continue;
             };
             for (r, e) in widened.iter_mut().zip(ranges) {
                 *r = (r.0.min(e.0), r.1.max(e.1));
+            }
+            for c in end.clamped {
+                if !clamped.contains(&c) {
+                    clamped.push(c);
+                }
             }
             reached += 1;
         }
@@ -298,6 +309,7 @@ fn excluded_by_load(setup: &Setup, m0: &M0Fit, train: &[usize]) -> Result<Vec<Ex
                     .unwrap_or((f64::NAN, f64::NAN)),
                 model_range_um: at_m0[k],
                 region_range_um: region.as_ref().map(|r| r[k]),
+                region_clamped: clamped.clone(),
                 outside_model_range: outside[k],
             }
         })
@@ -400,7 +412,7 @@ const CHI2_95_2DOF: f64 = 5.991_464_547_107_979;
 /// information is singular. An end's zeta is clamped at the fits' floor [`MIN_ZETA`], its
 /// omega_n at half M0's, an STE amplitude at a tenth of M0's: past those the region is the
 /// linearisation's, not the data's.
-fn confidence_ends(m0: &M0Fit, train: &[usize]) -> Vec<ModelFit> {
+fn confidence_ends(m0: &M0Fit, train: &[usize]) -> Vec<RegionEnd> {
     let mut j = m0.lin.jac_train.clone();
     for (r, s) in row_scales(train, &m0.mask, &m0.scales).iter().enumerate() {
         j.row_mut(r).unscale_mut(*s);
@@ -433,10 +445,36 @@ fn confidence_ends(m0: &M0Fit, train: &[usize]) -> Vec<ModelFit> {
                 .zip(&theta[2..])
                 .map(|(&e, &e0)| e.abs().max(0.1 * e0.abs()))
                 .collect();
-            ends.push(end);
+            let mut clamped = Vec::new();
+            if p[0] < MIN_ZETA {
+                clamped.push(CLAMPED_ZETA);
+            }
+            if p[1] < 0.5 * theta[1] {
+                clamped.push(CLAMPED_OMEGA_N);
+            }
+            if p[2..]
+                .iter()
+                .zip(&theta[2..])
+                .any(|(&e, &e0)| e.abs() < 0.1 * e0.abs())
+            {
+                clamped.push(CLAMPED_STE);
+            }
+            ends.push(RegionEnd { fit: end, clamped });
         }
     }
     ends
+}
+
+/// How an end of M0's confidence region was clamped ([`confidence_ends`]), in the report's words.
+pub const CLAMPED_ZETA: &str = "zeta at the fits' floor";
+pub const CLAMPED_OMEGA_N: &str = "omega_n at half M0's";
+pub const CLAMPED_STE: &str = "an STE amplitude at a tenth of M0's";
+
+/// A model at an end of M0's confidence region, and where its parameters were clamped (empty:
+/// the end as the linearisation gives it).
+struct RegionEnd {
+    fit: ModelFit,
+    clamped: Vec<&'static str>,
 }
 
 /// Excluded points, over all loads, far outside M0's range, widened over its confidence
