@@ -25,6 +25,7 @@ use crate::fit::{
 };
 use crate::validate::Rng;
 use serde::Serialize;
+use std::borrow::Cow;
 
 /// Pseudo-residuals beyond this many of their own scales are trimmed from the noise estimate:
 /// a Gaussian pseudo-residual exceeds it with probability 6e-5, a jump or an outlier does.
@@ -181,12 +182,16 @@ impl DiscoveryNoise {
     }
 
     /// The noise the bootstrap replicates are drawn from: this one, or its
-    /// [`Self::replicate_model`] where there is one.
-    pub fn replicates(&self) -> DiscoveryNoise {
-        DiscoveryNoise {
-            model: self.replicate_model.unwrap_or(self.model),
-            replicate_model: None,
-            ..self.clone()
+    /// [`Self::replicate_model`] where there is one (a copy only then: it is asked for once
+    /// per replicate, and a per-point noise carries every point's scale).
+    pub fn replicates(&self) -> Cow<'_, DiscoveryNoise> {
+        match self.replicate_model {
+            Some(model) => Cow::Owned(DiscoveryNoise {
+                model,
+                replicate_model: None,
+                ..self.clone()
+            }),
+            None => Cow::Borrowed(self),
         }
     }
 
@@ -396,8 +401,8 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
     } else {
         trimmed_fit(&pseudo, freedom, gauss)?
     };
-    // The model the replicates are drawn from: the one the tests chose, with the relative part
-    // free (see `DiscoveryNoise::replicate_model`).
+    // The model the replicates are drawn from where the relative part is dropped: the chosen
+    // distribution with that part free (see `DiscoveryNoise::replicate_model`).
     let mut unrestricted = general;
     let mut tails_lr = None;
     if tails == TailChoice::Auto {
@@ -415,11 +420,9 @@ pub fn estimate(input: &PseudoInput, floor_min: f64, tails: TailChoice) -> Resul
             tails_lr = Some(lr);
             if lr > BOUNDARY_LR_CRITICAL {
                 model = t;
-                unrestricted = if use_relative {
-                    t
-                } else {
-                    fit_kept(&pseudo, &all, free(true), t.distribution)?.0
-                };
+                if !use_relative {
+                    unrestricted = fit_kept(&pseudo, &all, free(true), t.distribution)?.0;
+                }
                 kept = all;
             }
         }

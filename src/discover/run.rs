@@ -434,31 +434,26 @@ fn confidence_ends(m0: &M0Fit, train: &[usize]) -> Vec<RegionEnd> {
                 .enumerate()
                 .map(|(r, &t)| t + sign * c * cov[(r, k)] / sd)
                 .collect();
+            let mut clamped = Vec::new();
+            // `value` held at least at `bound`, and `why` recorded where that moved it.
+            let mut at_least = |value: f64, bound: f64, why: &'static str| {
+                let held = value.max(bound);
+                if held != value && !clamped.contains(&why) {
+                    clamped.push(why);
+                }
+                held
+            };
             let mut end = m0.m0.clone();
             end.globals = Globals {
-                zeta: p[0].max(MIN_ZETA),
-                omega_n_hz: p[1].max(0.5 * theta[1]),
+                zeta: at_least(p[0], MIN_ZETA, CLAMPED_ZETA),
+                omega_n_hz: at_least(p[1], 0.5 * theta[1], CLAMPED_OMEGA_N),
             };
             // The STE's sign is a phase the model ignores (it takes |e|).
             end.ste_um = p[2..]
                 .iter()
                 .zip(&theta[2..])
-                .map(|(&e, &e0)| e.abs().max(0.1 * e0.abs()))
+                .map(|(&e, &e0)| at_least(e.abs(), 0.1 * e0.abs(), CLAMPED_STE))
                 .collect();
-            let mut clamped = Vec::new();
-            if p[0] < MIN_ZETA {
-                clamped.push(CLAMPED_ZETA);
-            }
-            if p[1] < 0.5 * theta[1] {
-                clamped.push(CLAMPED_OMEGA_N);
-            }
-            if p[2..]
-                .iter()
-                .zip(&theta[2..])
-                .any(|(&e, &e0)| e.abs() < 0.1 * e0.abs())
-            {
-                clamped.push(CLAMPED_STE);
-            }
             ends.push(RegionEnd { fit: end, clamped });
         }
     }
