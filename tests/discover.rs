@@ -192,13 +192,16 @@ fn null_set_gives_none_without_reading_the_truth() {
 
 /// A measured chaotic pp is one observation window of the attractor, and data the fitting
 /// solver did not make (measurements) draw other windows than its prediction. On the shipped
-/// `data/munro` (made by an older solver build) the largest excluded 945 N point (84 um) lies
-/// inside the pp M0 produces over 32 windows: "none". Which window the prediction itself
-/// draws depends on the state the sweep carries from the speed before: when that state came
-/// 2000 periods later (after a Lyapunov exponent a fit never read) M0's prediction there was
-/// 73 um, and comparing with the prediction alone answered "unexplained"; now it is 83 um.
-/// (The rule's false-positive rate on sets made by DOP853 is measured by the null studies,
-/// docs/discover-studies.md.)
+/// `data/munro` (made by an older solver build) the largest excluded 945 N point (84 um) must
+/// lie inside the pp M0 produces over its prediction's and 32 later windows, or inside what
+/// the fits at the ends of M0's 95% confidence region produce: "none". Which window, even which
+/// of the curve's coexisting chaotic attractors, M0's prediction draws depends on the state the
+/// sweep carries from the speed before, down to its last bits: 73 um when that state came
+/// 2000 periods later (after a Lyapunov exponent a fit never read), and comparing with the
+/// prediction alone answered "unexplained"; 88 um over the 32 windows on one build, 74 um on a
+/// build whose Newton shots take a period-1 orbit's shortest lag first (the same orbits to
+/// 1e-12), where the region's fits reach 85 um. (The rule's false-positive rate on sets made
+/// by DOP853 is measured by the null studies, docs/discover-studies.md.)
 #[test]
 fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/munro");
@@ -212,13 +215,14 @@ fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
         .unwrap();
     let margin = |top: f64| 3.0 * d.noise.scale_at(0, 0, top) + 0.1 * top;
     // The range starts from the prediction's own windows; the 32 later windows reach past
-    // them (88 um against 83 um).
+    // them.
     assert!(e.model_range_um.1 > e.predicted_range_um.1, "{e:?}");
+    let reach = e
+        .region_range_um
+        .map_or(e.model_range_um.1, |r| r.1.max(e.model_range_um.1));
     let top = e.measured_range_um.1;
-    assert!(
-        top <= e.model_range_um.1 + margin(e.model_range_um.1),
-        "{e:?}"
-    );
+    assert!(top <= reach + margin(reach), "{e:?}");
+    assert_eq!(e.outside_model_range, 0, "{e:?}");
 }
 
 /// A second STE harmonic at 40% of the first: named, ratio inside its 95% interval, training
@@ -550,16 +554,17 @@ fn a_coarse_grid_whose_linear_start_narrows_the_peak_still_answers() {
     assert!(d.zeta_m0 > 0.005, "M0 zeta {}", d.zeta_m0);
 }
 
-/// On a 300 rpm grid M0's damping is poorly determined: on this null set (relative noise,
-/// DOP853, study seed 4) M0's zeta is 0.0249 against a true 0.0175, and a chaotic point at 945 N
-/// (77.8 um at 4600 rpm) lies beyond every pp the fitted M0 makes there (60.3 um). The fits at
-/// the ends of M0's 95% confidence region reach it, so it is not a discrepancy: "none", where
-/// the rule that took M0 as fitted answered "unexplained".
+/// On a 300 rpm grid M0's damping is poorly determined, and a chaotic point at 945 N can lie
+/// beyond every pp the fitted M0 makes there: on this null set (relative noise, DOP853, study
+/// seed 43) 77.6 um against 58.3 um. The fits at the ends of M0's 95% confidence region reach
+/// it (82 um), so it is not a discrepancy: "none", where the rule that took M0 as fitted
+/// answered "unexplained". (Seed 4 showed the same, 77.8 um against 60.3 um, until the sets'
+/// chaotic points moved with the last bits of the states their sweeps carry.)
 #[test]
 fn a_point_beyond_the_fitted_m0_but_within_its_confidence_region_is_no_discrepancy() {
     let mut t = MunroTruth::default_munro();
     t.speeds_rpm = (1000.0, 5000.0, 300.0);
-    let d = study_seed(t, NoiseFamily::Relative, 4);
+    let d = study_seed(t, NoiseFamily::Relative, 43);
     assert_eq!(d.effect, "none", "{:#?}", d.excluded_by_load);
     let e945 = d
         .excluded_by_load

@@ -100,10 +100,11 @@ pub fn refine_orbit<F: PeriodFlow + ?Sized>(
         let sc = 1.0 + x[0].abs().max(x[1].abs());
         if res <= 1e-12 * sc {
             let mut points = Vec::with_capacity(p as usize);
-            let mut z = x;
-            for _ in 0..p {
+            points.push(x);
+            // The point after the last is x again: not integrated.
+            for _ in 1..p {
+                let z = flow.step(points[points.len() - 1], None)?;
                 points.push(z);
-                z = flow.step(z, None)?;
             }
             // Newton on Phi^p also converges to orbits of any period dividing p: keep the least.
             let least = (1..p)

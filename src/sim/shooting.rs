@@ -41,20 +41,24 @@ pub(crate) fn distance_to_orbit(x: State, orbit: &[State]) -> (f64, usize) {
 }
 
 /// Candidate periods of the newest point of `history`: lags p <= 32 at which it returns within
-/// [`SHOOT_TOL`] (relative), nearest first, at most [`MAX_CANDIDATES`].
+/// [`SHOOT_TOL`] (relative), shortest first, at most [`MAX_CANDIDATES`].
+///
+/// Shortest, not nearest, first: Newton on Phi^p costs p periods an iteration, and a
+/// trajectory spiralling onto a period-1 orbit (complex multipliers) often returns nearest at a
+/// lag of several periods, where Newton converges to the same orbit at several times the cost
+/// and [`refine_orbit`] then refines it again at period 1. A lag that is a multiple of the
+/// orbit's period also returns within the tolerance (the period-8 orbit's lag 8 before its
+/// lag 16), so the least period is still tried before its multiples.
 fn candidate_periods(history: &[State]) -> Vec<u32> {
     let Some(&last) = history.last() else {
         return Vec::new();
     };
     let tol = SHOOT_TOL * scale(&[last]);
     let n = history.len();
-    let mut lags: Vec<(f64, u32)> = (1..=MAX_PERIOD.min(n as u32 - 1))
-        .map(|p| (distance(last, history[n - 1 - p as usize]), p))
-        .filter(|(d, _)| *d <= tol)
-        .collect();
-    lags.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    lags.truncate(MAX_CANDIDATES);
-    lags.into_iter().map(|(_, p)| p).collect()
+    (1..=MAX_PERIOD.min(n as u32 - 1))
+        .filter(|&p| distance(last, history[n - 1 - p as usize]) <= tol)
+        .take(MAX_CANDIDATES)
+        .collect()
 }
 
 /// A stable periodic orbit near the newest point of `history`, found by Newton shooting from it
@@ -140,12 +144,12 @@ mod tests {
     use crate::model::GearPair;
     use crate::sim::ExactFlow;
 
+    /// A period-2 pattern whose deviation flips sign every two points: lag 4 returns closer than
+    /// lag 2, lag 3 not at all; the lags are tried shortest first.
     #[test]
-    fn candidates_are_the_near_return_lags_nearest_first() {
+    fn candidates_are_the_near_return_lags_shortest_first() {
         let a = [1.0, 0.0];
         let b = [2.0, 0.5];
-        // A period-2 pattern whose deviation flips sign every two points: lag 4 returns closer
-        // than lag 2, but both are candidates and lag 3 is not.
         let h: Vec<State> = (0..12)
             .map(|k| {
                 let e = 1e-4 * (-0.9f64).powi(k / 2);
@@ -153,9 +157,32 @@ mod tests {
                 [base[0] + e, base[1]]
             })
             .collect();
-        let c = candidate_periods(&h);
-        assert_eq!(c[0], 4);
-        assert!(c.contains(&2) && !c.contains(&3), "{c:?}");
+        let n = h.len();
+        assert!(distance(h[n - 1], h[n - 5]) < distance(h[n - 1], h[n - 3]));
+        assert_eq!(candidate_periods(&h), vec![2, 4, 6, 8]);
+    }
+
+    /// A spiral onto a fixed point turning a fifth of a revolution a period (multipliers
+    /// 0.95 e^(+-2 pi i / 5), a light damping) returns nearest at lag 5, yet lag 1 is tried first: Newton on the
+    /// one-period map finds the same orbit at a fifth of the cost an iteration.
+    #[test]
+    fn a_spiral_onto_a_fixed_point_is_shot_at_period_one_first() {
+        let theta = std::f64::consts::TAU / 5.0;
+        let h: Vec<State> = (0..12)
+            .map(|k| {
+                let e = 1e-4 * 0.95f64.powi(k);
+                let phase = theta * k as f64;
+                [1.0 + e * phase.cos(), e * phase.sin()]
+            })
+            .collect();
+        let n = h.len();
+        let nearest = (1..n)
+            .min_by(|&a, &b| {
+                distance(h[n - 1], h[n - 1 - a]).total_cmp(&distance(h[n - 1], h[n - 1 - b]))
+            })
+            .unwrap();
+        assert_eq!(nearest, 5);
+        assert_eq!(candidate_periods(&h).first(), Some(&1));
     }
 
     /// Fig. 8(a)'s point (F_hat 0.5, zeta 0.05, Omega 1.0): the trajectory from (0, 0) is a
