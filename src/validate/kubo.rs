@@ -16,15 +16,18 @@ use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
+use super::synth::simulate_sweep;
 use crate::data::{rig_key_error, KuboData, KuboPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
-use crate::progress::Progress;
-use crate::sim::{
-    sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan, SweepPoint,
-};
+use crate::progress::{NoProgress, Progress};
+use crate::sim::{Branch, SteadyOptions, SweepPoint};
 use serde::Serialize;
+
+/// The Runge-Kutta tolerance the sweeps ([`simulate_sweep`]) ask for: unused, as the model's
+/// mesh stiffness is constant and its flow the exact solver's.
+pub(super) const UNUSED_RK_RTOL: f64 = 1e-9;
 
 /// D_L below which the teeth are taken to stay in contact for the fit (the linear model
 /// separates at 2; the margin keeps the points off the separation).
@@ -255,7 +258,16 @@ pub fn validate_kubo(
     let speeds = drawing_speeds(&data.points, opts.dense_points);
     progress.start(2, "branches");
     let carried = |branch| -> Result<Vec<(f64, f64, u8)>> {
-        let pts = carried_sweep(&dim, &model, fm, &speeds, par.omega_n_hz, branch)?;
+        let pts = simulate_sweep(
+            &dim,
+            &model,
+            par.omega_n_hz,
+            &speeds,
+            branch,
+            UNUSED_RK_RTOL,
+            &SteadyOptions::default(),
+            &NoProgress,
+        )?;
         Ok(branch_points(&dim, par.omega_n_hz, &pts))
     };
     let up = carried(Branch::Up)?;
@@ -567,7 +579,7 @@ fn drawing_speeds(points: &[KuboPoint], dense_points: usize) -> Vec<f64> {
     speeds
 }
 
-/// (speed, D_L, impact case) at each point of a sweep `pts` (see [`carried_sweep`]).
+/// (speed, D_L, impact case) at each point of a sweep `pts` (see [`simulate_sweep`]).
 fn branch_points(dim: &Dimensional, omega_n_hz: f64, pts: &[SweepPoint]) -> Vec<(f64, f64, u8)> {
     pts.iter()
         .map(|p| {
@@ -578,28 +590,6 @@ fn branch_points(dim: &Dimensional, omega_n_hz: f64, pts: &[SweepPoint]) -> Vec<
             )
         })
         .collect()
-}
-
-/// The steady states along a sweep of `model` over `speeds` with the state carried in
-/// `branch`'s direction, from rest at the static deflection, in increasing speed.
-pub(super) fn carried_sweep(
-    dim: &Dimensional,
-    model: &GearPair,
-    fm: f64,
-    speeds: &[f64],
-    omega_n_hz: f64,
-    branch: Branch,
-) -> Result<Vec<SweepPoint>> {
-    let plan = SweepPlan {
-        omegas: speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect(),
-        branch,
-        x0: [1.0 + fm, 0.0],
-        grid: IcGrid::new(-2.0, 2.0, 1)?,
-        opts: SteadyOptions::default(),
-    };
-    let factory =
-        |m: &GearPair| -> Result<Box<dyn PeriodFlow>> { Ok(Box::new(ExactFlow::new(m)?)) };
-    sweep(&factory, model, &plan, &crate::progress::NoProgress)
 }
 
 /// At each measured speed, how far the up branch's D_L lies outside the measured envelope

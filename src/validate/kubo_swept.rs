@@ -11,15 +11,15 @@
 //! so this fit takes the whole curve through the nonlinear model.
 
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo::{carried_sweep, ste_of, ModelParameters, SteSetting};
+use super::kubo::{ste_of, ModelParameters, SteSetting, UNUSED_RK_RTOL};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
-use super::synth::{simulate_near_up_sweep, up_sweep_neighbour_starts};
+use super::synth::{simulate_near_up_sweep, simulate_up_sweep, up_sweep_neighbour_starts};
 use crate::data::KuboData;
 use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
 use crate::model::{Dimensional, GearPair};
-use crate::progress::Progress;
-use crate::sim::{Branch, State, SteadyOptions};
+use crate::progress::{NoProgress, Progress};
+use crate::sim::{State, SteadyOptions};
 use quick_cache::sync::Cache;
 use rayon::prelude::*;
 use std::sync::Arc;
@@ -251,10 +251,6 @@ struct Pair {
     ste_um: f64,
 }
 
-/// The Runge-Kutta tolerance [`simulate_near_up_sweep`] asks for: unused, as a pair's mesh
-/// stiffness is constant and its flow the exact solver's, as the carried sweep's.
-const UNUSED_RK_RTOL: f64 = 1e-9;
-
 /// A [`Pair`] by the bits of its numbers.
 type PairKey = [u64; 3];
 
@@ -350,13 +346,14 @@ impl SweptFit<'_> {
     /// nearby parameters starts each speed (remembered for [`SweptFit::pair_near`]).
     fn pair_sweep(&self, pair: &Pair) -> Result<(Vec<f64>, Arc<Vec<State>>)> {
         let model = self.model(pair)?;
-        let pts = carried_sweep(
+        let pts = simulate_up_sweep(
             self.dim,
             &model,
-            self.fm,
-            &self.speeds,
             pair.omega_n_hz,
-            Branch::Up,
+            &self.speeds,
+            UNUSED_RK_RTOL,
+            &SteadyOptions::default(),
+            &NoProgress,
         )?;
         let dl = pts
             .iter()

@@ -390,8 +390,36 @@ pub fn simulate_up_sweep(
     opts: &SteadyOptions,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
-    let x0 = up_sweep_start(model);
-    simulate_up_sweep_from(dim, model, omega_n_hz, speeds, rk_rtol, opts, x0, progress)
+    simulate_sweep(
+        dim,
+        model,
+        omega_n_hz,
+        speeds,
+        Branch::Up,
+        rk_rtol,
+        opts,
+        progress,
+    )
+}
+
+/// [`simulate_up_sweep`] on either branch: speed increasing (`Branch::Up`) or decreasing
+/// (`Branch::Down`), each started at rest in contact under the mean load at its first speed.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn simulate_sweep(
+    dim: &Dimensional,
+    model: &GearPair,
+    omega_n_hz: f64,
+    speeds: &[f64],
+    branch: Branch,
+    rk_rtol: f64,
+    opts: &SteadyOptions,
+    progress: &dyn Progress,
+) -> Result<Vec<SweepPoint>> {
+    let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
+    let start = up_sweep_start(model);
+    carried_sweep(
+        dim, model, omega_n_hz, speeds, branch, &flow, opts, start, progress,
+    )
 }
 
 /// Where a sweep at parameters near those of `pts` (a [`simulate_up_sweep`] of `model`) starts
@@ -432,7 +460,7 @@ pub fn simulate_near_up_sweep(
         .collect())
 }
 
-/// First state of an up-sweep of `model`: at rest in contact under the mean load.
+/// First state of a sweep of `model` (either branch): at rest in contact under the mean load.
 fn up_sweep_start(model: &GearPair) -> State {
     [1.0 + model.mean_force, 0.0]
 }
@@ -452,16 +480,28 @@ pub fn simulate_up_sweep_from(
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
     let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
-    up_sweep(dim, model, omega_n_hz, speeds, &flow, opts, x0, progress)
+    carried_sweep(
+        dim,
+        model,
+        omega_n_hz,
+        speeds,
+        Branch::Up,
+        &flow,
+        opts,
+        x0,
+        progress,
+    )
 }
 
-/// [`simulate_up_sweep`] from `x0` with the period map of `factory`.
+/// The sweep of `branch` over `speeds` from `x0` with the period map of `factory`, the state
+/// carried from one speed to the next.
 #[allow(clippy::too_many_arguments)]
-fn up_sweep(
+fn carried_sweep(
     dim: &Dimensional,
     model: &GearPair,
     omega_n_hz: f64,
     speeds: &[f64],
+    branch: Branch,
     factory: FlowFactory<'_>,
     opts: &SteadyOptions,
     x0: State,
@@ -470,7 +510,7 @@ fn up_sweep(
     let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
     let plan = SweepPlan {
         omegas,
-        branch: Branch::Up,
+        branch,
         x0,
         grid: IcGrid::new(-2.0, 2.0, 1)?,
         opts: opts.clone(),
@@ -586,11 +626,12 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
             .hidden
             .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
         let factory = |m: &GearPair| synth_flow(m, truth.dop853_rtol);
-        let clean: Vec<f64> = up_sweep(
+        let clean: Vec<f64> = carried_sweep(
             &true_dim,
             &model,
             truth.omega_n_hz,
             &speeds,
+            Branch::Up,
             &factory,
             &SteadyOptions::default(),
             up_sweep_start(&model),
@@ -795,11 +836,12 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         1.0,
     )?;
     let model = truth.hidden.apply(model)?;
-    let pts = up_sweep(
+    let pts = carried_sweep(
         &dim,
         &model,
         truth.omega_n_hz,
         &speeds,
+        Branch::Up,
         &|m| synth_flow(m, truth.dop853_rtol),
         &SteadyOptions::default(),
         up_sweep_start(&model),
