@@ -448,6 +448,32 @@ fn null_study_summarises_rates_and_per_test_calibration() {
     assert!(!o.status.success());
     assert!(String::from_utf8_lossy(&o.stderr).contains("strength"));
     assert!(!bad.exists());
+    // STE amplitudes that carry the curves beyond the data's plausible range (over 1000 um):
+    // the seed's set does not load, and the error says which seed and what to change, not
+    // only a line of a scratch file that is gone.
+    let o = geardyn(&[
+        "discover-study",
+        "--hidden",
+        "none",
+        "--loads",
+        "3780:40,945:40",
+        "--seeds",
+        "1",
+        "--out",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("seed 1") && err.contains("--loads"), "{err}");
+    assert!(err.contains("dte_pp_um"), "{err}");
+    assert!(!bad.exists());
+    assert!(
+        !bad.parent().unwrap().exists()
+            || std::fs::read_dir(bad.parent().unwrap())
+                .unwrap()
+                .next()
+                .is_none()
+    );
 }
 
 /// A null set made by DOP853 (not the fitting solver) on a non-uniform grid of 61 speeds, with
