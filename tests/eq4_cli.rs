@@ -43,6 +43,7 @@ fn linear_regime_matches_the_closed_form() {
 /// q_a (the harmonics beyond 15 carry less), and every simulated period-1 state an AFT one.
 #[test]
 fn aft_and_simulation_agree_for_the_torque_excitation() {
+    let (_dir, out) = tmp("c4");
     let v = geardyn_json(&[
         "compare",
         "--fm",
@@ -59,7 +60,7 @@ fn aft_and_simulation_agree_for_the_torque_excitation() {
         "-2:2:3",
         "--json",
         "--out",
-        &tmp("c4"),
+        &out,
     ]);
     let matched = v["gaps"]["matched"].as_array().unwrap();
     assert!(matched.len() >= 5, "{}", v["summary"]);
@@ -87,7 +88,7 @@ fn describing_function_case_one_ends_at_the_torque_transitions() {
     let (t1, t2) = ((b - s).sqrt(), (b + s).sqrt());
     assert!((t1 - 0.71069).abs() < 1e-5 && (t2 - 1.21857).abs() < 1e-5);
     let case_one_at = |w: f64| {
-        let dir = tmp(&format!("h4-{w}"));
+        let (_guard, dir) = tmp(&format!("h4-{w}"));
         let out = common::geardyn(&[
             "hbm",
             "--fm",
@@ -119,7 +120,9 @@ fn describing_function_case_one_ends_at_the_torque_transitions() {
     assert!(case_one_at(t2 + 1e-4));
 }
 
-fn tmp(name: &str) -> String {
-    let d = std::env::temp_dir().join(format!("geardyn-eq4-{}-{name}", std::process::id()));
-    d.to_string_lossy().to_string()
+/// A fresh temporary folder (removed when the guard drops) and the path `name` inside it.
+fn tmp(name: &str) -> (tempfile::TempDir, String) {
+    let d = tempfile::tempdir().unwrap();
+    let p = d.path().join(name).to_string_lossy().to_string();
+    (d, p)
 }
