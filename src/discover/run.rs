@@ -1056,7 +1056,9 @@ pub(super) fn fit_m0(
     let every: Vec<usize> = (0..n_curves).collect();
     let pre = predict_many(setup, &every, m0.globals, &pre_ste, &m0.effect)?;
     let pre_mask = make_mask(setup, &pre, &every, &noise0)?;
-    let noise1 = noise_about(setup, spec, &pre, &pre_mask)?;
+    let noise1 = noise_about(setup, spec, &pre, &pre_mask)?
+        .replicates()
+        .into_owned();
     let mask = make_mask(setup, &pre, &every, &noise1)?;
     let pre_levels: Vec<Vec<f64>> = pre.iter().map(|p| p.dte_pp_um.clone()).collect();
     let scales1 = noise1.scales(&pre_levels);
