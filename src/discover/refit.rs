@@ -378,6 +378,57 @@ pub(super) fn distinct_minima(
     }
 }
 
+/// The other phase basin once a profile's better refit `new` replaced the kept fit `old` of
+/// a phase-carrying candidate `cand` (each with its 95% quantile; both on the same points and
+/// scales, so their residual sums of squares compare, [`super::interval::profiled_refit`]).
+/// The earlier other basin `other` was measured against `old`, and the better refit may lie
+/// in it: `old` becomes another basin where it is a distinct minimum from `new`, old.rss -
+/// new.rss above it, and `other` stays one where it is distinct from `new`, that much further
+/// above (its increase was over `old` before the last stage, so the sum is as near as the
+/// refit's own comparison); the nearer of the two.
+pub(super) fn rebased_other(
+    cand: Candidate,
+    old: (&ModelFit, f64),
+    other: Option<OtherStart>,
+    new: (&ModelFit, f64),
+) -> Option<OtherStart> {
+    if !cand.has_phase() {
+        return other;
+    }
+    let gain = old.0.lm.rss - new.0.lm.rss;
+    let old_basin = OtherStart {
+        delta: old.0.effect.delta.clone(),
+        rss_increase: gain,
+        ci95: wald_ci(cand, &old.0.lm, old.1),
+        phase_wald95_deg: wald_phase_arc(cand, &old.0.lm, old.1),
+    };
+    let new_basin = (
+        new.0.effect.delta.as_slice(),
+        wald_phase_arc(cand, &new.0.lm, new.1),
+    );
+    nearest_distinct_basin(old_basin, other, gain, new_basin)
+}
+
+/// [`rebased_other`] on the basins themselves: of `old` (its increase over the new fit given)
+/// and `other` (its increase over `old`, so `gain` more over the new fit), the nearer of those
+/// that are distinct minima from the new fit (its delta and Wald arc).
+fn nearest_distinct_basin(
+    old: OtherStart,
+    other: Option<OtherStart>,
+    gain: f64,
+    new: (&[f64], Option<(f64, f64)>),
+) -> Option<OtherStart> {
+    let moved = other.map(|o| OtherStart {
+        rss_increase: o.rss_increase + gain,
+        ..o
+    });
+    [Some(old), moved]
+        .into_iter()
+        .flatten()
+        .filter(|o| distinct_minima((&o.delta, o.phase_wald95_deg), new))
+        .min_by(|a, b| a.rss_increase.total_cmp(&b.rss_increase))
+}
+
 /// The STE amplitudes (um, >= 0, phase 0) whose sum with the complex amplitude `w` (um) comes
 /// locally closest to the magnitude `a`: the roots of |ste + w| = a, ste = -Re w +-
 /// sqrt(a^2 - (Im w)^2), that are not negative, lower first; where the lower root is
@@ -806,8 +857,9 @@ fn restandardized(lm: &LmFit, idx: &[usize], mask: &Mask, old: &Scales, new: &Sc
 
 #[cfg(test)]
 mod tests {
-    use super::{distinct_minima, polar_profile, profile_start, ste_roots};
+    use super::{distinct_minima, nearest_distinct_basin, polar_profile, profile_start, ste_roots};
     use crate::discover::effects::{Candidate, Effect};
+    use crate::discover::run::OtherStart;
     use crate::error::GearError;
 
     /// Two fits are distinct minima when each phase lies outside the other's Wald arc (study
@@ -846,6 +898,67 @@ mod tests {
             (&at(-170.0), arc(-170.0, 25.0)),
             (&at(170.0), arc(170.0, 5.0))
         ));
+    }
+
+    /// After a profile's better refit: where it moved into the other basin, that basin is no
+    /// longer "other" and the old kept fit becomes it; where it stayed in the kept basin, the
+    /// other basin stays, further above by what the better refit gained; where both are
+    /// distinct from it, the nearer.
+    #[test]
+    fn the_other_basin_is_rebased_on_a_better_refit() {
+        let basin = |deg: f64, half: f64, increase: f64| {
+            let r = deg.to_radians();
+            OtherStart {
+                delta: vec![0.2 * r.cos(), 0.2 * r.sin()],
+                rss_increase: increase,
+                ci95: Some((0.15, 0.25)),
+                phase_wald95_deg: Some((deg - half, deg + half)),
+            }
+        };
+        let new_at = |deg: f64| {
+            let r = deg.to_radians();
+            (
+                vec![0.2 * r.cos(), 0.2 * r.sin()],
+                Some((deg - 4.0, deg + 4.0)),
+            )
+        };
+        // Kept 248 deg, other 303 deg 2.0 above; the better refit (1.5 lower) lands at 302.
+        let (d, arc) = new_at(302.0);
+        let o = nearest_distinct_basin(
+            basin(248.0, 4.0, 1.5),
+            Some(basin(303.0, 5.0, 2.0)),
+            1.5,
+            (&d, arc),
+        )
+        .expect("the old kept fit is the other basin");
+        let phase = |o: &OtherStart| o.delta[1].atan2(o.delta[0]).to_degrees().rem_euclid(360.0);
+        assert!((o.rss_increase - 1.5).abs() < 1e-12, "{o:?}");
+        assert!((phase(&o) - 248.0).abs() < 1e-9, "{o:?}");
+        // The better refit stays in the kept basin (250 deg): the other basin, 2.0 + 1.5 above.
+        let (d, arc) = new_at(250.0);
+        let o = nearest_distinct_basin(
+            basin(248.0, 4.0, 1.5),
+            Some(basin(303.0, 5.0, 2.0)),
+            1.5,
+            (&d, arc),
+        )
+        .expect("the other basin stays");
+        assert!((o.rss_increase - 3.5).abs() < 1e-12, "{o:?}");
+        assert!((phase(&o) - 303.0).abs() < 1e-9, "{o:?}");
+        // A third basin (150 deg): both are distinct from it, the old kept fit is nearer.
+        let (d, arc) = new_at(150.0);
+        let o = nearest_distinct_basin(
+            basin(248.0, 4.0, 1.5),
+            Some(basin(303.0, 5.0, 2.0)),
+            1.5,
+            (&d, arc),
+        )
+        .unwrap();
+        assert!((o.rss_increase - 1.5).abs() < 1e-12, "{o:?}");
+        assert!((phase(&o) - 248.0).abs() < 1e-9, "{o:?}");
+        // No other basin before, and the better refit in the kept basin: none.
+        let (d, arc) = new_at(250.0);
+        assert!(nearest_distinct_basin(basin(248.0, 4.0, 0.7), None, 0.7, (&d, arc)).is_none());
     }
 
     /// The admissible STEs closest to M0's amplitude: both roots where both are positive; the
