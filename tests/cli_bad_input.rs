@@ -303,7 +303,7 @@ fn an_output_folder_of_the_users_is_not_replaced() {
 }
 
 /// `synth` writes only sets that `validate munro` can fit: the design load among the loads,
-/// enough speeds; a basin map needs more than one initial condition per axis.
+/// enough speeds, values geardyn loads; a basin map needs more than one initial condition per axis.
 #[test]
 fn synth_and_basins_refuse_what_cannot_be_used() {
     let dir = tempfile::tempdir().unwrap();
@@ -316,6 +316,18 @@ fn synth_and_basins_refuse_what_cannot_be_used() {
     fails_cleanly(
         &["synth", "munro", "--speeds", "1000:1000:50", "--out", out_s],
         "fewer than 6",
+    );
+    // Curves past the 1000 um a data set may hold: geardyn would not load them.
+    fails_cleanly(
+        &[
+            "synth",
+            "munro",
+            "--loads",
+            "3780:40,945:40",
+            "--out",
+            out_s,
+        ],
+        "plausible range",
     );
     assert!(!out.exists());
     fails_cleanly(

@@ -449,8 +449,7 @@ fn null_study_summarises_rates_and_per_test_calibration() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("strength"));
     assert!(!bad.exists());
     // STE amplitudes that carry the curves beyond the data's plausible range (over 1000 um):
-    // the seed's set does not load, and the error says which seed and what to change, not
-    // only a line of a scratch file that is gone.
+    // synth refuses the seed's set, and the error says which seed and what to change.
     let o = geardyn(&[
         "discover-study",
         "--hidden",
@@ -464,7 +463,10 @@ fn null_study_summarises_rates_and_per_test_calibration() {
     ]);
     assert_eq!(o.status.code(), Some(2));
     let err = String::from_utf8_lossy(&o.stderr);
-    assert!(err.contains("seed 1") && err.contains("--loads"), "{err}");
+    assert!(
+        err.contains("seed 1") && err.contains("STE amplitude"),
+        "{err}"
+    );
     assert!(err.contains("dte_pp_um"), "{err}");
     assert!(!bad.exists());
     assert!(

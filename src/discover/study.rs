@@ -312,8 +312,10 @@ pub fn run_study(
             Some(keep) => keep.join(format!("seed-{seed}")),
             None => scratch.join("set"),
         };
-        synth_munro(&t, &dir, &crate::progress::NoProgress)?;
-        let data = load_munro(&dir).map_err(|e| unloadable_set(seed, opts, &e))?;
+        synth_munro(&t, &dir, &crate::progress::NoProgress).map_err(|e| {
+            GearError::Unsupported(format!("the synthetic set of seed {seed}: {e}"))
+        })?;
+        let data = load_munro(&dir)?;
         let start = std::time::Instant::now();
         let mut dopts = opts.discover.clone();
         dopts.seed = opts.discover.seed.wrapping_add(seed);
@@ -334,22 +336,6 @@ pub fn run_study(
     }
     progress.finish();
     Ok(summarise(hidden, opts, truth, outcomes))
-}
-
-/// The error of a study whose set for `seed` does not load as data (`error`): with large
-/// STE amplitudes (`--loads`) the curves leave the data's plausible ranges, and the file the
-/// error names is gone with the scratch folder unless the sets are kept.
-fn unloadable_set(seed: u64, opts: &StudyOptions, error: &GearError) -> GearError {
-    let kept = if opts.keep_sets.is_some() {
-        "the set is kept"
-    } else {
-        "the set was in the study's scratch folder, now removed; --keep-sets keeps it"
-    };
-    GearError::Unsupported(format!(
-        "the synthetic set of seed {seed} does not load as data ({kept}): {error}; \
-         with these loads and STE amplitudes (--loads) the curves leave the data's plausible \
-         ranges: lower the amplitudes"
-    ))
 }
 
 /// The hidden effect's strength: the one asked for, or the study's default; none for the null

@@ -3,7 +3,7 @@
 //! until digitized ones are added, and they are labelled `kind = "synthetic"` with their truth.
 
 use super::noise::Rng;
-use crate::data::{write_rig, DataKind, Rig, RigFile, Source, SteTable};
+use crate::data::{write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DTE_UM};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
@@ -654,7 +654,8 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
 }
 
 /// Write the set of `truth` from its noise-free curves: the sensor's gain, then the noise of
-/// `truth.noise` drawn with `truth.seed`.
+/// `truth.noise` drawn with `truth.seed`. Nothing is written when a value leaves the data's
+/// plausible range ([`MAX_DTE_UM`]): `load_munro` would refuse the set.
 pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> Result<()> {
     check_noise(&truth.noise)?;
     let dim = Dimensional::from_rig(&truth.rig)?;
@@ -664,6 +665,13 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
         for (s, y) in speeds.iter().zip(ys) {
             let y = y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s));
             let noisy = truth.noise.read(y, &mut rng);
+            if noisy > MAX_DTE_UM {
+                return Err(GearError::Unsupported(format!(
+                    "the synthetic curve at {load} N reaches {noisy:.1} um at {s} rpm, beyond \
+                     the data's plausible range [0, {MAX_DTE_UM}] um of dte_pp_um (geardyn \
+                     would not load the set): lower that load's STE amplitude"
+                )));
+            }
             rows.push_str(&format!("{load},{s},{noisy:.5}\n"));
         }
     }
