@@ -478,6 +478,34 @@ fn null_study_summarises_rates_and_per_test_calibration() {
     );
 }
 
+/// A second `discover-study` given the `--out` of one still running is refused before its
+/// first seed, and the running study's per-seed lines are left as they are (the two once wrote
+/// over each other in one file).
+#[test]
+fn a_study_on_the_out_of_a_running_one_is_refused() {
+    let tmp = tempfile::tempdir().unwrap();
+    let out = tmp.path().join("summary.json");
+    let seeds = out.with_extension("seeds.jsonl");
+    std::fs::write(&seeds, "{\"seed\":1}\n").unwrap();
+    // The running study's lock, held here.
+    let running = std::fs::File::open(&seeds).unwrap();
+    running.lock().unwrap();
+    let o = geardyn(&[
+        "discover-study",
+        "--hidden",
+        "none",
+        "--seeds",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("another study"), "{err}");
+    assert_eq!(std::fs::read_to_string(&seeds).unwrap(), "{\"seed\":1}\n");
+    assert!(!out.exists());
+}
+
 /// A null set made by DOP853 (not the fitting solver) on a non-uniform grid of 61 speeds, with
 /// noise of `family` (floor 0.15 um plus 3% of the level; Student-t of 3 dof; read to 0.25 um).
 fn null_set_of_family(dir: &Path, family: NoiseFamily, seed: u64) {

@@ -225,23 +225,69 @@ pub fn print_json(value: &serde_json::Value) -> anyhow::Result<()> {
     print_text(&format!("{}\n", serde_json::to_string_pretty(value)?))
 }
 
-/// A study's per-seed record writer: each record one JSON line appended to `path` as the seed
-/// finishes (the file is made by the first one).
-pub fn seed_writer<T: serde::Serialize>(
-    path: &Path,
-) -> impl FnMut(&T) -> geardyn::error::Result<()> + '_ {
-    let mut file: Option<std::fs::File> = None;
-    move |record: &T| {
-        use std::io::Write;
-        let io = geardyn::error::GearError::io(path);
-        let f = match file.as_mut() {
-            Some(f) => f,
-            None => file.insert(std::fs::File::create(path).map_err(&io)?),
+/// A study's per-seed records: each one JSON line appended to the file as its seed finishes.
+///
+/// The file is locked when opened, before the first seed: two studies given the same `--out`
+/// would otherwise write their lines over each other's in one file. The lock is the operating
+/// system's (released when the process ends, however it ends), so an interrupted study leaves
+/// nothing that refuses the next. An earlier run's lines are replaced at the first record, not
+/// before, and a file this log made but never wrote to is removed when it is dropped (a study
+/// refused before its first seed leaves no output).
+pub struct SeedLog {
+    file: std::fs::File,
+    path: PathBuf,
+    created: bool,
+    written: bool,
+}
+
+impl SeedLog {
+    pub fn open(path: &Path) -> anyhow::Result<Self> {
+        let created = !path.exists();
+        let file = std::fs::OpenOptions::new()
+            .write(true)
+            .create(true)
+            .truncate(false)
+            .open(path)
+            .with_context(|| format!("opening {}", path.display()))?;
+        let log = SeedLog {
+            file,
+            path: path.to_path_buf(),
+            created,
+            written: false,
         };
+        match log.file.try_lock() {
+            Ok(()) => Ok(log),
+            Err(std::fs::TryLockError::WouldBlock) => anyhow::bail!(
+                "{} is being written by another study that is still running (the same --out): \
+                 give this one another --out",
+                path.display()
+            ),
+            Err(std::fs::TryLockError::Error(e)) => {
+                Err(e).with_context(|| format!("locking {}", path.display()))
+            }
+        }
+    }
+
+    /// Append `record` as one JSON line (the first replaces what an earlier run left).
+    pub fn record<T: serde::Serialize>(&mut self, record: &T) -> geardyn::error::Result<()> {
+        use std::io::Write;
+        let io = geardyn::error::GearError::io(&self.path);
+        if !self.written {
+            self.file.set_len(0).map_err(&io)?;
+            self.written = true;
+        }
         let line = serde_json::to_string(record).map_err(|e| {
             geardyn::error::GearError::Numerical(format!("seed record to JSON: {e}"))
         })?;
-        writeln!(f, "{line}").map_err(&io)
+        writeln!(self.file, "{line}").map_err(&io)
+    }
+}
+
+impl Drop for SeedLog {
+    fn drop(&mut self) {
+        if self.created && !self.written {
+            let _ = std::fs::remove_file(&self.path);
+        }
     }
 }
 

@@ -1,9 +1,7 @@
 //! `geardyn discover-study --hidden none|<candidate>|sensor_peak --seeds N`: the null-rate and
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
-use super::common::{
-    check_out_file, parse_grid, parse_load_ste, print_study, seed_writer, NoiseArgs,
-};
+use super::common::{check_out_file, parse_grid, parse_load_ste, print_study, NoiseArgs, SeedLog};
 use super::discover::parse_tails;
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
@@ -90,8 +88,15 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // hours keeps what it has; the summary is written whole at the end.
     let seeds_path = a.out.with_extension("seeds.jsonl");
     geardyn::report::track_unfinished(&scratch);
-    let mut on_seed = seed_writer::<SeedOutcome>(&seeds_path);
-    let result = run_study(hidden, &opts, &scratch, &Bar::new(), &mut on_seed);
+    let mut log = SeedLog::open(&seeds_path)?;
+    let result = run_study(
+        hidden,
+        &opts,
+        &scratch,
+        &Bar::new(),
+        &mut |r: &SeedOutcome| log.record(r),
+    );
+    drop(log);
     let _ = std::fs::remove_dir_all(&scratch);
     geardyn::report::untrack_unfinished(&scratch);
     let s = result?;

@@ -1,7 +1,7 @@
 //! `geardyn validate-study --noise FAMILY --seeds N`: interval coverage of `validate munro`
 //! on seeded synthetic design-load curves (Wilson 95% intervals of the rates).
 
-use super::common::{check_out_file, parse_grid, print_study, seed_writer, NoiseArgs};
+use super::common::{check_out_file, parse_grid, print_study, NoiseArgs, SeedLog};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
@@ -87,10 +87,18 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     // The per-seed lines go to a temporary file beside it, renamed when the study succeeded.
     let seeds_tmp = parent.join(format!(".seeds.jsonl.tmp-{}", std::process::id()));
     // Removed by an interrupt as well (Ctrl-C), until moved into place.
-    geardyn::report::track_unfinished(&scratch);
     geardyn::report::track_unfinished(&seeds_tmp);
-    let mut on_seed = seed_writer::<ValidateSeed>(&seeds_tmp);
-    let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut on_seed);
+    let mut log = match SeedLog::open(&seeds_tmp) {
+        Ok(log) => log,
+        Err(e) => {
+            geardyn::report::untrack_unfinished(&seeds_tmp);
+            return Err(e);
+        }
+    };
+    let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut |r: &ValidateSeed| {
+        log.record(r)
+    });
+    drop(log);
     let _ = std::fs::remove_dir_all(&scratch);
     geardyn::report::untrack_unfinished(&scratch);
     let s = match result {

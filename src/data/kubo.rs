@@ -41,11 +41,11 @@ pub struct KuboData {
     pub points: Vec<KuboPoint>,
 }
 
+/// Largest plausible dynamic factor (peak over mean mesh force).
+pub const MAX_DYNAMIC_FACTOR: f64 = 100.0;
+
 /// Load a Kubo data set: `dir/rig.toml` and every `dir/*.csv` (sorted by name). Every failure
 /// is one [`crate::GearError::Data`] naming the file, line and field.
-/// Largest plausible dynamic factor (peak over mean mesh force).
-const MAX_FACTOR: f64 = 100.0;
-
 pub fn load_kubo(dir: &Path) -> Result<KuboData> {
     check_data_folder(dir)?;
     let rig = load_rig(&dir.join("rig.toml"))?;
@@ -60,8 +60,18 @@ pub fn load_kubo(dir: &Path) -> Result<KuboData> {
         order.start_file(file, i + 1 < files.len());
         while let Some(row) = table.next_row()? {
             let speed_rpm = speed.speed_rpm(&row)?;
-            let lo = row.within(min_col, "dynamic_factor_min", (0.0, false), MAX_FACTOR)?;
-            let hi = row.within(max_col, "dynamic_factor_max", (0.0, false), MAX_FACTOR)?;
+            let lo = row.within(
+                min_col,
+                "dynamic_factor_min",
+                (0.0, false),
+                MAX_DYNAMIC_FACTOR,
+            )?;
+            let hi = row.within(
+                max_col,
+                "dynamic_factor_max",
+                (0.0, false),
+                MAX_DYNAMIC_FACTOR,
+            )?;
             if lo > hi {
                 return Err(row.error(
                     "dynamic_factor_min",

@@ -29,7 +29,7 @@ mod toml_doc;
 
 pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
-pub use kubo::{load_kubo, KuboData, KuboPoint};
+pub use kubo::{load_kubo, KuboData, KuboPoint, MAX_DYNAMIC_FACTOR};
 pub use munro::{load_munro, loads_text, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
 pub use profile_table::{load_profile_table, ProfilePoints, PROFILE_HEADER};
 pub use rig::{

@@ -3,7 +3,9 @@
 //! until digitized ones are added, and they are labelled `kind = "synthetic"` with their truth.
 
 use super::noise::Rng;
-use crate::data::{write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DTE_UM};
+use crate::data::{
+    write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DTE_UM, MAX_DYNAMIC_FACTOR,
+};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
@@ -415,10 +417,9 @@ pub(crate) fn simulate_sweep(
     opts: &SteadyOptions,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
-    let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
     let start = up_sweep_start(model);
-    carried_sweep(
-        dim, model, omega_n_hz, speeds, branch, &flow, opts, start, progress,
+    simulate_sweep_from(
+        dim, model, omega_n_hz, speeds, branch, rk_rtol, opts, start, progress,
     )
 }
 
@@ -479,17 +480,35 @@ pub fn simulate_up_sweep_from(
     x0: State,
     progress: &dyn Progress,
 ) -> Result<Vec<SweepPoint>> {
-    let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
-    carried_sweep(
+    simulate_sweep_from(
         dim,
         model,
         omega_n_hz,
         speeds,
         Branch::Up,
-        &flow,
+        rk_rtol,
         opts,
         x0,
         progress,
+    )
+}
+
+/// [`simulate_sweep`] carried on from state `x0` at its first speed.
+#[allow(clippy::too_many_arguments)]
+fn simulate_sweep_from(
+    dim: &Dimensional,
+    model: &GearPair,
+    omega_n_hz: f64,
+    speeds: &[f64],
+    branch: Branch,
+    rk_rtol: f64,
+    opts: &SteadyOptions,
+    x0: State,
+    progress: &dyn Progress,
+) -> Result<Vec<SweepPoint>> {
+    let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
+    carried_sweep(
+        dim, model, omega_n_hz, speeds, branch, &flow, opts, x0, progress,
     )
 }
 
@@ -868,6 +887,13 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
             .copied()
             .fold(f64::NEG_INFINITY, f64::max)
             .max(lo);
+        if !(hi.is_finite() && hi <= MAX_DYNAMIC_FACTOR) {
+            return Err(GearError::Unsupported(format!(
+                "the synthetic envelope reaches a dynamic factor of {hi:.3} at {s} rpm, beyond \
+                 the data's plausible range [0, {MAX_DYNAMIC_FACTOR}] (geardyn would not load \
+                 the set)"
+            )));
+        }
         rows.push_str(&format!("{s},{lo:.5},{hi:.5}\n"));
     }
     let mut t = toml::Table::new();
@@ -903,6 +929,23 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// An envelope the Kubo loader would refuse (a dynamic factor over its plausible 100, from
+    /// an STE of 1000 um on a 3 um-scale rig) is refused and nothing is written.
+    #[test]
+    fn an_envelope_beyond_the_loaders_range_is_refused() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut t = KuboTruth::default_kubo();
+        t.ste_um = 1000.0;
+        t.speeds_rpm = (5000.0, 6000.0, 500.0);
+        let out = dir.path().join("set");
+        let e = synth_kubo(&t, &out, &crate::progress::NoProgress);
+        match e {
+            Err(GearError::Unsupported(m)) => assert!(m.contains("dynamic factor of"), "{m}"),
+            other => panic!("{other:?}"),
+        }
+        assert!(!out.exists());
+    }
 
     /// A load table with a repeated, negative or NaN entry is refused before anything is
     /// simulated or written.
