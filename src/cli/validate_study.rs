@@ -95,6 +95,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             return Err(e);
         }
     };
+    geardyn::report::track_unfinished(&scratch);
     let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut |r: &ValidateSeed| {
         log.record(r)
     });
