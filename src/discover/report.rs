@@ -245,11 +245,11 @@ fn other_start_text(c: &CandidateResult) -> Option<String> {
     let (o, kept) = (c.other_start.as_ref()?, c.delta.as_ref()?);
     let deg = |d: &[f64]| Candidate::first_phase(d).to_degrees().rem_euclid(360.0);
     Some(format!(
-        "{}: the best refit in another phase basin ended at phase {:.0} deg (kept: {:.0} deg) with a training residual sum of squares larger by {:.2} sigma^2{}",
+        "{}: the best refit in another phase basin ended at phase {:.0} deg (kept: {:.0} deg) with a training -2 log-likelihood larger by {:.2}{}",
         c.name,
         deg(&o.delta),
         deg(kept),
-        o.rss_increase,
+        o.deviance_increase,
         if o.phase_undetermined() {
             "; within chi2(0.95; 1) = 3.84 at a different phase: the training loads do not determine the phase, and the interval spans both fits"
         } else {

@@ -142,10 +142,12 @@ pub struct CandidateResult {
 #[derive(Clone, Debug, Serialize)]
 pub struct OtherStart {
     pub delta: Vec<f64>,
-    /// Its residual sum of squares minus the kept fit's, sigma^2 units, both before the last
-    /// stage (on the same points) and under the last stage's noise. Below chi2(0.95; 1) =
-    /// 3.84, the training loads do not determine the phase.
-    pub rss_increase: f64,
+    /// Its -2 log-likelihood minus the kept fit's, both before the last stage (on the same
+    /// points), each with the last stage's noise model evaluated at its own predicted level
+    /// (`super::refit::Refit::other_basin`); with equal levels, the increase of the weighted
+    /// residual sum of squares in sigma^2. Below chi2(0.95; 1) = 3.84, the training loads do not
+    /// determine the phase.
+    pub deviance_increase: f64,
     /// Its own 95% Wald interval of the estimate.
     pub ci95: Option<(f64, f64)>,
     /// Its own 95% Wald arc of the phase, degrees (see [`CandidateResult::phase_wald95_deg`]).
@@ -153,10 +155,10 @@ pub struct OtherStart {
 }
 
 impl OtherStart {
-    /// Whether it fits within chi2(0.95; 1) = 3.84 sigma^2 of the kept fit (it is a distinct
+    /// Whether it fits within chi2(0.95; 1) = 3.84 of the kept fit (-2 log L) (it is a distinct
     /// minimum from it: `super::refit::distinct_minima`).
     pub fn phase_undetermined(&self) -> bool {
-        self.rss_increase < super::ambiguity::CHI2_95_1DF
+        self.deviance_increase < super::ambiguity::CHI2_95_1DF
     }
 }
 
@@ -1610,9 +1612,9 @@ mod tests {
     /// worse does not.
     #[test]
     fn phase_is_undetermined_only_within_the_threshold() {
-        let at = |rss_increase: f64| OtherStart {
+        let at = |deviance_increase: f64| OtherStart {
             delta: vec![-0.1, 0.0],
-            rss_increase,
+            deviance_increase,
             ci95: None,
             phase_wald95_deg: None,
         };
