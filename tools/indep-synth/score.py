@@ -10,15 +10,18 @@ BATCH is a folder written by `indep-synth batch` (BATCH/BATCH.json, BATCH/sets/N
 BATCH/truth/NAME.json). geardyn's output for set NAME is looked for in RESULTS/NAME/
 (default RESULTS = BATCH/geardyn):
 
-  validate batches: RESULTS/NAME/munro.json    (geardyn validate munro --data BATCH/sets/NAME
-                                                 --fits RESULTS/NAME --reports RESULTS/NAME)
-  discover batches: RESULTS/NAME/discovery.json (geardyn discover --data BATCH/sets/NAME
-                                                 --out RESULTS/NAME)
-  kubo batches:     RESULTS/NAME/kubo.json      (geardyn validate kubo --data BATCH/sets/NAME
-                                                 --fits RESULTS/NAME --reports RESULTS/NAME/r
-                                                 [--validate-args, e.g. "--fit whole"])
+  validate batches: RESULTS/NAME/out/munro.json    (geardyn validate munro --data BATCH/sets/NAME
+                                                     --fits RESULTS/NAME/out --reports RESULTS/NAME/r)
+  discover batches: RESULTS/NAME/out/discovery.json (geardyn discover --data BATCH/sets/NAME
+                                                     --out RESULTS/NAME/out)
+  kubo batches:     RESULTS/NAME/out/kubo.json      (geardyn validate kubo --data BATCH/sets/NAME
+                                                     --fits RESULTS/NAME/out --reports RESULTS/NAME/r
+                                                     [--validate-args, e.g. "--fit whole"])
 
-and, if present, RESULTS/NAME/status (geardyn's exit status, written by the --commands lines):
+(results of the earlier layout, the JSON in RESULTS/NAME/ itself, are read too: geardyn now
+refuses an output folder that holds files it did not write, such as the log and timings the
+--commands lines keep in RESULTS/NAME/), and, if present, RESULTS/NAME/status (geardyn's exit
+status, written by the --commands lines):
 a validate fit that fails exits with status 2 and writes nothing; such a set counts as "failed"
 (reported, and counted as a miss in the "all sets" coverage line).
 
@@ -84,6 +87,12 @@ def load_json(path):
         return None
 
 
+def result_json(d, name):
+    """geardyn's output NAME of one set: in d/out (the --commands layout), else in d itself."""
+    found = load_json(os.path.join(d, "out", name))
+    return found if found is not None else load_json(os.path.join(d, name))
+
+
 def read_status(d):
     try:
         with open(os.path.join(d, "status")) as f:
@@ -104,11 +113,11 @@ def commands(batch, kind, results, geardyn, extra=""):
         data = os.path.join(batch, "sets", n)
         out = os.path.join(results, n)
         if kind == "validate":
-            cmd = f"{geardyn} validate munro --data {data} --fits {out} --reports {out}{extra}"
+            cmd = f"{geardyn} validate munro --data {data} --fits {out}/out --reports {out}/r{extra}"
         elif kind == "kubo":
-            cmd = f"{geardyn} validate kubo --data {data} --fits {out} --reports {out}/r{extra}"
+            cmd = f"{geardyn} validate kubo --data {data} --fits {out}/out --reports {out}/r{extra}"
         else:
-            cmd = f"{geardyn} discover --data {data} --out {out}{extra}"
+            cmd = f"{geardyn} discover --data {data} --out {out}/out{extra}"
         print(f"mkdir -p {out} && {{ date +%s.%N > {out}/t0; {cmd} > {out}/log.txt 2>&1; "
               f"echo $? > {out}/status; date +%s.%N > {out}/t1; }}")
 
@@ -131,7 +140,7 @@ def score_validate(batch, results, listing):
     rows = []
     for n, truth, fam in truths(batch):
         d = os.path.join(results, n)
-        fit = load_json(os.path.join(d, "munro.json"))
+        fit = result_json(d, "munro.json")
         st = read_status(d)
         row = {"name": n, "family": fam, "zeta": truth["zeta"], "omega_n_hz": truth["omega_n_hz"],
                "status": st}
@@ -252,7 +261,7 @@ def kubo_rows(batch, results):
     rows = []
     for n, truth, fam in truths(batch):
         d = os.path.join(results, n)
-        fit = load_json(os.path.join(d, "kubo.json"))
+        fit = result_json(d, "kubo.json")
         st = read_status(d)
         row = {"name": n, "family": truth.get("noise_family", fam), "pairs": truth["tooth_pairs"],
                "zeta": truth["zeta"], "omega_n_hz": truth["omega_n_hz"], "ste_um": truth["ste_um"],
@@ -405,7 +414,7 @@ def score_discover(batch, results, listing):
     for n, truth, fam in truths(batch):
         eff = truth["effect_name"]
         d = os.path.join(results, n)
-        disc = load_json(os.path.join(d, "discovery.json"))
+        disc = result_json(d, "discovery.json")
         row = {"name": n, "family": fam, "hidden": eff, "strength": truth.get("effect_strength"),
                "phase": (truth.get("effect") or {}).get("phase_rad"), "status": read_status(d)}
         if disc is None:
