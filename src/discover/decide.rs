@@ -9,7 +9,7 @@ use super::forward::{predict_many, CurvePrediction, Setup};
 use super::interval::{over_both_basins, profiled_refit, wald_ci, IntervalFound, RefitNoise};
 use super::linearized::{Linearized, Statistics, CHI_SQUARE_HELD_OUT, CHI_SQUARE_TRAINING};
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
-use super::refit::{rebased_other, refit_candidate, RunNoise};
+use super::refit::{deviance_gain, rebased_other, refit_candidate, RunNoise};
 use super::run::{
     detection_tests, make_mask, model_jacobian, noise_about, predict_all, rival, row_scales,
     significant, CandidateResult, DiscoverOptions, HeldFit, OtherStart, TestResult,
@@ -596,11 +596,21 @@ impl Rounds<'_> {
             if let Some(old) = refits.iter().find(|r| r.cand == b.cand) {
                 let cand = LIBRARY[b.cand];
                 let other = cands[b.cand].other_start.take();
+                let gain = deviance_gain(
+                    self.setup,
+                    self.train,
+                    &b.mask,
+                    &b.scales,
+                    &b.noise.noise,
+                    &old.fit.lm,
+                    &b.fit.lm,
+                );
                 cands[b.cand].other_start = rebased_other(
                     cand,
                     (&old.fit, old.quantile(self.train)),
                     other,
                     (&b.fit, b.quantile(self.train)),
+                    gain,
                 );
             }
             let c = &mut cands[b.cand];

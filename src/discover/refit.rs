@@ -425,23 +425,23 @@ pub(super) fn distinct_minima(
 }
 
 /// The other phase basin once a profile's better refit `new` replaced the kept fit `old` of
-/// a phase-carrying candidate `cand` (each with its 95% quantile; both on the same points and
-/// scales, so their residual sums of squares compare, [`super::interval::profiled_refit`]).
-/// The earlier other basin `other` was measured against `old`, and the better refit may lie
-/// in it: `old` becomes another basin where it is a distinct minimum from `new`, old.rss -
-/// new.rss above it, and `other` stays one where it is distinct from `new`, that much further
-/// above (its increase was over `old` before the last stage, so the sum is as near as the
-/// refit's own comparison); the nearer of the two.
+/// a phase-carrying candidate `cand` (each with its 95% quantile), `gain` the fall of -2 log L
+/// from `old` to `new` (both on the same points and noise,
+/// [`super::interval::profiled_refit`]; [`deviance_gain`]). The earlier other basin `other` was
+/// measured against `old`, and the better refit may lie in it: `old` becomes another basin
+/// where it is a distinct minimum from `new`, `gain` above it, and `other` stays one where it
+/// is distinct from `new`, that much further above (its increase was over `old` before the last
+/// stage, so the sum is as near as the refit's own comparison); the nearer of the two.
 pub(super) fn rebased_other(
     cand: Candidate,
     old: (&ModelFit, f64),
     other: Option<OtherStart>,
     new: (&ModelFit, f64),
+    gain: f64,
 ) -> Option<OtherStart> {
     if !cand.has_phase() {
         return other;
     }
-    let gain = old.0.lm.rss - new.0.lm.rss;
     let old_basin = OtherStart {
         delta: old.0.effect.delta.clone(),
         deviance_increase: gain,
@@ -878,6 +878,22 @@ fn refit_scales(
         scales[i] = fresh[i].clone();
     }
     Ok((scales, RefitNoise { noise, levels }))
+}
+
+/// How much -2 log L falls from fit `old` to fit `new` ([`deviance_under`]), both standardized
+/// by `scales` on the points `mask` keeps of the curves `train`, the noise `noise` taken at each
+/// fit's own level: the measure [`Refit::other_basin`] compares basins by.
+pub(super) fn deviance_gain(
+    setup: &Setup,
+    train: &[usize],
+    mask: &Mask,
+    scales: &Scales,
+    noise: &DiscoveryNoise,
+    old: &LmFit,
+    new: &LmFit,
+) -> f64 {
+    deviance_under(setup, old, train, mask, scales, noise)
+        - deviance_under(setup, new, train, mask, scales, noise)
 }
 
 /// -2 log L of a fit (Gaussian errors, the constant dropped) on the points `mask` keeps of the
