@@ -241,6 +241,7 @@ pub struct SeedLog {
 }
 
 impl SeedLog {
+    /// The log of `path`, locked; refused when another running study holds it.
     pub fn open(path: &Path) -> anyhow::Result<Self> {
         let created = !path.exists();
         let file = std::fs::OpenOptions::new()
@@ -249,14 +250,15 @@ impl SeedLog {
             .truncate(false)
             .open(path)
             .with_context(|| format!("opening {}", path.display()))?;
-        let log = SeedLog {
-            file,
-            path: path.to_path_buf(),
-            created,
-            written: false,
-        };
-        match log.file.try_lock() {
-            Ok(()) => Ok(log),
+        // Locked before it is owned: a log that failed to lock must not remove the running
+        // study's file when dropped.
+        match file.try_lock() {
+            Ok(()) => Ok(SeedLog {
+                file,
+                path: path.to_path_buf(),
+                created,
+                written: false,
+            }),
             Err(std::fs::TryLockError::WouldBlock) => anyhow::bail!(
                 "{} is being written by another study that is still running (the same --out): \
                  give this one another --out",
