@@ -86,15 +86,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     let seeds_path = a.out.with_extension("seeds.jsonl");
     // The per-seed lines go to a temporary file beside it, renamed when the study succeeded.
     let seeds_tmp = parent.join(format!(".seeds.jsonl.tmp-{}", std::process::id()));
+    let mut log = SeedLog::open(&seeds_tmp)?;
     // Removed by an interrupt as well (Ctrl-C), until moved into place.
     geardyn::report::track_unfinished(&seeds_tmp);
-    let mut log = match SeedLog::open(&seeds_tmp) {
-        Ok(log) => log,
-        Err(e) => {
-            geardyn::report::untrack_unfinished(&seeds_tmp);
-            return Err(e);
-        }
-    };
     geardyn::report::track_unfinished(&scratch);
     let result = run_validate_study(&opts, &scratch, &Bar::new(), &mut |r: &ValidateSeed| {
         log.record(r)

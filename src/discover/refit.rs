@@ -14,7 +14,7 @@ use super::interval::{wald_ci, wald_phase_arc, RefitNoise};
 use super::noise::{DiscoveryNoise, NoiseSpec, Scales};
 use super::run::{make_mask, noise_about, row_scales, OtherStart};
 use crate::error::{GearError, Result};
-use crate::fit::{rss, LmFit, Stop};
+use crate::fit::{log_likelihood, rss, Distribution, LmFit, Stop};
 use rayon::prelude::*;
 
 /// What the stages of one candidate's refit share.
@@ -922,10 +922,8 @@ fn deviance_under(
         }
     }
     let scales = row_scales(idx, mask, &noise.scales(&levels));
-    raw.iter()
-        .zip(&scales)
-        .map(|(r, s)| (r / s).powi(2) + 2.0 * s.ln())
-        .sum()
+    let ln_2pi = (2.0 * std::f64::consts::PI).ln();
+    -2.0 * log_likelihood(Distribution::Gaussian, &raw, &scales) - raw.len() as f64 * ln_2pi
 }
 
 /// A fit's standardized residuals, their sum of squares and Jacobian with each row r
