@@ -149,13 +149,8 @@ impl DiscoveryNoise {
         matches!(self.origin, NoiseOrigin::Estimated { .. })
     }
 
-    /// Standard deviation over the model's scale: 1 for Gaussian errors, sqrt(dof / (dof - 2))
-    /// for Student-t ones.
     fn sd_factor(&self) -> f64 {
-        match self.model.distribution {
-            Distribution::Gaussian => 1.0,
-            Distribution::StudentT { dof } => (dof / (dof - 2.0)).sqrt(),
-        }
+        self.model.distribution.sd_factor()
     }
 
     /// Standard deviation of the noise at every point at the model levels `levels` (per

@@ -34,6 +34,17 @@ pub enum Distribution {
     },
 }
 
+impl Distribution {
+    /// Standard deviation over the scale: 1 for Gaussian errors, sqrt(dof / (dof - 2)) for
+    /// Student-t ones (dof > 2).
+    pub fn sd_factor(self) -> f64 {
+        match self {
+            Distribution::Gaussian => 1.0,
+            Distribution::StudentT { dof } => (dof / (dof - 2.0)).sqrt(),
+        }
+    }
+}
+
 /// Noise scale as a function of the level: sigma^2 = floor^2 + (relative * level)^2.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct NoiseModel {

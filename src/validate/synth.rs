@@ -186,6 +186,11 @@ impl SynthNoise {
         t.insert("noise_relative".into(), self.model.relative.into());
         if let Distribution::StudentT { dof } = self.model.distribution {
             t.insert("noise_student_t_dof".into(), dof.into());
+            // noise_um and noise_relative are the t scale's parts; the standard deviation is
+            // sqrt(dof / (dof - 2)) times larger, and that is what rig.toml's [noise] states.
+            let k = self.model.distribution.sd_factor();
+            t.insert("noise_sd_floor_um".into(), (k * self.model.floor).into());
+            t.insert("noise_sd_relative".into(), (k * self.model.relative).into());
         }
         if let Some(q) = self.quantum_um {
             t.insert("noise_quantum_um".into(), q.into());
@@ -945,6 +950,34 @@ mod tests {
             other => panic!("{other:?}"),
         }
         assert!(!out.exists());
+    }
+
+    /// A Student-t family's truth records the standard deviation beside the t scale, and it is
+    /// the draws' standard deviation: t5 (finite kurtosis 9, so the sample variance of 400000
+    /// draws has relative standard error sqrt(8 / 400000) = 0.45%, the SD half that) at floor
+    /// 1 um, level 0, against sqrt(5 / 3) = 1.291 um, to 1.5% (about 7 standard errors).
+    #[test]
+    fn a_student_t_truth_records_its_standard_deviation() {
+        let mut noise = NoiseFamily::StudentT.noise(1.0);
+        noise.model.distribution = Distribution::StudentT { dof: 5.0 };
+        let mut t = toml::Table::new();
+        noise.record(&mut t);
+        let sd = t["noise_sd_floor_um"].as_float().unwrap();
+        assert!((sd - (5.0f64 / 3.0).sqrt()).abs() < 1e-12, "{sd}");
+        let rel = t["noise_sd_relative"].as_float().unwrap();
+        assert!((rel - FAMILY_RELATIVE * sd).abs() < 1e-12, "{rel}");
+        let mut rng = Rng::new(7);
+        let n = 400_000;
+        let draws: Vec<f64> = (0..n).map(|_| noise.model.draw(0.0, &mut rng)).collect();
+        let var = draws.iter().map(|d| d * d).sum::<f64>() / n as f64;
+        assert!(
+            (var.sqrt() / sd - 1.0).abs() < 0.015,
+            "{} vs {sd}",
+            var.sqrt()
+        );
+        let mut gauss = toml::Table::new();
+        NoiseFamily::Relative.noise(1.0).record(&mut gauss);
+        assert!(!gauss.contains_key("noise_sd_floor_um"));
     }
 
     /// A load table with a repeated, negative or NaN entry is refused before anything is
