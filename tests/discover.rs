@@ -588,8 +588,8 @@ fn study_null_seed(family: NoiseFamily, seed: u64) -> Discovery {
     study_seed(MunroTruth::default_munro(), family, seed)
 }
 
-/// [`study_seed`] of `discover-study --random-phase --speed-step 100` with `hidden` at the
-/// phase the study drew for the seed.
+/// [`study_seed`] of `discover-study --speed-step 100` with `hidden` at its phase (the one
+/// `--random-phase` drew for the seed, or another).
 fn study_seed_on_100_rpm(hidden: HiddenEffects, family: NoiseFamily, seed: u64) -> Discovery {
     let mut t = MunroTruth::default_munro();
     t.speeds_rpm = (1000.0, 5000.0, 100.0);
@@ -863,20 +863,23 @@ fn a_name_the_held_out_loads_reject_in_favour_of_another_is_ambiguous() {
 }
 
 /// A name the held-out loads reject, whose rival is significant only before Holm's correction.
-/// On this set (eps 0.15 at 254 deg, relative noise, the 100 rpm grid: study seed 13) the
-/// stiffness variation's own test gives p 0.015, which Holm over the candidates does not pass,
-/// while the 2nd STE harmonic's does; the harmonic's refit passes the training chi-square and
-/// fails the held-out one. The stiffness variation, refitted as a rival, passes both: the answer
-/// is "ambiguous", the held-out loads preferring it; it is not named. The harmonic used to be.
+/// On this set (eps 0.15 at 4.625 rad, 265 deg, relative noise, the 100 rpm grid, noise seed 2)
+/// the stiffness variation's own test gives p 0.016, which Holm over the candidates does not
+/// pass (0.032), while the 2nd STE harmonic's does; the harmonic's refit passes the training
+/// chi-square (p 0.41) and fails the held-out one (p 0.001). The stiffness variation, refitted
+/// as a rival, passes both: the answer is "ambiguous", the held-out loads preferring it; it is
+/// not named. Without the rivals the harmonic was named. (An earlier state's set, eps 0.15 at
+/// 254 deg with seed 13, left this path when the noise re-estimate stopped applying the
+/// held-out shift: its stiffness variation became significant after Holm and is named.)
 #[test]
 #[ignore = "a study seed of about 40 s: cargo test --release --test discover -- --ignored (run by .ci/run)"]
 fn a_rival_significant_only_before_holm_splits_a_name_the_held_out_loads_reject() {
     let hidden = HiddenEffects {
         stiffness_eps: 0.15,
-        stiffness_phase: 4.428205224803389,
+        stiffness_phase: 4.625,
         ..HiddenEffects::default()
     };
-    let d = study_seed_on_100_rpm(hidden, NoiseFamily::Relative, 13);
+    let d = study_seed_on_100_rpm(hidden, NoiseFamily::Relative, 2);
     assert_eq!(d.effect, "ambiguous", "{:#?}", d.candidates);
     assert_eq!(
         d.ambiguous_with,
