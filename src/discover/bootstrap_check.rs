@@ -58,24 +58,31 @@ fn refitted_statistics(setup: &Setup, fit: &M0Fit, train: &[usize], y: &[Vec<f64
     l.statistics(y)
 }
 
+/// A Munro-style set made from `t`, its training and held-out loads, and M0 fitted to it with
+/// the noise estimated (tails as `tails`), as `discover` does.
+fn m0_on(t: &MunroTruth, tails: TailChoice) -> (Setup, Vec<usize>, Vec<usize>, M0Fit) {
+    let dir = tempfile::tempdir().unwrap();
+    synth_munro(t, dir.path(), &NoProgress).unwrap();
+    let setup = Setup::from_munro(&crate::data::load_munro(dir.path()).unwrap()).unwrap();
+    let (train, held) = split(setup.curves.len());
+    let spec = NoiseSpec::Estimate {
+        floor_min: 0.0,
+        tails,
+    };
+    let fit = fit_m0(&setup, &train, &held, &spec, &NoProgress).unwrap();
+    (setup, train, held, fit)
+}
+
 /// On a set with floor-plus-relative noise (the noise re-estimated on every replicate, as in
 /// `discover`), the linearised statistics of three replicates agree with those of full refits
 /// to well within their null spread.
 #[test]
 fn linearised_bootstrap_statistics_match_full_refits() {
-    let dir = tempfile::tempdir().unwrap();
     let mut t = MunroTruth::default_munro();
     t.seed = 75;
     t.speeds_rpm = (1000.0, 5000.0, 100.0);
     t.noise = NoiseFamily::Relative.noise(0.15);
-    synth_munro(&t, dir.path(), &NoProgress).unwrap();
-    let setup = Setup::from_munro(&crate::data::load_munro(dir.path()).unwrap()).unwrap();
-    let (train, held) = split(setup.curves.len());
-    let spec = NoiseSpec::Estimate {
-        floor_min: 0.0,
-        tails: TailChoice::Gaussian,
-    };
-    let fit = fit_m0(&setup, &train, &held, &spec, &NoProgress).unwrap();
+    let (setup, train, held, fit) = m0_on(&t, TailChoice::Gaussian);
     let lin = &fit.lin;
     // Rows behind each statistic: chi-square(m) has standard deviation sqrt(2m).
     let kept = |idx: &[usize]| -> usize {
@@ -135,25 +142,18 @@ fn linearised_bootstrap_statistics_match_full_refits() {
 /// 300 rpm study, seed 20). There the Gauss-Newton step of a replicate had moved the held-out
 /// resonances by a linear extrapolation of several um before the noise was re-estimated, and
 /// the re-estimates came out at a median 0.44 of the drawn floor and 3.1 times the drawn scale
-/// at the highest held-out point (33 um); now 0.92 and 0.93. Over 100 replicates the median ratio's standard error is about 0.05 (the floor is
-/// estimated from some 40 pseudo-residuals, its 5-95% range 0.35-1.5 of the drawn value), so a
-/// band of [0.8, 1.25] is four standard errors wide on each side.
+/// at the highest held-out point (33 um); now 0.92 and 0.93. Over 100 replicates the median
+/// ratio's standard error is about 0.05 (the floor is estimated from some 40 pseudo-residuals,
+/// its 5-95% range 0.35-1.5 of the drawn value), so a band of [0.8, 1.25] is four standard
+/// errors wide on each side.
 #[test]
 fn replicates_re_estimate_the_noise_they_were_drawn_with_on_a_coarse_grid() {
-    let dir = tempfile::tempdir().unwrap();
     let mut t = MunroTruth::default_munro();
     t.seed = 20;
     t.speeds_rpm = (1000.0, 5000.0, 300.0);
     t.noise = NoiseFamily::StudentT.noise(0.15);
     t.dop853_rtol = Some(1e-9);
-    synth_munro(&t, dir.path(), &NoProgress).unwrap();
-    let setup = Setup::from_munro(&crate::data::load_munro(dir.path()).unwrap()).unwrap();
-    let (train, held) = split(setup.curves.len());
-    let spec = NoiseSpec::Estimate {
-        floor_min: 0.0,
-        tails: TailChoice::Auto,
-    };
-    let fit = fit_m0(&setup, &train, &held, &spec, &NoProgress).unwrap();
+    let (_, _, held, fit) = m0_on(&t, TailChoice::Auto);
     let lin = &fit.lin;
     let drawn = lin.noise.replicates().into_owned();
     // The highest kept level of the held-out curves: a resonance, where the shift was largest.
