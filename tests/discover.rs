@@ -868,9 +868,10 @@ fn a_name_the_held_out_loads_reject_in_favour_of_another_is_ambiguous() {
 /// pass (0.032), while the 2nd STE harmonic's does; the harmonic's refit passes the training
 /// chi-square (p 0.41) and fails the held-out one (p 0.001). The stiffness variation, refitted
 /// as a rival, passes both: the answer is "ambiguous", the held-out loads preferring it; it is
-/// not named. Without the rivals the harmonic was named. (An earlier state's set, eps 0.15 at
-/// 254 deg with seed 13, left this path when the noise re-estimate stopped applying the
-/// held-out shift: its stiffness variation became significant after Holm and is named.)
+/// not named. Without the rival refit the harmonic, the only candidate significant after Holm,
+/// would be named. (An earlier state's set, eps 0.15 at 254 deg with seed 13, left this path
+/// when the noise re-estimate stopped applying the held-out shift: its stiffness variation
+/// became significant after Holm and is named.)
 #[test]
 #[ignore = "a study seed of about 40 s: cargo test --release --test discover -- --ignored (run by .ci/run)"]
 fn a_rival_significant_only_before_holm_splits_a_name_the_held_out_loads_reject() {
