@@ -12,8 +12,7 @@ use crate::model::{Dimensional, GearPair};
 use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, State, SteadyOptions};
 use crate::validate::{
-    flow_with_rtol, min_max, noise_setting, simulate_near_up_sweep, simulate_up_sweep,
-    simulate_up_sweep_from, up_sweep_neighbour_starts, MunroNoise,
+    flow_with_rtol, min_max, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
 };
 use rayon::prelude::*;
 
@@ -219,6 +218,24 @@ fn fit_steady_options() -> SteadyOptions {
     }
 }
 
+/// The test run of `setup.curves[i]` at globals `g` with its rig units and model
+/// ([`curve_model`]).
+fn curve_run<'a>(
+    setup: &'a Setup,
+    i: usize,
+    g: Globals,
+    (dim, model): (&'a Dimensional, &'a GearPair),
+    opts: &'a SteadyOptions,
+) -> TestRun<'a> {
+    TestRun {
+        dim,
+        model,
+        omega_n_hz: g.omega_n_hz,
+        speeds: &setup.curves[i].speeds_rpm,
+        opts,
+    }
+}
+
 /// Predicted curve of `setup.curves[i]` with STE amplitude `ste_um` (um, first harmonic); a
 /// curve predicted before at the same inputs comes from the set's memo.
 pub fn predict(
@@ -247,15 +264,8 @@ fn simulated(
     effect: &Effect,
 ) -> Result<CurvePrediction> {
     let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
-    let pts = simulate_up_sweep(
-        &dim,
-        &model,
-        g.omega_n_hz,
-        &setup.curves[i].speeds_rpm,
-        RK_RTOL,
-        &fit_steady_options(),
-        &NoProgress,
-    )?;
+    let opts = fit_steady_options();
+    let pts = curve_run(setup, i, g, (&dim, &model), &opts).up_sweep(RK_RTOL, &NoProgress)?;
     let starts = up_sweep_neighbour_starts(&model, &pts);
     Ok(prediction(&pts, starts, SweepModel::new(dim, model, g)))
 }
@@ -275,15 +285,9 @@ pub fn predict_near(
     base: &CurvePrediction,
 ) -> Result<CurvePrediction> {
     let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
-    let pts = simulate_near_up_sweep(
-        &dim,
-        &model,
-        g.omega_n_hz,
-        &setup.curves[i].speeds_rpm,
-        RK_RTOL,
-        &base.neighbour_starts,
-        &fit_steady_options(),
-    )?;
+    let opts = fit_steady_options();
+    let pts = curve_run(setup, i, g, (&dim, &model), &opts)
+        .near_up_sweep(RK_RTOL, &base.neighbour_starts)?;
     Ok(prediction(
         &pts,
         base.neighbour_starts.clone(),
@@ -365,16 +369,14 @@ pub fn jumps_between(
         let sub: Vec<f64> = (1..=REFINE_STEPS)
             .map(|k| s_lo + width * k as f64)
             .collect();
-        let pts = simulate_up_sweep_from(
-            &sweep.dim,
-            &sweep.model,
-            sweep.omega_n_hz,
-            &sub,
-            RK_RTOL,
-            &fit_steady_options(),
-            x_lo,
-            &NoProgress,
-        )?;
+        let pts = TestRun {
+            dim: &sweep.dim,
+            model: &sweep.model,
+            omega_n_hz: sweep.omega_n_hz,
+            speeds: &sub,
+            opts: &fit_steady_options(),
+        }
+        .up_sweep_from(RK_RTOL, x_lo, &NoProgress)?;
         if pts.iter().any(|p| p.steady.period != Some(1)) {
             return Ok(true);
         }
@@ -530,15 +532,14 @@ mod tests {
             let p = predict(&s, i, g, ste, &Effect::none()).unwrap();
             let (dim, model) = curve_model(&s, i, g, ste, &Effect::none()).unwrap();
             let fine: Vec<f64> = (0..=1400).map(|k| 2000.0 + 5.0 * k as f64).collect();
-            let dense = simulate_up_sweep(
-                &dim,
-                &model,
-                g.omega_n_hz,
-                &fine,
-                RK_RTOL,
-                &fit_steady_options(),
-                &NoProgress,
-            )
+            let dense = TestRun {
+                dim: &dim,
+                model: &model,
+                omega_n_hz: g.omega_n_hz,
+                speeds: &fine,
+                opts: &fit_steady_options(),
+            }
+            .up_sweep(RK_RTOL, &NoProgress)
             .unwrap();
             let dense_um: Vec<f64> = dense.iter().map(|q| dim.dte_um(q.steady.dte_pp)).collect();
             for j in 1..coarse.len() {

@@ -16,7 +16,7 @@ use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
-use super::synth::simulate_sweep;
+use super::test_run::TestRun;
 use crate::data::{rig_key_error, KuboData, KuboPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
@@ -25,7 +25,7 @@ use crate::progress::{NoProgress, Progress};
 use crate::sim::{Branch, SteadyOptions, SweepPoint};
 use serde::Serialize;
 
-/// The Runge-Kutta tolerance the sweeps ([`simulate_sweep`]) ask for: unused, as the model's
+/// The Runge-Kutta tolerance the sweeps ([`TestRun::sweep`]) ask for: unused, as the model's
 /// mesh stiffness is constant and its flow the exact solver's.
 pub(super) const UNUSED_RK_RTOL: f64 = 1e-9;
 
@@ -258,16 +258,14 @@ pub fn validate_kubo(
     let speeds = drawing_speeds(&data.points, opts.dense_points);
     progress.start(2, "branches");
     let carried = |branch| -> Result<Vec<(f64, f64, u8)>> {
-        let pts = simulate_sweep(
-            &dim,
-            &model,
-            par.omega_n_hz,
-            &speeds,
-            branch,
-            UNUSED_RK_RTOL,
-            &SteadyOptions::default(),
-            &NoProgress,
-        )?;
+        let pts = TestRun {
+            dim: &dim,
+            model: &model,
+            omega_n_hz: par.omega_n_hz,
+            speeds: &speeds,
+            opts: &SteadyOptions::default(),
+        }
+        .sweep(branch, UNUSED_RK_RTOL, &NoProgress)?;
         Ok(branch_points(&dim, par.omega_n_hz, &pts))
     };
     let up = carried(Branch::Up)?;
@@ -579,7 +577,7 @@ fn drawing_speeds(points: &[KuboPoint], dense_points: usize) -> Vec<f64> {
     speeds
 }
 
-/// (speed, D_L, impact case) at each point of a sweep `pts` (see [`simulate_sweep`]).
+/// (speed, D_L, impact case) at each point of a sweep `pts` (see [`TestRun::sweep`]).
 fn branch_points(dim: &Dimensional, omega_n_hz: f64, pts: &[SweepPoint]) -> Vec<(f64, f64, u8)> {
     pts.iter()
         .map(|p| {

@@ -13,7 +13,7 @@
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo::{ste_of, ModelParameters, SteSetting, UNUSED_RK_RTOL};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
-use super::synth::{simulate_near_up_sweep, simulate_up_sweep, up_sweep_neighbour_starts};
+use super::test_run::{up_sweep_neighbour_starts, TestRun};
 use crate::data::KuboData;
 use crate::error::{GearError, Result};
 use crate::fit::{Estimate, ProfileInterval, Stop};
@@ -346,15 +346,14 @@ impl SweptFit<'_> {
     /// nearby parameters starts each speed (remembered for [`SweptFit::pair_near`]).
     fn pair_sweep(&self, pair: &Pair) -> Result<(Vec<f64>, Arc<Vec<State>>)> {
         let model = self.model(pair)?;
-        let pts = simulate_up_sweep(
-            self.dim,
-            &model,
-            pair.omega_n_hz,
-            &self.speeds,
-            UNUSED_RK_RTOL,
-            &SteadyOptions::default(),
-            &NoProgress,
-        )?;
+        let pts = TestRun {
+            dim: self.dim,
+            model: &model,
+            omega_n_hz: pair.omega_n_hz,
+            speeds: &self.speeds,
+            opts: &SteadyOptions::default(),
+        }
+        .up_sweep(UNUSED_RK_RTOL, &NoProgress)?;
         let dl = pts
             .iter()
             .map(|p| p.steady.dl_max.unwrap_or(f64::NAN))
@@ -370,15 +369,14 @@ impl SweptFit<'_> {
             Some(starts) => starts,
             None => self.pair_sweep(base)?.1,
         };
-        let pts = simulate_near_up_sweep(
-            self.dim,
-            &self.model(pair)?,
-            pair.omega_n_hz,
-            &self.speeds,
-            UNUSED_RK_RTOL,
-            &starts,
-            &SteadyOptions::default(),
-        )?;
+        let pts = TestRun {
+            dim: self.dim,
+            model: &self.model(pair)?,
+            omega_n_hz: pair.omega_n_hz,
+            speeds: &self.speeds,
+            opts: &SteadyOptions::default(),
+        }
+        .near_up_sweep(UNUSED_RK_RTOL, &starts)?;
         Ok(pts
             .iter()
             .map(|p| p.steady.dl_max.unwrap_or(f64::NAN))

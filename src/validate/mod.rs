@@ -13,6 +13,7 @@ mod munro;
 mod noise;
 mod study;
 mod synth;
+mod test_run;
 
 pub use curve_metrics::{jump_location, min_max, rms, transition_location};
 pub use design_fit::{fit_design_load, DesignLoadFit, DesignModel, MunroNoise, LOW_SPEED_OMEGA};
@@ -40,8 +41,8 @@ pub use study::{
 };
 pub(crate) use synth::flow_with_rtol;
 pub use synth::{
-    clean_munro_curves, munro_rig, simulate_dte_curve, simulate_near_up_sweep, simulate_up_sweep,
-    simulate_up_sweep_from, synth_kubo, synth_munro, up_sweep_neighbour_starts, write_munro_set,
+    clean_munro_curves, munro_rig, simulate_dte_curve, synth_kubo, synth_munro, write_munro_set,
     CleanCurves, HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
     FAMILY_RELATIVE, FAMILY_T_DOF,
 };
+pub use test_run::{up_sweep_neighbour_starts, TestRun};

@@ -3,6 +3,7 @@
 //! until digitized ones are added, and they are labelled `kind = "synthetic"` with their truth.
 
 use super::noise::Rng;
+use super::test_run::{up_sweep_start, TestRun};
 use crate::data::{
     write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DTE_UM, MAX_DYNAMIC_FACTOR,
 };
@@ -10,10 +11,7 @@ use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
-use crate::sim::{
-    from_starts, neighbour_starts, sweep, Branch, ExactFlow, FlowFactory, IcGrid, PeriodFlow,
-    RkFlow, State, SteadyOptions, SweepPlan, SweepPoint,
-};
+use crate::sim::{Branch, ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
 use std::path::Path;
 
 /// Physical effects that can be hidden in synthetic data (absent from the paper's model).
@@ -384,164 +382,6 @@ fn integrator_note(dop853_rtol: Option<f64>) -> String {
     }
 }
 
-/// Simulated up-sweep (speed increasing, state carried from one speed to the next, as a test
-/// run) at the given pinion speeds: the full steady state at each (pp DTE, period, impact).
-/// `rk_rtol` is the DOP853 tolerance used when k(t) varies (the exact solver otherwise);
-/// `opts` what each steady state computes.
-pub fn simulate_up_sweep(
-    dim: &Dimensional,
-    model: &GearPair,
-    omega_n_hz: f64,
-    speeds: &[f64],
-    rk_rtol: f64,
-    opts: &SteadyOptions,
-    progress: &dyn Progress,
-) -> Result<Vec<SweepPoint>> {
-    simulate_sweep(
-        dim,
-        model,
-        omega_n_hz,
-        speeds,
-        Branch::Up,
-        rk_rtol,
-        opts,
-        progress,
-    )
-}
-
-/// [`simulate_up_sweep`] on either branch: speed increasing (`Branch::Up`) or decreasing
-/// (`Branch::Down`), each started at rest in contact under the mean load at its first speed.
-#[allow(clippy::too_many_arguments)]
-pub(crate) fn simulate_sweep(
-    dim: &Dimensional,
-    model: &GearPair,
-    omega_n_hz: f64,
-    speeds: &[f64],
-    branch: Branch,
-    rk_rtol: f64,
-    opts: &SteadyOptions,
-    progress: &dyn Progress,
-) -> Result<Vec<SweepPoint>> {
-    let start = up_sweep_start(model);
-    simulate_sweep_from(
-        dim, model, omega_n_hz, speeds, branch, rk_rtol, opts, start, progress,
-    )
-}
-
-/// Where a sweep at parameters near those of `pts` (a [`simulate_up_sweep`] of `model`) starts
-/// each speed ([`crate::sim::neighbour_starts`]).
-pub fn up_sweep_neighbour_starts(model: &GearPair, pts: &[SweepPoint]) -> Vec<State> {
-    neighbour_starts(pts.iter().map(|p| &p.steady), up_sweep_start(model))
-}
-
-/// [`simulate_up_sweep`] at parameters near those whose sweep gave `starts`
-/// ([`up_sweep_neighbour_starts`]): each speed from its start, in parallel. Periodic points
-/// give the up-sweep's orbits (to the Newton tolerance) after a few periods instead of a
-/// transient from the speed before.
-pub fn simulate_near_up_sweep(
-    dim: &Dimensional,
-    model: &GearPair,
-    omega_n_hz: f64,
-    speeds: &[f64],
-    rk_rtol: f64,
-    starts: &[State],
-    opts: &SteadyOptions,
-) -> Result<Vec<SweepPoint>> {
-    let models = speeds
-        .iter()
-        .map(|&s| model.at_omega(dim.omega(s, omega_n_hz)))
-        .collect::<Result<Vec<_>>>()?;
-    let states = from_starts(&|m| flow_with_rtol(m, rk_rtol), &models, starts, opts)?;
-    Ok(models
-        .iter()
-        .zip(states)
-        .map(|(m, steady)| SweepPoint {
-            omega: m.omega,
-            branch: Branch::Up,
-            steady,
-            basin_fraction: None,
-            kind: None,
-            escape_rate: None,
-        })
-        .collect())
-}
-
-/// First state of a sweep of `model` (either branch): at rest in contact under the mean load.
-fn up_sweep_start(model: &GearPair) -> State {
-    [1.0 + model.mean_force, 0.0]
-}
-
-/// [`simulate_up_sweep`] over `speeds` carried on from state `x0` (the section point a sweep
-/// brought from a lower speed, e.g. [`up_sweep_neighbour_starts`] of a period-1 point, for a
-/// part of a sweep refined between two of its speeds).
-#[allow(clippy::too_many_arguments)]
-pub fn simulate_up_sweep_from(
-    dim: &Dimensional,
-    model: &GearPair,
-    omega_n_hz: f64,
-    speeds: &[f64],
-    rk_rtol: f64,
-    opts: &SteadyOptions,
-    x0: State,
-    progress: &dyn Progress,
-) -> Result<Vec<SweepPoint>> {
-    simulate_sweep_from(
-        dim,
-        model,
-        omega_n_hz,
-        speeds,
-        Branch::Up,
-        rk_rtol,
-        opts,
-        x0,
-        progress,
-    )
-}
-
-/// [`simulate_sweep`] carried on from state `x0` at its first speed.
-#[allow(clippy::too_many_arguments)]
-fn simulate_sweep_from(
-    dim: &Dimensional,
-    model: &GearPair,
-    omega_n_hz: f64,
-    speeds: &[f64],
-    branch: Branch,
-    rk_rtol: f64,
-    opts: &SteadyOptions,
-    x0: State,
-    progress: &dyn Progress,
-) -> Result<Vec<SweepPoint>> {
-    let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
-    carried_sweep(
-        dim, model, omega_n_hz, speeds, branch, &flow, opts, x0, progress,
-    )
-}
-
-/// The sweep of `branch` over `speeds` from `x0` with the period map of `factory`, the state
-/// carried from one speed to the next.
-#[allow(clippy::too_many_arguments)]
-fn carried_sweep(
-    dim: &Dimensional,
-    model: &GearPair,
-    omega_n_hz: f64,
-    speeds: &[f64],
-    branch: Branch,
-    factory: FlowFactory<'_>,
-    opts: &SteadyOptions,
-    x0: State,
-    progress: &dyn Progress,
-) -> Result<Vec<SweepPoint>> {
-    let omegas: Vec<f64> = speeds.iter().map(|&s| dim.omega(s, omega_n_hz)).collect();
-    let plan = SweepPlan {
-        omegas,
-        branch,
-        x0,
-        grid: IcGrid::new(-2.0, 2.0, 1)?,
-        opts: opts.clone(),
-    };
-    sweep(factory, model, &plan, progress)
-}
-
 /// Simulated up-sweep (speed increasing, as a test run) of pp DTE in um at one load.
 pub fn simulate_dte_curve(
     dim: &Dimensional,
@@ -550,8 +390,14 @@ pub fn simulate_dte_curve(
     speeds: &[f64],
     progress: &dyn Progress,
 ) -> Result<Vec<f64>> {
-    let opts = SteadyOptions::default();
-    let pts = simulate_up_sweep(dim, model, omega_n_hz, speeds, RK_RTOL, &opts, progress)?;
+    let run = TestRun {
+        dim,
+        model,
+        omega_n_hz,
+        speeds,
+        opts: &SteadyOptions::default(),
+    };
+    let pts = run.up_sweep(RK_RTOL, progress)?;
     Ok(pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect())
 }
 
@@ -650,20 +496,18 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
             .hidden
             .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
         let factory = |m: &GearPair| synth_flow(m, truth.dop853_rtol);
-        let clean: Vec<f64> = carried_sweep(
-            &true_dim,
-            &model,
-            truth.omega_n_hz,
-            &speeds,
-            Branch::Up,
-            &factory,
-            &SteadyOptions::default(),
-            up_sweep_start(&model),
-            progress,
-        )?
-        .iter()
-        .map(|p| true_dim.dte_um(p.steady.dte_pp))
-        .collect();
+        let run = TestRun {
+            dim: &true_dim,
+            model: &model,
+            omega_n_hz: truth.omega_n_hz,
+            speeds: &speeds,
+            opts: &SteadyOptions::default(),
+        };
+        let clean: Vec<f64> = run
+            .carried(Branch::Up, &factory, up_sweep_start(&model), progress)?
+            .iter()
+            .map(|p| true_dim.dte_um(p.steady.dte_pp))
+            .collect();
         curves.push((load, speeds.clone(), clean));
     }
     Ok(CleanCurves { curves })
@@ -868,14 +712,16 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         1.0,
     )?;
     let model = truth.hidden.apply(model)?;
-    let pts = carried_sweep(
-        &dim,
-        &model,
-        truth.omega_n_hz,
-        &speeds,
+    let run = TestRun {
+        dim: &dim,
+        model: &model,
+        omega_n_hz: truth.omega_n_hz,
+        speeds: &speeds,
+        opts: &SteadyOptions::default(),
+    };
+    let pts = run.carried(
         Branch::Up,
         &|m| synth_flow(m, truth.dop853_rtol),
-        &SteadyOptions::default(),
         up_sweep_start(&model),
         progress,
     )?;
