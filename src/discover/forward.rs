@@ -10,7 +10,7 @@ use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair};
 use crate::progress::NoProgress;
-use crate::sim::{dte_pp_over_windows, State, SteadyOptions};
+use crate::sim::{dte_pp_over_windows, Branch, State, SteadyOptions};
 use crate::validate::{
     flow_with_rtol, min_max, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
 };
@@ -376,7 +376,7 @@ pub fn jumps_between(
             speeds: &sub,
             opts: &fit_steady_options(),
         }
-        .up_sweep_from(RK_RTOL, x_lo, &NoProgress)?;
+        .sweep_from(Branch::Up, RK_RTOL, x_lo, &NoProgress)?;
         if pts.iter().any(|p| p.steady.period != Some(1)) {
             return Ok(true);
         }

@@ -11,7 +11,7 @@ use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
 use crate::progress::Progress;
-use crate::sim::{Branch, ExactFlow, PeriodFlow, RkFlow, SteadyOptions};
+use crate::sim::{Branch, ExactFlow, PeriodFlow, RkFlow, SteadyOptions, SweepPoint};
 use std::path::Path;
 
 /// Physical effects that can be hidden in synthetic data (absent from the paper's model).
@@ -374,6 +374,16 @@ fn synth_flow(m: &GearPair, dop853_rtol: Option<f64>) -> Result<Box<dyn PeriodFl
     }
 }
 
+/// The up-sweep of a synthetic set's test run `run`, made with the set's flow ([`synth_flow`]).
+fn synth_up_sweep(
+    run: &TestRun,
+    dop853_rtol: Option<f64>,
+    progress: &dyn Progress,
+) -> Result<Vec<SweepPoint>> {
+    let flow = |m: &GearPair| synth_flow(m, dop853_rtol);
+    run.carried(Branch::Up, &flow, up_sweep_start(run.model), progress)
+}
+
 /// What rig.toml's truth says of the solver a set was made with ([`synth_flow`]).
 fn integrator_note(dop853_rtol: Option<f64>) -> String {
     match dop853_rtol {
@@ -495,7 +505,6 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
         let model = truth
             .hidden
             .apply_at_load(model, load / truth.rig.design_load_n, design_fm)?;
-        let factory = |m: &GearPair| synth_flow(m, truth.dop853_rtol);
         let run = TestRun {
             dim: &true_dim,
             model: &model,
@@ -503,8 +512,7 @@ pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result
             speeds: &speeds,
             opts: &SteadyOptions::default(),
         };
-        let clean: Vec<f64> = run
-            .carried(Branch::Up, &factory, up_sweep_start(&model), progress)?
+        let clean: Vec<f64> = synth_up_sweep(&run, truth.dop853_rtol, progress)?
             .iter()
             .map(|p| true_dim.dte_um(p.steady.dte_pp))
             .collect();
@@ -719,12 +727,7 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         speeds: &speeds,
         opts: &SteadyOptions::default(),
     };
-    let pts = run.carried(
-        Branch::Up,
-        &|m| synth_flow(m, truth.dop853_rtol),
-        up_sweep_start(&model),
-        progress,
-    )?;
+    let pts = synth_up_sweep(&run, truth.dop853_rtol, progress)?;
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("speed_rpm,dynamic_factor_min,dynamic_factor_max\n");
     for (s, p) in speeds.iter().zip(&pts) {

@@ -37,21 +37,21 @@ impl TestRun<'_> {
         rk_rtol: f64,
         progress: &dyn Progress,
     ) -> Result<Vec<SweepPoint>> {
-        let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
-        self.carried(branch, &flow, up_sweep_start(self.model), progress)
+        self.sweep_from(branch, rk_rtol, up_sweep_start(self.model), progress)
     }
 
-    /// [`TestRun::up_sweep`] carried on from state `x0` at its first speed (the section point a
+    /// [`TestRun::sweep`] carried on from state `x0` at its first speed (the section point a
     /// sweep brought from a lower speed, e.g. [`up_sweep_neighbour_starts`] of a period-1 point,
     /// for a part of a sweep refined between two of its speeds).
-    pub fn up_sweep_from(
+    pub fn sweep_from(
         &self,
+        branch: Branch,
         rk_rtol: f64,
         x0: State,
         progress: &dyn Progress,
     ) -> Result<Vec<SweepPoint>> {
         let flow = |m: &GearPair| flow_with_rtol(m, rk_rtol);
-        self.carried(Branch::Up, &flow, x0, progress)
+        self.carried(branch, &flow, x0, progress)
     }
 
     /// [`TestRun::up_sweep`] at parameters near those whose sweep gave `starts`
