@@ -862,45 +862,46 @@ fn a_name_the_held_out_loads_reject_in_favour_of_another_is_ambiguous() {
     );
 }
 
-/// A name the held-out loads reject, whose rival is significant only before Holm's correction.
-/// On this set (eps 0.15 at 4.625 rad, 265 deg, relative noise, the 100 rpm grid, noise seed 2)
-/// the stiffness variation's own test gives p 0.016, which Holm over the candidates does not
-/// pass (0.032), while the 2nd STE harmonic's does; the harmonic's refit passes the training
-/// chi-square (p 0.41) and fails the held-out one (p 0.001). The stiffness variation, refitted
-/// as a rival, passes both: the answer is "ambiguous", the held-out loads preferring it; it is
-/// not named. Without the rival refit the harmonic, the only candidate significant after Holm,
-/// would be named. (An earlier state's set, eps 0.15 at 254 deg with seed 13, left this path
-/// when the noise re-estimate stopped applying the held-out shift: its stiffness variation
-/// became significant after Holm and is named.)
+/// A name the held-out loads reject has the candidates significant only before Holm's
+/// correction refitted as its rivals. On this set (eps 0.1 at 3.34 rad, 191 deg, relative
+/// noise, the 100 rpm grid, noise seed 2) the stiffness variation's own test gives p 0.001 and
+/// the torque ripple's 0.017, which Holm over the three identifiable candidates does not pass
+/// (0.034); the stiffness variation's refit passes the training chi-square and fails the
+/// held-out one (p 0.014). The torque ripple, refitted as a rival, does not pass both, so the
+/// name stands: a rival can split a name the held-out loads reject, never replace it.
+///
+/// Until the probes were matched to the effects' first-order part, eps 0.15 at 265 deg (seed
+/// 2) took this path to "ambiguous": the stiffness variation's own test was short of Holm
+/// (p 0.016), a 2nd STE harmonic was named and failed the held-out chi-square, and the
+/// stiffness variation, refitted as its rival, passed both. With matched probes that set is
+/// named outright, and no study seed since has ended "ambiguous" through a rival; the split
+/// itself is `a_name_the_held_out_loads_reject_in_favour_of_another_is_ambiguous`.
 #[test]
 #[ignore = "a study seed of about 40 s: cargo test --release --test discover -- --ignored (run by .ci/run)"]
-fn a_rival_significant_only_before_holm_splits_a_name_the_held_out_loads_reject() {
+fn a_rival_significant_only_before_holm_is_refitted_for_a_name_the_held_out_loads_reject() {
     let hidden = HiddenEffects {
-        stiffness_eps: 0.15,
-        stiffness_phase: 4.625,
+        stiffness_eps: 0.1,
+        stiffness_phase: 3.3397603637242277,
         ..HiddenEffects::default()
     };
     let d = study_seed_on_100_rpm(hidden, NoiseFamily::Relative, 2);
-    assert_eq!(d.effect, "ambiguous", "{:#?}", d.candidates);
-    assert_eq!(
-        d.ambiguous_with,
-        ["ste_harmonics", "mesh_stiffness_variation"]
-    );
-    assert_eq!(
-        d.held_out_prefers.as_deref(),
-        Some("mesh_stiffness_variation")
-    );
-    assert_eq!(d.decided_on(), ["ste_harmonics"]);
-    let eps = d
+    assert_eq!(d.effect, "mesh_stiffness_variation", "{:#?}", d.candidates);
+    let held_out = d.post_fit.iter().find(|t| t.name == "chi_square_held_out");
+    assert!(held_out.and_then(|t| t.p_value).is_some_and(|p| p < 0.025));
+    assert_eq!(d.held_out_prefers, None);
+    let ripple = d
         .candidates
         .iter()
-        .find(|c| c.name == "mesh_stiffness_variation")
-        .expect("the stiffness variation is a candidate");
+        .find(|c| c.name == "torque_ripple")
+        .expect("the torque ripple is a candidate");
     assert!(
-        eps.p_value.is_some_and(|p| p < 0.025) && eps.p_holm.is_some_and(|p| p >= 0.025),
-        "{eps:#?}"
+        ripple.p_value.is_some_and(|p| p < 0.025) && ripple.p_holm.is_some_and(|p| p >= 0.025),
+        "{ripple:#?}"
     );
-    assert!(eps.estimate.is_some(), "the rival was refitted: {eps:#?}");
+    assert!(
+        ripple.estimate.is_some(),
+        "the rival was refitted: {ripple:#?}"
+    );
 }
 
 /// A stated noise is used as stated and not re-estimated: a `dte_pp_sd_um` column on every

@@ -22,6 +22,7 @@ mod memo;
 mod noise;
 #[cfg(test)]
 mod power;
+mod probes;
 mod profile;
 mod refit;
 mod report;

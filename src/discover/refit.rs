@@ -116,21 +116,13 @@ impl Refit<'_> {
     /// value finds the truth's basin too, at eight times the cost.
     fn matched_start(&self, g: Globals, effect: &Effect) -> Result<ScoredStart> {
         fitted_damping_admissible(self.setup, self.train, g, effect)?;
-        let dim = &self.setup.dim;
-        let deflection = |load_n: f64| dim.ste_um(dim.mean_force(load_n));
-        let design = deflection(self.setup.design_load_n);
         let per_load: Vec<(f64, f64)> = self
             .train
             .par_iter()
             .zip(&self.m0.ste_um)
             .map(|(&i, &m0_ste)| {
-                let w = effect
-                    .mesh_frequency_equivalent_um(deflection(self.setup.curves[i].load_n), design);
-                let roots = match w {
-                    Some(w) => ste_roots(m0_ste.abs(), w),
-                    None => vec![m0_ste],
-                };
-                roots
+                matched_stes(self.setup, i, m0_ste, effect)
+                    .unwrap_or_else(|| vec![m0_ste])
                     .into_par_iter()
                     .map(|ste| {
                         let pred = predict(self.setup, i, g, ste, effect)?;
@@ -473,6 +465,26 @@ fn nearest_distinct_basin(
         .flatten()
         .filter(|o| distinct_minima((&o.delta, o.phase_wald95_deg), new))
         .min_by(|a, b| a.deviance_increase.total_cmp(&b.deviance_increase))
+}
+
+/// The STEs of curve `i` that, with `effect`'s first-order part at the mesh frequency
+/// ([`Effect::mesh_frequency_equivalent_um`] at the curve's and the design load's static
+/// deflections), keep the amplitude `ste_um` ([`ste_roots`]); None for an effect without that
+/// part.
+pub(super) fn matched_stes(
+    setup: &Setup,
+    i: usize,
+    ste_um: f64,
+    effect: &Effect,
+) -> Option<Vec<f64>> {
+    let dim = &setup.dim;
+    let deflection = |load_n: f64| dim.ste_um(dim.mean_force(load_n));
+    effect
+        .mesh_frequency_equivalent_um(
+            deflection(setup.curves[i].load_n),
+            deflection(setup.design_load_n),
+        )
+        .map(|w| ste_roots(ste_um.abs(), w))
 }
 
 /// The STE amplitudes (um, >= 0, phase 0) whose sum with the complex amplitude `w` (um) comes

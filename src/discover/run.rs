@@ -4,7 +4,7 @@
 //! measure the gap before and after on training and held-out loads.
 
 use super::decide::{Decision, Refitted, Rounds};
-use super::effects::{Candidate, Effect, LIBRARY};
+use super::effects::{Candidate, LIBRARY};
 use super::fit::{
     fit_model, fit_ste, linear_start, ste_from_low_speed, EffectInFit, Mask, ModelFit,
 };
@@ -16,6 +16,7 @@ use super::noise::{
     estimate as estimate_noise, DiscoveryNoise, NoiseOrigin, NoiseSpec, PseudoInput, Scales,
     TailChoice,
 };
+use super::probes::{library_probes, probe_dictionary};
 use super::stats::{bootstrap_p, chi2_sf, holm};
 use super::windows::{windows, Window};
 use crate::data::MunroData;
@@ -1183,76 +1184,6 @@ fn noise_spec(setup: &Setup, opts: &DiscoverOptions) -> Result<NoiseSpec> {
             floor_min: *floor_min,
             tails: opts.tails,
         },
-    })
-}
-
-/// Every probe of the candidate library: (candidate index in [`LIBRARY`], delta).
-fn library_probes() -> Vec<(usize, Vec<f64>)> {
-    LIBRARY
-        .iter()
-        .enumerate()
-        .flat_map(|(c, cand)| cand.probes().into_iter().map(move |d| (c, d)))
-        .collect()
-}
-
-/// The probe dictionary at M0's fit, by candidate ([`LIBRARY`] order): each probe's change of
-/// the training curves on their kept points, its delta, and whether some probe moves the
-/// design-load curve by the noise (the identifiability rule on the refit's first stage).
-struct ProbeDictionary {
-    raw: Vec<Vec<DVector<f64>>>,
-    deltas: Vec<Vec<Vec<f64>>>,
-    seen_at_design: [bool; LIBRARY.len()],
-}
-
-/// [`ProbeDictionary`] of M0's fit `m0` (its curves `f0`) on the training curves `train`, one
-/// step of `progress` a probe.
-fn probe_dictionary(
-    setup: &Setup,
-    train: &[usize],
-    m0: &ModelFit,
-    mask: &Mask,
-    f0: &[CurvePrediction],
-    scales: &Scales,
-    progress: &dyn Progress,
-) -> Result<ProbeDictionary> {
-    let probes = library_probes();
-    let probe_curves: Vec<Result<(usize, Vec<f64>)>> = probes
-        .par_iter()
-        .map(|(c, d)| {
-            let e = Effect::of(LIBRARY[*c], d.clone());
-            let p = predict_many(setup, train, m0.globals, &m0.ste_um, &e)?;
-            let mut v = Vec::new();
-            for (k, &i) in train.iter().enumerate() {
-                for (j, keep) in mask[i].iter().enumerate() {
-                    if *keep {
-                        v.push(p[k].dte_pp_um[j] - f0[i].dte_pp_um[j]);
-                    }
-                }
-            }
-            progress.advance(1);
-            Ok((*c, v))
-        })
-        .collect();
-    let mut raw: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
-    let mut deltas: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
-    // The design-load curve's rows are the first kept points of each probe's differences.
-    let design_scales = row_scales(&train[..1], mask, scales);
-    let mut seen_at_design = [false; LIBRARY.len()];
-    for (pc, (c, d)) in probe_curves.into_iter().zip(&probes) {
-        let (_, v) = pc?;
-        let design: f64 = v
-            .iter()
-            .zip(&design_scales)
-            .map(|(x, s)| (x / s).powi(2))
-            .sum();
-        seen_at_design[*c] |= design >= 1.0;
-        raw[*c].push(DVector::from_vec(v));
-        deltas[*c].push(d.clone());
-    }
-    Ok(ProbeDictionary {
-        raw,
-        deltas,
-        seen_at_design,
     })
 }
 
