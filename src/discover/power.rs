@@ -15,7 +15,7 @@ use super::effects::{Candidate, Effect};
 use super::fit::{fit_model, residuals_of, EffectInFit, Mask};
 use super::forward::{predict, Curve, Globals, Setup};
 use super::noise::Scales;
-use super::refit::ste_roots;
+use super::refit::matched_stes;
 use crate::error::Result;
 use crate::fit::{rss, Stop};
 use crate::model::Dimensional;
@@ -113,7 +113,7 @@ fn truth_set(speeds: &[f64], effect: &Effect) -> Result<(Setup, Scales, Mask)> {
 }
 
 /// M0's best fit on the curves `idx` over starts at the truth's globals with each load's STE at
-/// the truth's and at the roots that match the effect's first-order part ([`ste_roots`]), and
+/// the truth's and at the roots that match the effect's first-order part ([`matched_stes`]), and
 /// at `also` (parameter layout of `ModelFit::lm`): its residual sum of squares, each curve's
 /// share of it (in `idx`'s order) and its parameters.
 fn m0_fit(
@@ -124,16 +124,9 @@ fn m0_fit(
     effect: &Effect,
     also: Option<&[f64]>,
 ) -> (f64, Vec<f64>, Option<Vec<f64>>) {
-    let dim = &setup.dim;
-    let design = dim.ste_um(dim.mean_force(3780.0));
     let matched: Vec<f64> = idx
         .iter()
-        .map(|&i| {
-            let w = effect
-                .mesh_frequency_equivalent_um(dim.ste_um(dim.mean_force(LOADS[i].0)), design)
-                .unwrap_or((0.0, 0.0));
-            ste_roots(LOADS[i].1, w)[0]
-        })
+        .map(|&i| matched_stes(setup, i, LOADS[i].1, effect).map_or(LOADS[i].1, |r| r[0]))
         .collect();
     let truth: Vec<f64> = idx.iter().map(|&i| LOADS[i].1).collect();
     let mut starts: Vec<Vec<f64>> = [truth, matched]

@@ -138,16 +138,11 @@ pub(super) fn probe_dictionary(
     let mut raw: Vec<Vec<DVector<f64>>> = vec![Vec::new(); LIBRARY.len()];
     let mut deltas: Vec<Vec<Vec<f64>>> = vec![Vec::new(); LIBRARY.len()];
     // The design-load curve's rows are the first kept points of each probe's differences.
-    let design_scales = row_scales(&train[..1], mask, scales);
+    let design_rows = mask[train[0]].iter().filter(|keep| **keep).count();
     let mut seen_at_design = [false; LIBRARY.len()];
     for (v, (c, d)) in probe_rows.into_iter().zip(&probes) {
         let v = v?;
-        let design: f64 = v
-            .iter()
-            .zip(&design_scales)
-            .map(|(x, s)| (x / s).powi(2))
-            .sum();
-        seen_at_design[*c] |= design >= 1.0;
+        seen_at_design[*c] |= at.standardized_norm(train[0], &v[..design_rows]) >= 1.0;
         raw[*c].push(DVector::from_vec(v));
         deltas[*c].push(d.clone());
     }
