@@ -175,7 +175,7 @@ impl Candidate {
         }
     }
 
-    /// The coordinate a profile-likelihood interval holds ([`super::profile`]) and the rest of
+    /// The coordinate a profile-likelihood interval holds (`super::profile`) and the rest of
     /// delta, free while it is held: for a phase-carrying candidate the first amplitude, and the
     /// first phase (rad) followed by the other pairs; gamma and nothing; beta (b = b_stated
     /// e^beta, the internal coordinate of the Wald interval too) and nothing.
@@ -316,7 +316,7 @@ impl Effect {
     }
 
     /// The dimensional scales under the effect (only the backlash changes them). The backlash
-    /// stays within a factor [`MAX_BACKLASH_FACTOR`] of the stated one: a fit step beyond it is
+    /// stays within a factor `MAX_BACKLASH_FACTOR` of the stated one: a fit step beyond it is
     /// rejected. Without the bound a design-load fit, which the backlash does not move (the
     /// teeth stay in contact), stepped to b = e^37 b_stated, where every force is ~1e-16 b and
     /// the exact solver's boundary distances sit at rounding, so nothing can be excluded and

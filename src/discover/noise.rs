@@ -87,7 +87,7 @@ pub struct DiscoveryNoise {
     pub relative_estimated: bool,
     /// The model the bootstrap replicates are drawn from when it is not [`Self::model`]: the
     /// fit with the relative part free (under the chosen distribution), where the test of
-    /// [`estimate`] dropped that part. The replicates are standardized by [`Self::model`]
+    /// `estimate` dropped that part. The replicates are standardized by [`Self::model`]
     /// re-estimated, as the data are.
     ///
     /// Why: a part the test drops is not shown absent. On a coarse grid the few points high on
@@ -110,7 +110,7 @@ pub struct DiscoveryNoise {
     pub trimmed: usize,
     /// The estimate's variance components (floor^2, relative^2) and their covariance, from
     /// the pseudo-likelihood's information adjusted for the overlap of the pseudo-residuals
-    /// ([`Pseudo::kappa`]): what the intervals' degrees of freedom are taken from (estimated
+    /// (`Pseudo::kappa`): what the intervals' degrees of freedom are taken from (estimated
     /// noise only).
     #[serde(skip)]
     pub components: Option<VarianceComponents>,

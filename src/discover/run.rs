@@ -36,7 +36,7 @@ pub struct DiscoverOptions {
     /// Seed of the bootstrap.
     pub seed: u64,
     /// Stated measurement noise (um, a constant); None takes the data set's statement
-    /// (`dte_pp_sd_um`, rig.toml `[noise]`) or estimates it (see [`super::noise`]).
+    /// (`dte_pp_sd_um`, rig.toml `[noise]`) or estimates it (see `super::noise`).
     pub noise_um: Option<f64>,
     /// Whether estimated noise may have Student-t tails (chosen by the data) or is Gaussian.
     pub tails: TailChoice,
@@ -53,7 +53,7 @@ pub struct DiscoverOptions {
     /// |cos| between two candidates' fitted residual directions above which they are ambiguous.
     pub collinear_cos: f64,
     /// Profile the phase of the phase-carrying candidate a decision rests on as well
-    /// ([`super::profile::ProfileProblem::phase_arc`]: up to twelve more all-load fits, tens
+    /// (`super::profile::ProfileProblem::phase_arc`: up to twelve more all-load fits, tens
     /// of seconds with a stiffness variation); off, its phase has the Wald arc only.
     pub phase_profile: bool,
 }
@@ -218,15 +218,15 @@ pub struct ExcludedPoints {
     pub predicted_range_um: (f64, f64),
     /// Smallest and largest M0 pp DTE over the same points, um: the predicted pp, and at a
     /// chaotic or aperiodic point also the pp of each of 32 later observation windows
-    /// ([`super::forward::aperiodic_pp_range`]), since the measured pp there is one window out
+    /// (`super::forward::aperiodic_pp_range`), since the measured pp there is one window out
     /// of that distribution.
     pub model_range_um: (f64, f64),
     /// The same over M0 and the models at the ends of its 95% confidence region in zeta and
-    /// omega_n ([`confidence_ends`]), um; computed only when a measured point lies far outside
+    /// omega_n (`confidence_ends`), um; computed only when a measured point lies far outside
     /// `model_range_um` at some load, and None otherwise or when no end could be predicted.
     pub region_range_um: Option<(f64, f64)>,
-    /// Where the ends that widened `region_range_um` were clamped ([`CLAMPED_ZETA`],
-    /// [`CLAMPED_OMEGA_N`], [`CLAMPED_STE`]): past those the region is the linearisation's, not
+    /// Where the ends that widened `region_range_um` were clamped (`CLAMPED_ZETA`,
+    /// `CLAMPED_OMEGA_N`, `CLAMPED_STE`): past those the region is the linearisation's, not
     /// the data's, and with zeta at the floor an end's resonance can reach almost any pp, so a
     /// point within the range says less. Empty when none was (or no range was widened).
     pub region_clamped: Vec<&'static str>,
@@ -594,7 +594,7 @@ impl Discovery {
         self.excluded_far_outside() > 0
     }
 
-    /// M0's fitted zeta sits at the fits' lower bound [`MIN_ZETA`] (within 5%): M0 reaches for
+    /// M0's fitted zeta sits at the fits' lower bound `MIN_ZETA` (within 5%): M0 reaches for
     /// the least damping it may use, itself a sign that it lacks something (on the hidden-eps
     /// sets M0 lands there, with the true zeta 0.0175; on null sets it does not).
     pub fn m0_zeta_at_lower_bound(&self) -> bool {

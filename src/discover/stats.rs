@@ -39,8 +39,8 @@ pub fn chi2_sf(x: f64, df: f64) -> f64 {
 }
 
 /// Wald-Wolfowitz runs test along frequency, as a standard normal score: with n+ positive and n-
-/// negative signs and R runs, E[R] = 1 + 2 n+ n- / n and Var[R] = (E[R] - 1)(E[R] - 2)/(n - 1).
-/// Returns (R - E[R]) / sd(R) summed over the independent sequences (one per load) as a single
+/// negative signs and R runs, E(R) = 1 + 2 n+ n- / n and Var(R) = (E(R) - 1)(E(R) - 2)/(n - 1).
+/// Returns (R - E(R)) / sd(R) summed over the independent sequences (one per load) as a single
 /// z (sum of R and of the moments). Too few runs (negative z) means residuals that keep their
 /// sign over stretches of frequency: structure the model misses.
 pub fn runs_z(sequences: &[Vec<f64>]) -> f64 {

@@ -149,7 +149,7 @@ pub struct Estimate {
     /// Weighted residual sum of squares reached from each start in the first fit.
     pub start_costs: Vec<f64>,
     /// Outer (reweighting) iterations used, and whether the parameters and the noise model
-    /// settled within [`MAX_REWEIGHTS`] of them.
+    /// settled within `MAX_REWEIGHTS` of them.
     pub iterations: usize,
     pub settled: bool,
     /// Jacobian of the model values with respect to the parameters (n x p) at the fit.

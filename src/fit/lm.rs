@@ -34,7 +34,7 @@ pub struct Stop {
     /// residuals whose Jacobian enters reported intervals.
     pub central: bool,
     /// Stop once the best residual sum of squares fell by less than this over the last
-    /// [`STALL_JACOBIANS`] Jacobians (sigma^2 units; 0: never). A simulated up-sweep's sum of
+    /// `STALL_JACOBIANS` Jacobians (sigma^2 units; 0: never). A simulated up-sweep's sum of
     /// squares is often smallest just where the jump crosses a measured speed and jumps
     /// there; the fit then creeps towards that edge by steps of 1e-9 that the relative rule
     /// and the Gauss-Newton decrement (a one-sided slope that stays) never stop, and each
@@ -75,7 +75,7 @@ impl Stop {
         }
     }
 
-    /// The same, stopping also once [`STALL_JACOBIANS`] Jacobians gained less than `gain`
+    /// The same, stopping also once `STALL_JACOBIANS` Jacobians gained less than `gain`
     /// together (see [`Stop::stall`]).
     pub fn or_stalled(self, gain: f64) -> Stop {
         Stop {
@@ -308,7 +308,7 @@ fn central_column(
 
 /// Jacobian (residuals per parameter value) at `params`, where the residuals are `r0`, by
 /// central secants of `steps` (one per parameter, > 0) through `near(p, params)`, with
-/// [`central_difference`]'s rule for a side that switches branch. Where a side fails the other
+/// `central_difference`'s rule for a side that switches branch. Where a side fails the other
 /// is taken; where both fail, or a step is not positive, the column is `fallback`'s.
 ///
 /// A Wald interval assumes the residuals linear over the interval. A point near a fold of a

@@ -25,7 +25,7 @@ const SYMBOLS: [(&str, &str); 18] = [
     ("q_m", "qₘ"),
 ];
 
-/// `text` with every whole word of [`SYMBOLS`] replaced by its symbol. A word is a run of ASCII
+/// `text` with every whole word of `SYMBOLS` replaced by its symbol. A word is a run of ASCII
 /// letters, digits and underscores.
 pub fn symbols(text: &str) -> String {
     let mut out = String::with_capacity(text.len() + 8);

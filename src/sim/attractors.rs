@@ -273,7 +273,7 @@ fn widen(known: &mut SteadyState, other: &SteadyState) {
 /// or both non-periodic with section points on each other's cloud; every unsettled motion is
 /// one entry. The impact regime of a
 /// non-periodic sample is not compared: it comes from a finite stretch of the motion (see
-/// [`widen`]), and two stretches of one strange attractor can disagree on it.
+/// `widen`), and two stretches of one strange attractor can disagree on it.
 pub fn same_attractor(a: &SteadyState, b: &SteadyState) -> bool {
     // Motions that did not settle within their budget are not attractors yet: they are counted
     // together, as one entry whose basin is the share of initial conditions left unsettled.

@@ -273,7 +273,7 @@ pub struct GeometryModel {
 /// k = 1. With [`StiffnessChoice::Geometry`]: F_m = F / (b k_h(F)), k(t) = 1 + sum eps_j
 /// cos(j Omega t + psi_j) (same orders), omega_n(F) = omega_n sqrt(k_h(F) / k_h(F_design))
 /// (`omega_n_design_hz` the natural frequency at the design load), and STE terms of the loaded
-/// STE less the model's own static deflection F / k(t) ([`kinematic_terms_um`]), so that that
+/// STE less the model's own static deflection F / k(t) (`kinematic_terms_um`), so that that
 /// deflection plus the excitation is the loaded STE (the elastic part once).
 pub fn geometry_model(
     dim: &Dimensional,

@@ -28,7 +28,7 @@ pub(super) fn measured_peak_rpm(points: &[KuboPoint]) -> Option<f64> {
 }
 
 /// Name of the relative half-spread of the tooth pairs' STE amplitudes (see
-/// [`MidlineFit::new`]).
+/// `MidlineFit::new`).
 pub const PAIR_SPREAD: &str = "pair_ste_half_spread";
 
 /// The 95% interval of |h|, the pairs' STE half-spread, from that of the fitted (signed) h:

@@ -41,7 +41,7 @@ pub struct MunroOptions {
     /// Initial conditions per axis of that search.
     pub ic_per_axis: usize,
     /// How long that search follows non-periodic sets to tell a chaotic attractor from a
-    /// chaotic transient ([`PREDICTION_HORIZON`] by default).
+    /// chaotic transient (`PREDICTION_HORIZON` by default).
     pub escape: EscapeBudget,
     /// Student-t errors for the design-load fit: off, on, or when the residuals say so.
     pub robust: Robust,
