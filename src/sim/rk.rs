@@ -187,16 +187,7 @@ impl<const N: usize> Dop853<N> {
         events: &[&dyn EventFunction<N>],
         mut observer: Option<&mut dyn FnMut(&DenseStep<N>)>,
     ) -> Result<Outcome<N>> {
-        if !(t0.is_finite() && t_end.is_finite() && t_end >= t0) {
-            return Err(GearError::Numerical(format!(
-                "integration interval [{t0}, {t_end}] must be finite and forward"
-            )));
-        }
-        if y0.iter().any(|v| !v.is_finite()) {
-            return Err(GearError::Numerical(format!(
-                "non-finite initial state {y0:?} at t = {t0}"
-            )));
-        }
+        check_start(t0, &y0, t_end)?;
         if t_end == t0 {
             return Ok(Outcome {
                 t: t0,
@@ -204,55 +195,36 @@ impl<const N: usize> Dop853<N> {
                 event: None,
             });
         }
-        let opts = &self.opts;
-        let mut t = t0;
-        let mut y = y0;
-        let mut f = sys.rhs(t, &y);
+        let mut walk = Walk::start(sys, events, t0, y0);
         self.stats.rhs_evaluations += 1;
-        let ne = events.len();
-        let mut g0: EventValues = events.iter().map(|e| e.value(t, &y)).collect();
-        let mut r0: EventValues = events.iter().map(|e| e.rate(t, &y, &f)).collect();
-        let mut g1: EventValues = smallvec::smallvec![0.0; ne];
-        let mut r1: EventValues = smallvec::smallvec![0.0; ne];
-
         let mut h = match self.h_next {
             Some(h) => h,
             None => {
                 self.stats.rhs_evaluations += 1;
-                initial_step(sys, t, &y, &f, opts, t_end - t)
+                initial_step(sys, t0, &walk.y, &walk.f, &self.opts, t_end - t0)
             }
         }
-        .min(opts.h_max);
+        .min(self.opts.h_max);
         let mut reject = false;
-        let mut k = [[0.0; N]; 16];
-        for _ in 0..opts.max_steps {
-            let remaining = t_end - t;
+        for _ in 0..self.opts.max_steps {
+            let remaining = t_end - walk.t;
             if remaining <= NEGLIGIBLE * t_end.abs() {
-                // A remainder of a few ulps (an event just before t_end): no step can resolve
-                // it, and one Euler step closes it with an error of order remaining^2.
-                let y_end: [f64; N] = std::array::from_fn(|i| y[i] + remaining * f[i]);
-                if let Some(obs) = observer.as_mut() {
-                    obs(&DenseStep::new(t, remaining, &y, &y_end, &[f; 16]));
-                }
                 self.h_next = Some(h);
-                return Ok(Outcome {
-                    t: t_end,
-                    y: y_end,
-                    event: None,
-                });
+                return Ok(walk.close_remainder(t_end, &mut observer));
             }
-            if !(h.is_finite() && 0.1 * h > t.abs() * f64::EPSILON) {
+            if !(h.is_finite() && 0.1 * h > walk.t.abs() * f64::EPSILON) {
                 return Err(GearError::Numerical(format!(
-                    "DOP853 step size {h:e} too small at t = {t} (the solution may blow up or the right-hand side be discontinuous)"
+                    "DOP853 step size {h:e} too small at t = {} (the solution may blow up or the right-hand side be discontinuous)",
+                    walk.t
                 )));
             }
-            let last = t + 1.01 * h >= t_end;
+            let last = walk.t + 1.01 * h >= t_end;
             if last {
-                h = t_end - t;
+                h = t_end - walk.t;
             }
-            let y_new = stages(sys, t, &y, &f, h, &mut k);
+            let y_new = stages(sys, walk.t, &walk.y, &walk.f, h, &mut walk.k);
             self.stats.rhs_evaluations += 11;
-            let err = error_norm(opts, &y, &y_new, &k, h);
+            let err = error_norm(&self.opts, &walk.y, &y_new, &walk.k, h);
             // err^EXPO1 with dop853.f's EXPO1 = 1/8, as three square roots: a libm `pow` per step was 4% of a discover run
             // that integrates a time-varying stiffness; the roots agree with it to an ulp.
             let fac11 = err.sqrt().sqrt().sqrt();
@@ -261,66 +233,18 @@ impl<const N: usize> Dop853<N> {
                 if reject {
                     h_new = h_new.min(h);
                 }
-                if y_new.iter().any(|v| !v.is_finite()) {
-                    return Err(GearError::Numerical(format!(
-                        "DOP853 solution became non-finite after t = {t}"
-                    )));
-                }
-                let t_new = if last { t_end } else { t + h };
-                let f_new = sys.rhs(t_new, &y_new);
-                self.stats.rhs_evaluations += 1;
-                self.stats.accepted_steps += 1;
-                k[12] = f_new;
-                for (i, e) in events.iter().enumerate() {
-                    g1[i] = e.value(t_new, &y_new);
-                    r1[i] = e.rate(t_new, &y_new, &f_new);
-                }
-                let ends = EndData {
-                    g0: &g0,
-                    g1: &g1,
-                    r0: &r0,
-                    r1: &r1,
+                let h_new = h_new.min(self.opts.h_max);
+                let step = Step {
+                    h,
+                    y_new,
+                    end: last.then_some(t_end),
                 };
-                let scan = ne > 0 && events::needs_scan(events, &ends);
-                if scan || observer.is_some() {
-                    extra_stages(sys, t, &y, h, &mut k);
-                    self.stats.rhs_evaluations += 3;
-                    let mut dense = DenseStep::new(t, h, &y, &y_new, &k);
-                    if last {
-                        dense.truncate(t_end);
-                    }
-                    let hit = if scan {
-                        events::locate(events, &dense, &ends)
-                    } else {
-                        None
-                    };
-                    if let Some(hit) = hit {
-                        dense.truncate(hit.t);
-                        if let Some(obs) = observer.as_mut() {
-                            obs(&dense);
-                        }
-                        self.h_next = Some(h_new.min(opts.h_max));
-                        return Ok(Outcome {
-                            t: hit.t,
-                            y: dense.eval(hit.t),
-                            event: Some(hit.index),
-                        });
-                    }
-                    if let Some(obs) = observer.as_mut() {
-                        obs(&dense);
-                    }
-                }
-                t = t_new;
-                y = y_new;
-                f = f_new;
-                std::mem::swap(&mut g0, &mut g1);
-                std::mem::swap(&mut r0, &mut r1);
-                if last {
-                    self.h_next = Some(h_new.min(opts.h_max));
-                    return Ok(Outcome { t, y, event: None });
+                if let Some(out) = self.accept(sys, events, &mut observer, &mut walk, step)? {
+                    self.h_next = Some(h_new);
+                    return Ok(out);
                 }
                 reject = false;
-                h = h_new.min(opts.h_max);
+                h = h_new;
             } else {
                 // Rejected (also when err is NaN: the comparison above fails).
                 let fac = if fac11.is_finite() {
@@ -334,9 +258,171 @@ impl<const N: usize> Dop853<N> {
             }
         }
         Err(GearError::Numerical(format!(
-            "DOP853 needed more than {} steps between t = {t0} and t = {t_end} (stopped at t = {t})",
-            opts.max_steps
+            "DOP853 needed more than {} steps between t = {t0} and t = {t_end} (stopped at t = {})",
+            self.opts.max_steps, walk.t
         )))
+    }
+
+    /// Take the accepted `step` from `walk`'s point: the events checked on it (on its dense
+    /// output, built only when an event may change sign in it or the observer wants it), the
+    /// observer called. Returns where the integration stops (an event inside the step, or its
+    /// last step's end), or `None` with `walk` moved to the step's end.
+    fn accept<S: OdeSystem<N> + ?Sized>(
+        &mut self,
+        sys: &S,
+        events: &[&dyn EventFunction<N>],
+        observer: &mut Option<&mut dyn FnMut(&DenseStep<N>)>,
+        walk: &mut Walk<N>,
+        step: Step<N>,
+    ) -> Result<Option<Outcome<N>>> {
+        let Step { h, y_new, end } = step;
+        if y_new.iter().any(|v| !v.is_finite()) {
+            return Err(GearError::Numerical(format!(
+                "DOP853 solution became non-finite after t = {}",
+                walk.t
+            )));
+        }
+        let t_new = end.unwrap_or(walk.t + h);
+        let f_new = sys.rhs(t_new, &y_new);
+        self.stats.rhs_evaluations += 1;
+        self.stats.accepted_steps += 1;
+        walk.k[12] = f_new;
+        for (i, e) in events.iter().enumerate() {
+            walk.g1[i] = e.value(t_new, &y_new);
+            walk.r1[i] = e.rate(t_new, &y_new, &f_new);
+        }
+        let ends = EndData {
+            g0: &walk.g0,
+            g1: &walk.g1,
+            r0: &walk.r0,
+            r1: &walk.r1,
+        };
+        let scan = !events.is_empty() && events::needs_scan(events, &ends);
+        if scan || observer.is_some() {
+            extra_stages(sys, walk.t, &walk.y, h, &mut walk.k);
+            self.stats.rhs_evaluations += 3;
+            let mut dense = DenseStep::new(walk.t, h, &walk.y, &y_new, &walk.k);
+            if let Some(t_end) = end {
+                dense.truncate(t_end);
+            }
+            let hit = if scan {
+                events::locate(events, &dense, &ends)
+            } else {
+                None
+            };
+            if let Some(hit) = &hit {
+                dense.truncate(hit.t);
+            }
+            if let Some(obs) = observer.as_mut() {
+                obs(&dense);
+            }
+            if let Some(hit) = hit {
+                return Ok(Some(Outcome {
+                    t: hit.t,
+                    y: dense.eval(hit.t),
+                    event: Some(hit.index),
+                }));
+            }
+        }
+        walk.advance(t_new, y_new, f_new);
+        Ok(end.map(|t| Outcome {
+            t,
+            y: walk.y,
+            event: None,
+        }))
+    }
+}
+
+/// An interval and initial state `integrate` can start from: finite, forward, finite state.
+fn check_start<const N: usize>(t0: f64, y0: &[f64; N], t_end: f64) -> Result<()> {
+    if !(t0.is_finite() && t_end.is_finite() && t_end >= t0) {
+        return Err(GearError::Numerical(format!(
+            "integration interval [{t0}, {t_end}] must be finite and forward"
+        )));
+    }
+    if y0.iter().any(|v| !v.is_finite()) {
+        return Err(GearError::Numerical(format!(
+            "non-finite initial state {y0:?} at t = {t0}"
+        )));
+    }
+    Ok(())
+}
+
+/// One accepted step: its size, the solution at its end, and `Some(t_end)` when it is the
+/// call's last step (its end then is t_end exactly).
+struct Step<const N: usize> {
+    h: f64,
+    y_new: [f64; N],
+    end: Option<f64>,
+}
+
+/// What one `integrate` call carries from step to step: the point reached, the right-hand side
+/// there, the events' values and rates at the two ends of a step, and the stages.
+struct Walk<const N: usize> {
+    t: f64,
+    y: [f64; N],
+    f: [f64; N],
+    g0: EventValues,
+    r0: EventValues,
+    g1: EventValues,
+    r1: EventValues,
+    k: [[f64; N]; 16],
+}
+
+impl<const N: usize> Walk<N> {
+    /// At (t0, y0), with f and the events evaluated there (one call of f).
+    fn start<S: OdeSystem<N> + ?Sized>(
+        sys: &S,
+        events: &[&dyn EventFunction<N>],
+        t0: f64,
+        y0: [f64; N],
+    ) -> Self {
+        let f = sys.rhs(t0, &y0);
+        let ne = events.len();
+        Walk {
+            t: t0,
+            y: y0,
+            f,
+            g0: events.iter().map(|e| e.value(t0, &y0)).collect(),
+            r0: events.iter().map(|e| e.rate(t0, &y0, &f)).collect(),
+            g1: smallvec::smallvec![0.0; ne],
+            r1: smallvec::smallvec![0.0; ne],
+            k: [[0.0; N]; 16],
+        }
+    }
+
+    /// Move to the end of an accepted step; its end's event values become the next start's.
+    fn advance(&mut self, t: f64, y: [f64; N], f: [f64; N]) {
+        self.t = t;
+        self.y = y;
+        self.f = f;
+        std::mem::swap(&mut self.g0, &mut self.g1);
+        std::mem::swap(&mut self.r0, &mut self.r1);
+    }
+
+    /// A remainder of a few ulps (an event just before t_end): no step can resolve it, and one
+    /// Euler step closes it with an error of order remaining^2.
+    fn close_remainder(
+        &self,
+        t_end: f64,
+        observer: &mut Option<&mut dyn FnMut(&DenseStep<N>)>,
+    ) -> Outcome<N> {
+        let remaining = t_end - self.t;
+        let y_end: [f64; N] = std::array::from_fn(|i| self.y[i] + remaining * self.f[i]);
+        if let Some(obs) = observer.as_mut() {
+            obs(&DenseStep::new(
+                self.t,
+                remaining,
+                &self.y,
+                &y_end,
+                &[self.f; 16],
+            ));
+        }
+        Outcome {
+            t: t_end,
+            y: y_end,
+            event: None,
+        }
     }
 }
 
