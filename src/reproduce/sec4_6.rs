@@ -11,7 +11,8 @@ use super::Resolution;
 use crate::compare::{compare, compare_panels, ComparePoint, CompareSettings, Comparison, Source};
 use crate::error::{GearError, Result};
 use crate::hb::{
-    df_response, df_solutions, linear_peak, transition_frequencies, DfMethod, LinearPeak,
+    df_response, df_solutions, linear_peak, transition_frequencies, DfMethod, DfSolution,
+    LinearPeak,
 };
 use crate::model::Impact;
 use crate::progress::{NoProgress, Progress};
@@ -76,8 +77,23 @@ pub(crate) fn build(
     };
     let mut claims = Vec::new();
     let mut figs = Vec::new();
+    let (fig10, df) = fig10_figure()?;
+    figs.push(fig10);
+    claims.push(fig10_claim(&df));
+    claims.push(eq13_claim(studies));
+    claims.push(eq14_claim()?);
+    figs.extend(figs11_13(heavy, light));
+    let onsets = [case3_onset(0.05)?, case3_onset(0.1)?, case3_onset(0.2)?];
+    claims.extend(comparison_claims(heavy, light, onsets[2], confirmations));
+    let (fig14_maps, fractions) = fig14_figures(res, searches)?;
+    figs.extend(fig14_maps);
+    claims.push(fig14_claim(&fractions));
+    claims.extend(figs15_18_claims(studies, &onsets)?);
+    Ok((claims, figs))
+}
 
-    // Fig. 10.
+/// Fig. 10: the df-exact response of q_a and q_m at [`FIG10`]'s parameters, and its solutions.
+fn fig10_figure() -> Result<(Artifact, Vec<DfSolution>)> {
     let omegas: Vec<f64> = (0..=140).map(|i| 0.2 + 0.01 * i as f64).collect();
     let (fm, fah, zeta) = FIG10;
     let df = df_response(fm, fah, zeta, &omegas, DfMethod::Exact)?;
@@ -91,7 +107,7 @@ pub(crate) fn build(
     );
     let qa_pts: Vec<_> = rows.iter().map(|r| (r.0, r.1, r.3, r.4)).collect();
     let qm_pts: Vec<_> = rows.iter().map(|r| (r.0, r.2, r.3, r.4)).collect();
-    figs.push(Artifact::Panels {
+    let fig = Artifact::Panels {
         dir: DIR.into(),
         stem: "fig10-df-response".into(),
         title: "Fig. 10: frequency response by harmonic balance, (a) q_a, (b) q_m".into(),
@@ -105,12 +121,14 @@ pub(crate) fn build(
             panel("(b) q_m".into(), caption, "q_m", case_markers(&qm_pts, "")),
         ],
         cols: 2,
-    });
-    claims.push(fig10_claim(&df));
-    claims.push(eq13_claim(studies));
-    claims.push(eq14_claim()?);
+    };
+    Ok((fig, df))
+}
 
-    // Figs 11-13.
+/// Figs 11-13: each comparison's panels, then the carried sweeps (df-exact and the up-sweep)
+/// of both side by side.
+fn figs11_13(heavy: &Comparison, light: &Comparison) -> Vec<Artifact> {
+    let mut figs = Vec::new();
     for (c, stem, title) in [
         (
             heavy,
@@ -160,24 +178,43 @@ pub(crate) fn build(
         panels: fig13,
         cols: 2,
     });
-    claims.push(amplitude_claim("S5-01", "Fig. 11", "F_hat 2, zeta 0.05: simulation and theory agree very well in the amplitudes of case I and case II", heavy));
-    claims.push(no_case3_claim(heavy));
-    claims.push(amplitude_claim(
-        "S5-03",
-        "Fig. 12",
-        "F_hat 0.5, zeta 0.05: case I and case II solutions of both techniques are very close",
-        light,
-    ));
-    let onsets = [case3_onset(0.05)?, case3_onset(0.1)?, case3_onset(0.2)?];
-    claims.push(case3_only_hb_claim(light, onsets[2]));
-    claims.push(multivalued_claim("S5-05a", "Fig. 11", (0.6, 0.7), heavy));
-    claims.push(multivalued_claim("S5-05b", "Fig. 12", (0.4, 0.7), light));
-    claims.push(carried_claim(heavy, light));
-    claims.push(jump_claim(heavy));
-    claims.push(non_period_one_claim(light, confirmations));
+    figs
+}
 
-    // Fig. 14.
+/// The claims of Sec. 5 on Figs 11-13; `case3_onset_light` is the case III onset of F_ah 0.2
+/// ([`case3_onset`]).
+fn comparison_claims(
+    heavy: &Comparison,
+    light: &Comparison,
+    case3_onset_light: Option<f64>,
+    confirmations: &Confirmations,
+) -> Vec<Claim> {
+    vec![
+        amplitude_claim("S5-01", "Fig. 11", "F_hat 2, zeta 0.05: simulation and theory agree very well in the amplitudes of case I and case II", heavy),
+        no_case3_claim(heavy),
+        amplitude_claim(
+            "S5-03",
+            "Fig. 12",
+            "F_hat 0.5, zeta 0.05: case I and case II solutions of both techniques are very close",
+            light,
+        ),
+        case3_only_hb_claim(light, case3_onset_light),
+        multivalued_claim("S5-05a", "Fig. 11", (0.6, 0.7), heavy),
+        multivalued_claim("S5-05b", "Fig. 12", (0.4, 0.7), light),
+        carried_claim(heavy, light),
+        jump_claim(heavy),
+        non_period_one_claim(light, confirmations),
+    ]
+}
+
+/// Fig. 14: the case III basin maps at zeta 0.02, 0.03, 0.04, and each map's fraction of
+/// double-sided impacts.
+fn fig14_figures(
+    res: &Resolution,
+    searches: &Searches,
+) -> Result<(Vec<Artifact>, Vec<(f64, f64)>)> {
     let b = IcGrid::new(-2.0, 2.0, res.basin_n)?;
+    let mut figs = Vec::new();
     let mut fr = Vec::new();
     for (z, stem) in [
         (0.02, "fig14a-case3-basins"),
@@ -196,16 +233,17 @@ pub(crate) fn build(
         ));
         fr.push((z, double_fraction(m)));
     }
-    claims.push(fig14_claim(&fr));
+    Ok((figs, fr))
+}
 
-    // Figs 15-18.
+/// The claims of Figs 15-18 from the parametric studies (load, mean load, damping).
+fn figs15_18_claims(studies: &[StudyOutput], onsets: &[Option<f64>; 3]) -> Result<Vec<Claim>> {
     let find = |name: &str| studies.iter().find(|s| s.name == name).map(|s| &s.summary);
     let missing = || GearError::Numerical("internal: study missing".into());
     let load = find("parametric-load").ok_or_else(missing)?;
     let mean = find("parametric-mean").ok_or_else(missing)?;
     let damp = find("damping").ok_or_else(missing)?;
-    claims.extend(parametric_claims(load, mean, damp, &onsets));
-    Ok((claims, figs))
+    Ok(parametric_claims(load, mean, damp, onsets))
 }
 
 /// Largest damping ratio (scanned down from 0.05 in steps of 0.001 to 0.01) at which the
@@ -234,7 +272,7 @@ fn onset_text(fhat: f64, onset: Option<f64>) -> String {
     }
 }
 
-fn fig10_claim(df: &[crate::hb::DfSolution]) -> Claim {
+fn fig10_claim(df: &[DfSolution]) -> Claim {
     let has = |c: Impact| df.iter().any(|s| s.case == c);
     let mut per: Vec<(f64, usize)> = Vec::new();
     for s in df {
