@@ -207,12 +207,16 @@ fn comparison_claims(
     ]
 }
 
+/// (zeta, fraction of the map's initial conditions that end in a period-1 double-sided
+/// impact orbit) of each Fig. 14 map.
+type DoubleFractions = Vec<(f64, f64)>;
+
 /// Fig. 14: the case III basin maps at zeta 0.02, 0.03, 0.04, and each map's fraction of
 /// double-sided impacts.
 fn fig14_figures(
     res: &Resolution,
     searches: &Searches,
-) -> Result<(Vec<Artifact>, Vec<(f64, f64)>)> {
+) -> Result<(Vec<Artifact>, DoubleFractions)> {
     let b = IcGrid::new(-2.0, 2.0, res.basin_n)?;
     let mut figs = Vec::new();
     let mut fr = Vec::new();
