@@ -229,6 +229,17 @@ mod tests {
         print_information(Candidate::TorqueRipple, 0.03, &[100.0, 50.0], 36);
     }
 
+    /// The torque ripple at 0.05 and 0.08 of the design load's force on the 100 rpm grid, as
+    /// [`torque_ripple_information`]: how large a ripple the recovery target needs on these
+    /// curves.
+    #[test]
+    #[ignore]
+    fn torque_ripple_information_at_larger_amplitudes() {
+        for amplitude in [0.05, 0.08] {
+            print_information(Candidate::TorqueRipple, amplitude, &[100.0], 36);
+        }
+    }
+
     /// The stiffness variation of the eps 0.15 recovery studies at 24 phases on the 100 rpm
     /// grid, as [`torque_ripple_information`]: where the misses of those studies sit (5, 100,
     /// 123 and 250-270 deg), is the phase blind on these curves or is `discover` short of the
@@ -238,6 +249,167 @@ mod tests {
     #[ignore]
     fn stiffness_variation_information() {
         print_information(Candidate::MeshStiffnessVariation, 0.15, &[100.0], 24);
+    }
+
+    /// The torque ripple 0.03 on the 100 rpm grid at 36 phases when each load's STE is stated
+    /// (measured statically, or computed from the geometry) with standard deviation `sd` um:
+    /// M0's fit then pays (ste - stated)^2 / sd^2 for moving an STE to absorb the ripple. Is
+    /// the recovery target within reach of any test on sets that carry such an STE? The fits
+    /// are continued in the phase both ways round, as in [`print_information`], and a subset's
+    /// lambda is bounded also by the all-load fit's share of it.
+    #[test]
+    #[ignore]
+    fn torque_ripple_information_with_stated_ste() {
+        let speeds: Vec<f64> = (0..=40).map(|k| 1000.0 + 100.0 * k as f64).collect();
+        let phases = 36;
+        let sets: Vec<_> = (0..phases)
+            .map(|k| {
+                let phase = (360.0 / phases as f64 * k as f64).to_radians();
+                let e = Effect::of(
+                    Candidate::TorqueRipple,
+                    vec![0.03 * phase.cos(), 0.03 * phase.sin()],
+                );
+                let (setup, scales, mask) = truth_set(&speeds, &e).unwrap();
+                (e, setup, scales, mask)
+            })
+            .collect();
+        let (all, train) = ([0, 1, 2, 3], [0, 2]);
+        for sd in [0.05, 0.1, 0.2] {
+            let fit = |k: usize, idx: &[usize], also: &[Option<Vec<f64>>]| {
+                let (e, setup, scales, mask) = &sets[k];
+                StatedSteFit::new(setup, scales, mask, idx, sd).best(e, also)
+            };
+            let mut fits: Vec<(f64, Option<Vec<f64>>)> = Vec::new();
+            for k in 0..phases {
+                let prev = fits.last().and_then(|f| f.1.clone());
+                fits.push(fit(k, &all, &[prev]));
+            }
+            for k in (0..phases).rev() {
+                let next = fits[(k + 1) % phases].1.clone();
+                let f = fit(k, &all, &[next]);
+                if f.0 < fits[k].0 {
+                    fits[k] = f;
+                }
+            }
+            println!(
+                "stated STE, sd {sd} um: phase_deg lambda_all power025 | lambda_train power025"
+            );
+            let mut mean = [0.0; 2];
+            for (k, (l_all, params)) in fits.iter().enumerate() {
+                let (_, setup, scales, mask) = &sets[k];
+                let from_all = params.as_ref().map(|p| {
+                    let mut v = p[..2].to_vec();
+                    v.extend(train.iter().map(|&i| p[2 + i]));
+                    v
+                });
+                let share = from_all.as_ref().map_or(f64::INFINITY, |p| {
+                    StatedSteFit::new(setup, scales, mask, &train, sd).rss_at(p)
+                });
+                let l_train = fit(k, &train, &[from_all]).0.min(share);
+                let p = |l: f64| noncentral_chi2_sf_even(2, l, 7.377759);
+                println!(
+                    "{:5.0} {l_all:8.2} {:.3} | {l_train:8.2} {:.3}",
+                    360.0 / phases as f64 * k as f64,
+                    p(*l_all),
+                    p(l_train)
+                );
+                mean[0] += p(*l_all) / phases as f64;
+                mean[1] += p(l_train) / phases as f64;
+            }
+            println!(
+                "mean power at 0.025: all loads {:.3}, training loads {:.3}",
+                mean[0], mean[1]
+            );
+        }
+    }
+
+    /// M0 on curves `idx` with each STE stated at the truth's with standard deviation `sd` um:
+    /// the weighted residuals and one more residual per load, (ste - stated) / sd.
+    struct StatedSteFit<'a> {
+        setup: &'a Setup,
+        scales: &'a Scales,
+        mask: &'a Mask,
+        idx: &'a [usize],
+        sd: f64,
+    }
+
+    impl<'a> StatedSteFit<'a> {
+        fn new(
+            setup: &'a Setup,
+            scales: &'a Scales,
+            mask: &'a Mask,
+            idx: &'a [usize],
+            sd: f64,
+        ) -> Self {
+            StatedSteFit {
+                setup,
+                scales,
+                mask,
+                idx,
+                sd,
+            }
+        }
+
+        /// Residuals at [zeta, omega_n_hz, ste per curve].
+        fn residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
+            let g = Globals {
+                zeta: p[0],
+                omega_n_hz: p[1],
+            };
+            let preds = self
+                .idx
+                .iter()
+                .zip(&p[2..])
+                .map(|(&i, &ste)| predict(self.setup, i, g, ste, &Effect::none()))
+                .collect::<Result<Vec<_>>>()?;
+            let mut r = residuals_of(self.setup, self.idx, &preds, self.mask, self.scales);
+            r.extend(
+                self.idx
+                    .iter()
+                    .zip(&p[2..])
+                    .map(|(&i, s)| (s - LOADS[i].1) / self.sd),
+            );
+            Ok(r)
+        }
+
+        fn rss_at(&self, p: &[f64]) -> f64 {
+            self.residuals(p).map_or(f64::INFINITY, |r| rss(&r))
+        }
+
+        /// The least residual sum of squares from the truth, the STE matched to `effect`'s
+        /// first-order part and each of `also`, and its parameters.
+        fn best(&self, effect: &Effect, also: &[Option<Vec<f64>>]) -> (f64, Option<Vec<f64>>) {
+            let truth: Vec<f64> = self.idx.iter().map(|&i| LOADS[i].1).collect();
+            let matched: Vec<f64> = self
+                .idx
+                .iter()
+                .map(|&i| {
+                    matched_stes(self.setup, i, LOADS[i].1, effect).map_or(LOADS[i].1, |r| r[0])
+                })
+                .collect();
+            let mut starts: Vec<Vec<f64>> = [truth, matched]
+                .iter()
+                .map(|ste| [vec![TRUTH.zeta, TRUTH.omega_n_hz], ste.clone()].concat())
+                .collect();
+            starts.extend(also.iter().flatten().cloned());
+            let f = |p: &[f64]| self.residuals(p);
+            starts
+                .iter()
+                .filter_map(|start| {
+                    let mut params = vec![
+                        crate::fit::Param::signed("zeta", start[0], 0.005),
+                        crate::fit::Param::signed("omega_n_hz", start[1], 10.0),
+                    ];
+                    params.extend(
+                        start[2..].iter().enumerate().map(|(k, &s)| {
+                            crate::fit::Param::signed(&format!("ste_um_{k}"), s, 0.05)
+                        }),
+                    );
+                    crate::fit::least_squares(&f, &params, Stop::converged(40)).ok()
+                })
+                .min_by(|a, b| a.rss.total_cmp(&b.rss))
+                .map_or((f64::INFINITY, None), |fit| (fit.rss, Some(fit.params)))
+        }
     }
 
     /// lambda and the power bounds of `candidate` at amplitude `amplitude` and `phases` phases
