@@ -112,10 +112,30 @@ fn truth_set(speeds: &[f64], effect: &Effect) -> Result<(Setup, Scales, Mask)> {
     ))
 }
 
-/// M0's best fit on the curves `idx` over starts at the truth's globals with each load's STE at
-/// the truth's and at the roots that match the effect's first-order part ([`matched_stes`]), and
-/// at `also` (parameter layout of `ModelFit::lm`): its residual sum of squares, each curve's
-/// share of it (in `idx`'s order) and its parameters.
+/// Starts of an M0 fit on the curves `idx` (parameter layout of `ModelFit::lm`): the truth's
+/// globals with each load's STE at the truth's and at the root that matches `effect`'s
+/// first-order part ([`matched_stes`]), then each of `also`.
+fn m0_starts(
+    setup: &Setup,
+    idx: &[usize],
+    effect: &Effect,
+    also: impl IntoIterator<Item = Vec<f64>>,
+) -> Vec<Vec<f64>> {
+    let matched: Vec<f64> = idx
+        .iter()
+        .map(|&i| matched_stes(setup, i, LOADS[i].1, effect).map_or(LOADS[i].1, |r| r[0]))
+        .collect();
+    let truth: Vec<f64> = idx.iter().map(|&i| LOADS[i].1).collect();
+    let mut starts: Vec<Vec<f64>> = [truth, matched]
+        .into_iter()
+        .map(|ste| [vec![TRUTH.zeta, TRUTH.omega_n_hz], ste].concat())
+        .collect();
+    starts.extend(also);
+    starts
+}
+
+/// M0's best fit on the curves `idx` from the starts of [`m0_starts`] and `also`: its residual
+/// sum of squares, each curve's share of it (in `idx`'s order) and its parameters.
 fn m0_fit(
     setup: &Setup,
     scales: &Scales,
@@ -124,17 +144,7 @@ fn m0_fit(
     effect: &Effect,
     also: Option<&[f64]>,
 ) -> (f64, Vec<f64>, Option<Vec<f64>>) {
-    let matched: Vec<f64> = idx
-        .iter()
-        .map(|&i| matched_stes(setup, i, LOADS[i].1, effect).map_or(LOADS[i].1, |r| r[0]))
-        .collect();
-    let truth: Vec<f64> = idx.iter().map(|&i| LOADS[i].1).collect();
-    let mut starts: Vec<Vec<f64>> = [truth, matched]
-        .iter()
-        .map(|ste| [vec![TRUTH.zeta, TRUTH.omega_n_hz], ste.clone()].concat())
-        .collect();
-    starts.extend(also.map(<[f64]>::to_vec));
-    let best = starts
+    let best = m0_starts(setup, idx, effect, also.map(<[f64]>::to_vec))
         .iter()
         .filter_map(|start| {
             fit_model(
@@ -379,21 +389,8 @@ mod tests {
         /// The least residual sum of squares from the truth, the STE matched to `effect`'s
         /// first-order part and each of `also`, and its parameters.
         fn best(&self, effect: &Effect, also: &[Option<Vec<f64>>]) -> (f64, Option<Vec<f64>>) {
-            let truth: Vec<f64> = self.idx.iter().map(|&i| LOADS[i].1).collect();
-            let matched: Vec<f64> = self
-                .idx
-                .iter()
-                .map(|&i| {
-                    matched_stes(self.setup, i, LOADS[i].1, effect).map_or(LOADS[i].1, |r| r[0])
-                })
-                .collect();
-            let mut starts: Vec<Vec<f64>> = [truth, matched]
-                .iter()
-                .map(|ste| [vec![TRUTH.zeta, TRUTH.omega_n_hz], ste.clone()].concat())
-                .collect();
-            starts.extend(also.iter().flatten().cloned());
             let f = |p: &[f64]| self.residuals(p);
-            starts
+            m0_starts(self.setup, self.idx, effect, also.iter().flatten().cloned())
                 .iter()
                 .filter_map(|start| {
                     let mut params = vec![
