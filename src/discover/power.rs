@@ -250,6 +250,15 @@ mod tests {
         }
     }
 
+    /// The torque ripple 0.03 on the 25 rpm grid (161 speeds per curve, four times the 100 rpm
+    /// grid's points), as [`torque_ripple_information`]: would denser data make the recovery
+    /// target reachable without a stated STE? (About 40 minutes on 2 cores.)
+    #[test]
+    #[ignore]
+    fn torque_ripple_information_on_a_denser_grid() {
+        print_information(Candidate::TorqueRipple, 0.03, &[25.0], 36);
+    }
+
     /// The stiffness variation of the eps 0.15 recovery studies at 24 phases on the 100 rpm
     /// grid, as [`torque_ripple_information`]: where the misses of those studies sit (5, 100,
     /// 123 and 250-270 deg), is the phase blind on these curves or is `discover` short of the

@@ -289,21 +289,10 @@ impl Refit<'_> {
     /// last stage is run once more from that basin, and of the two the one whose other basin
     /// lies higher above it is kept: a negative increase is a contradiction, the kept fit not
     /// the best of its basins under its own noise.
-    fn last_stage(&self, f2: ModelFit, mut rest: Vec<ModelFit>) -> Result<RefitOutcome> {
-        let (first, better) = self.last_stage_from(&f2, &rest)?;
-        let Some(k) = better else {
-            return Ok(first);
-        };
-        let from = rest.remove(k);
-        rest.push(f2);
-        let (second, _) = self.last_stage_from(&from, &rest)?;
+    fn last_stage(&self, f2: ModelFit, rest: Vec<ModelFit>) -> Result<RefitOutcome> {
         let increase =
             |o: &RefitOutcome| o.2.as_ref().map_or(f64::INFINITY, |b| b.deviance_increase);
-        Ok(if increase(&second) > increase(&first) {
-            second
-        } else {
-            first
-        })
+        from_the_better_basin(f2, rest, |f, r| self.last_stage_from(f, r), increase)
     }
 
     /// [`Refit::last_stage`] from `f2` alone; with the index in `rest` of the other basin
@@ -396,6 +385,31 @@ impl Refit<'_> {
             })
             .min_by(|a, b| a.1.deviance_increase.total_cmp(&b.1.deviance_increase))
     }
+}
+
+/// The swap of [`Refit::last_stage`], apart from the fits: `stage(from, others)` runs the last
+/// stage from one fit with the others as its rivals, and says which rival (an index into
+/// `others`) fits better under its noise. When one does, the stage is run again from that rival
+/// with `from` among the rivals in its place, and of the two outcomes the one whose best rival
+/// lies higher above it (`increase`; infinite without a rival) is kept, the first on a tie.
+fn from_the_better_basin<F, O>(
+    from: F,
+    mut others: Vec<F>,
+    stage: impl Fn(&F, &[F]) -> Result<(O, Option<usize>)>,
+    increase: impl Fn(&O) -> f64,
+) -> Result<O> {
+    let (first, better) = stage(&from, &others)?;
+    let Some(k) = better else {
+        return Ok(first);
+    };
+    let rival = others.remove(k);
+    others.push(from);
+    let (second, _) = stage(&rival, &others)?;
+    Ok(if increase(&second) > increase(&first) {
+        second
+    } else {
+        first
+    })
 }
 
 /// Whether two fits of a phase-carrying candidate, each its delta and its 95% Wald arc of the
@@ -962,12 +976,12 @@ fn restandardized(lm: &LmFit, idx: &[usize], mask: &Mask, old: &Scales, new: &Sc
 #[cfg(test)]
 mod tests {
     use super::{
-        deviance_under, distinct_minima, nearest_distinct_basin, polar_profile, profile_start,
-        ste_roots,
+        deviance_under, distinct_minima, from_the_better_basin, nearest_distinct_basin,
+        polar_profile, profile_start, ste_roots,
     };
     use crate::discover::effects::{Candidate, Effect};
     use crate::discover::run::OtherStart;
-    use crate::error::GearError;
+    use crate::error::{GearError, Result};
 
     /// A fit's -2 log L weighs it by the noise at its own level: data 2, 10, 4 um (the middle
     /// point masked out), a fit predicting 1 and 6 um on the kept points (standardized residuals
@@ -1044,6 +1058,55 @@ mod tests {
     /// seed 4's pair, 55 deg apart with arcs of +-4 deg, is); the same minimum reached twice,
     /// or a fit inside a wide arc, is not; without arcs, more than 90 deg apart. The phase
     /// difference wraps at +-180 deg.
+    /// The last stage's swap on stand-in fits (numbers for their -2 log L): from the kept fit
+    /// 10 with rivals 7 and 12, rival 7 fits better; the stage runs again from 7 with 12 and
+    /// 10 as rivals, and the outcome whose best rival lies higher above it is kept.
+    #[test]
+    fn the_last_stage_is_rerun_from_a_better_rival_and_the_consistent_outcome_kept() {
+        use std::cell::RefCell;
+        let calls = RefCell::new(Vec::new());
+        // An outcome: (the fit it started from, its best rival's increase).
+        let stage = |from: &i32, others: &[i32]| -> Result<((i32, f64), Option<usize>)> {
+            calls.borrow_mut().push((*from, others.to_vec()));
+            let (k, best) = others
+                .iter()
+                .enumerate()
+                .min_by_key(|(_, o)| **o)
+                .map(|(k, o)| (k, *o))
+                .unwrap();
+            let increase = f64::from(best - from);
+            Ok(((*from, increase), (increase < 0.0).then_some(k)))
+        };
+        let increase = |o: &(i32, f64)| o.1;
+        let kept = from_the_better_basin(10, vec![7, 12], stage, increase).unwrap();
+        assert_eq!(kept, (7, 3.0));
+        assert_eq!(*calls.borrow(), vec![(10, vec![7, 12]), (7, vec![12, 10])]);
+
+        // No better rival: one stage, its outcome kept.
+        calls.borrow_mut().clear();
+        let kept = from_the_better_basin(7, vec![10, 12], stage, increase).unwrap();
+        assert_eq!(kept, (7, 3.0));
+        assert_eq!(calls.borrow().len(), 1);
+
+        // A second stage no more consistent than the first (its rival as far below): the first
+        // is kept.
+        let flat = |from: &i32, _: &[i32]| -> Result<((i32, f64), Option<usize>)> {
+            Ok(((*from, -1.0), Some(0)))
+        };
+        let kept = from_the_better_basin(10, vec![7], flat, increase).unwrap();
+        assert_eq!(kept, (10, -1.0));
+
+        // A failing second stage fails the whole.
+        let failing = |from: &i32, _: &[i32]| -> Result<((i32, f64), Option<usize>)> {
+            if *from == 10 {
+                Ok(((10, -2.0), Some(0)))
+            } else {
+                Err(GearError::Numerical("no start converged".into()))
+            }
+        };
+        assert!(from_the_better_basin(10, vec![7], failing, increase).is_err());
+    }
+
     #[test]
     fn distinct_minima_lie_outside_each_others_arcs() {
         let at = |deg: f64| {
