@@ -430,6 +430,16 @@ fn table() -> Vec<Case> {
             "--noise-um",
         ),
         cli(
+            "synth relative part on the constant family",
+            "synth munro --noise constant --noise-relative 0.05 --out out",
+            "--noise-relative applies to the level-dependent families",
+        ),
+        cli(
+            "synth student-t with 2 dof",
+            "synth munro --noise student-t --noise-dof 2 --out out",
+            "--noise-dof",
+        ),
+        cli(
             "synth kubo zeta 1.5",
             "synth kubo --zeta 1.5 --out out",
             "--zeta",

@@ -604,6 +604,18 @@ fn noise_and_measured_rig_errors_are_located() {
             "implausible floor",
         ),
         (
+            r.replace("floor_um = 0.1", "floor_um = 0.0"),
+            12,
+            "noise.floor_um",
+            "zero floor",
+        ),
+        (
+            r.replace("reading_um = 0.05", "reading_um = 0.2"),
+            12,
+            "noise.floor_um",
+            "floor below the reading uncertainty",
+        ),
+        (
             r.replace("relative = 0.02", "relative = 1.5"),
             13,
             "noise.relative",
@@ -662,6 +674,16 @@ fn noise_and_measured_rig_errors_are_located() {
 fn good_measured_set_with_stated_noise_loads() {
     let csv = "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.0,0.12\n3780,1100,1.2,0.13\n\
                2835,1000,2.0,0.2\n";
+    // The noise stated per point, rig.toml giving only the reading uncertainty.
+    let reading_only = MEASURED_RIG.replace("floor_um = 0.1\nrelative = 0.02\n", "");
+    let d = dataset(Some(&reading_only), &[("c.csv", csv)]);
+    let m = load_munro(d.path()).expect("good measured set with a noise column");
+    assert_eq!(m.loads(), vec![3780.0, 2835.0]);
+    let sds: Vec<Option<f64>> = m.curve(3780.0).iter().map(|p| p.sd_um).collect();
+    assert_eq!(sds, vec![Some(0.12), Some(0.13)]);
+    assert_eq!(m.curve(2835.0)[0].sd_um, Some(0.2));
+    // The noise stated in rig.toml.
+    let csv = "load_n,speed_rpm,dte_pp_um\n3780,1000,1.0\n3780,1100,1.2\n2835,1000,2.0\n";
     let d = dataset(Some(MEASURED_RIG), &[("c.csv", csv)]);
     let m = load_munro(d.path()).expect("good measured set");
     assert_eq!(m.rig.source.kind, DataKind::Measured);
@@ -679,16 +701,52 @@ fn good_measured_set_with_stated_noise_loads() {
             reading_um: Some(0.05),
         })
     );
-    assert_eq!(m.loads(), vec![3780.0, 2835.0]);
-    let sds: Vec<Option<f64>> = m.curve(3780.0).iter().map(|p| p.sd_um).collect();
-    assert_eq!(sds, vec![Some(0.12), Some(0.13)]);
-    assert_eq!(m.curve(2835.0)[0].sd_um, Some(0.2));
+    assert!(m.points.iter().all(|p| p.sd_um.is_none()));
     let banner = geardyn::report::data_kind_banner(&m.rig);
     assert!(
         banner.starts_with("MEASURED DATA: Gear lab test report TR-12 (2024) (two optical"),
         "{banner}"
     );
     assert!(!banner.to_lowercase().contains("synthetic"), "{banner}");
+}
+
+/// The noise is stated once: a `dte_pp_sd_um` column on one file of two is refused at the
+/// first point of the other (the noise of its points would be another's), and a column beside a
+/// `[noise]` model at the model's first key.
+#[test]
+fn noise_stated_on_some_files_or_twice_is_refused_where_it_is() {
+    let with = "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.0,0.12\n3780,1100,1.2,0.13\n";
+    let without = "# the other load\nload_n,speed_rpm,dte_pp_um\n2835,1000,2.0\n2835,1100,2.2\n";
+    let reading_only = MEASURED_RIG.replace("floor_um = 0.1\nrelative = 0.02\n", "");
+    let d = dataset(Some(&reading_only), &[("a.csv", with), ("b.csv", without)]);
+    let msg = load_munro(d.path())
+        .expect_err("a column on one file")
+        .to_string();
+    assert!(
+        msg.contains("b.csv:3: field 'dte_pp_sd_um'") && msg.contains("given for 2 of 4 points"),
+        "{msg}"
+    );
+    let d = dataset(Some(MEASURED_RIG), &[("a.csv", with)]);
+    let msg = load_munro(d.path()).expect_err("stated twice").to_string();
+    assert!(
+        msg.contains("rig.toml:12: field 'noise.floor_um'") && msg.contains("stated twice"),
+        "{msg}"
+    );
+    // A number written as a text is named as such, not as serde's Rust type.
+    let quoted = MEASURED_RIG.replace("floor_um = 0.1", "floor_um = \"0.1\"");
+    let d = dataset(Some(&quoted), &[]);
+    let msg = geardyn::data::load_rig(&d.path().join("rig.toml"))
+        .expect_err("quoted number")
+        .to_string();
+    assert!(
+        msg.contains("rig.toml:12: field 'noise.floor_um'")
+            && msg.contains("expected a number (unquoted)"),
+        "{msg}"
+    );
+    let relative_only = MEASURED_RIG.replace("floor_um = 0.1\n", "");
+    let d = dataset(Some(&relative_only), &[("a.csv", with)]);
+    let msg = load_munro(d.path()).expect_err("stated twice").to_string();
+    assert!(msg.contains("rig.toml:12: field 'noise.relative'"), "{msg}");
 }
 
 /// A 200k-row file with an error on its last row reports that row's line (loading is linear in
@@ -755,7 +813,14 @@ fn documented_examples_load() {
     let r = geardyn::data::load_rig(&d.path().join("rig.toml")).expect("integer load");
     assert_eq!(r.rig.design_load_n, 3780.0);
     for csv in &csvs {
-        let d = dataset(Some(&rigs[0]), &[("c.csv", csv)]);
+        // The documented Munro CSV states its noise per point, so its rig is the digitized
+        // example, which states only a reading uncertainty.
+        let rig = if csv.starts_with("load_n") {
+            &rigs[1]
+        } else {
+            &rigs[0]
+        };
+        let d = dataset(Some(rig), &[("c.csv", csv)]);
         if csv.starts_with("load_n") {
             let m = load_munro(d.path()).expect("documented Munro CSV");
             assert!(m.points.iter().all(|p| p.sd_um.is_some()));

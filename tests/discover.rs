@@ -715,7 +715,7 @@ fn a_significant_candidate_without_a_detected_discrepancy_is_not_refitted() {
     assert_eq!(d.effect, "none");
     assert_eq!(d.significant_undetected, ["torque_ripple"]);
     assert!(d.candidates.iter().all(|c| c.estimate.is_none()));
-    assert_eq!(d.gap_after_model, "M0 (no candidate refitted)");
+    assert_eq!(d.gap_after_model, "M0, no candidate refitted");
     let text = geardyn::discover::summary_text(&d);
     assert!(
         text.contains(

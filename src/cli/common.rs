@@ -347,12 +347,13 @@ pub struct NoiseArgs {
     #[arg(long, default_value_t = 0.15, allow_hyphen_values = true,
           value_parser = real(0.0, 1000.0, false))]
     pub noise_um: f64,
-    /// Relative part of the level-dependent families, a fraction of the level (dimensionless),
-    /// in [0, 0.99] (default 0.03).
+    /// Relative part of the level-dependent families (relative, student-t, quantized), a
+    /// fraction of the level (dimensionless), in [0, 0.99] (default 0.03).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 0.99, false))]
     pub noise_relative: Option<f64>,
-    /// Degrees of freedom of the student-t family (dimensionless), in [1, 1000] (default 3).
-    #[arg(long, allow_hyphen_values = true, value_parser = real(1.0, 1000.0, false))]
+    /// Degrees of freedom of the student-t family (dimensionless), in (2, 1000] (default 3;
+    /// at 2 or fewer its variance is infinite and the floor no standard deviation).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(2.0, 1000.0, true))]
     pub noise_dof: Option<f64>,
     /// Reading grid of the quantized family, µm, in (0, 1000] (default 0.25).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
@@ -371,6 +372,11 @@ impl NoiseArgs {
         })?;
         let mut n = family.noise(self.noise_um);
         if let Some(r) = self.noise_relative {
+            if family == NoiseFamily::Constant {
+                anyhow::bail!(
+                    "--noise-relative applies to the level-dependent families (relative, student-t, quantized); --noise constant has none"
+                );
+            }
             n.model.relative = r;
         }
         if let Some(d) = self.noise_dof {

@@ -7,8 +7,8 @@
 
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::{CurveOrder, LoadGroups};
-use super::errors::check_data_folder;
-use super::rig::{load_rig, RigFile};
+use super::errors::{check_data_folder, data_error};
+use super::rig::{load_rig, rig_key_error, RigFile};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
@@ -139,11 +139,50 @@ pub fn load_munro(dir: &Path) -> Result<MunroData> {
             });
         }
     }
+    check_noise_statements(dir, &rig, &points)?;
     Ok(MunroData {
         dir: dir.to_path_buf(),
         rig,
         points,
     })
+}
+
+/// The noise is stated once or not at all: a `dte_pp_sd_um` column on every point or on none
+/// (a file without it would leave its points to a noise the others do not share), and not
+/// both a column and a `[noise]` model. Left to the fit, a column on some files only was
+/// dropped without a word, and a column beside `[noise] floor_um` won without one.
+fn check_noise_statements(dir: &Path, rig: &RigFile, points: &[MunroPoint]) -> Result<()> {
+    let stated = points.iter().filter(|p| p.sd_um.is_some()).count();
+    if stated == 0 {
+        return Ok(());
+    }
+    if let Some(p) = points.iter().find(|p| p.sd_um.is_none()) {
+        return Err(data_error(
+            &p.file,
+            p.line,
+            SD_COLUMN,
+            format!(
+                "{SD_COLUMN} is given for {stated} of {} points but not for this one (its file has no such column): state it on every point of every file, or on none",
+                points.len()
+            ),
+        ));
+    }
+    if let Some(noise) = &rig.noise {
+        let key = if noise.floor_um.is_some() {
+            Some("floor_um")
+        } else {
+            noise.relative.map(|_| "relative")
+        };
+        if let Some(key) = key {
+            return Err(rig_key_error(
+                dir,
+                "noise",
+                key,
+                format!("the noise is stated twice, here and by the {SD_COLUMN} column of the CSV files: keep one"),
+            ));
+        }
+    }
+    Ok(())
 }
 
 /// Loads as "3780, 2835, 1890" (N).

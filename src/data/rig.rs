@@ -324,8 +324,9 @@ impl SteTable {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StatedNoise {
-    /// Noise floor: standard deviation of a reading (um) independent of its level; >= 0,
-    /// finite and below 1000 um (a larger floor is a unit mistake, not a DTE measurement).
+    /// Noise floor: standard deviation of a reading (um) independent of its level; > 0,
+    /// finite and below 1000 um (a larger floor is a unit mistake, not a DTE measurement), and
+    /// not below `reading_um` where both are given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub floor_um: Option<f64>,
     /// Level-dependent part: standard deviation as a fraction of the reading; in [0, 1).
@@ -352,7 +353,23 @@ impl StatedNoise {
                 "must be a finite number of micrometres in [0, 1000)",
             )
         };
-        optional(self.floor_um, |v| in_um("floor_um", v))
+        let floor = |v: f64| {
+            require(
+                "floor_um",
+                v,
+                v.is_finite() && v > 0.0 && v < NOISE_MAX_UM,
+                "must be a finite number of micrometres in (0, 1000): a stated noise needs a floor (with the relative part alone a reading at zero level would have no noise)",
+            )
+        };
+        let below_reading = |v: f64| {
+            require(
+                "floor_um",
+                v,
+                self.reading_um.is_none_or(|r| v >= r),
+                "lies below reading_um, the reading uncertainty, which bounds the noise floor from below",
+            )
+        };
+        optional(self.floor_um, floor)
             .or_else(|| {
                 optional(self.relative, |v| {
                     require(
@@ -364,6 +381,7 @@ impl StatedNoise {
                 })
             })
             .or_else(|| optional(self.reading_um, |v| in_um("reading_um", v)))
+            .or_else(|| optional(self.floor_um, below_reading))
     }
 }
 

@@ -64,9 +64,9 @@ const RIG_HEAD: &str = r##"# rig.toml of a geardyn data set: the test gear pair 
 # amplitude_um = [0.3, 2.5]      # um, each in (0, 1000]: STE amplitude (its first harmonic; half its peak-to-peak if sinusoidal), one per load
 
 # [noise]                  # OPTIONAL table: the measurement noise of the curve values, as you know it (else estimated from the data)
-# floor_um = 0.1           # um in [0, 1000): standard deviation of a reading, independent of its level
+# floor_um = 0.2           # um in (0, 1000), not below reading_um: standard deviation of a reading, independent of its level
 # relative = 0.02          # dimensionless in [0, 1): standard deviation as a fraction of the reading
-# reading_um = 0.2         # um in [0, 1000): how finely a digitized value can be read off its figure (lower bound of the fitted floor)
+# reading_um = 0.1         # um in [0, 1000): how finely a digitized value can be read off its figure (lower bound of the fitted floor)
 
 # [geometry]               # OPTIONAL table, read by `geardyn mesh` and `validate munro --ste geometry` only; defaults: standard full-depth steel gears at the standard centre distance
 # pinion_profile_shift = 0.0     # dimensionless in [-1, 1.5]: profile shift coefficient x1 (default 0)

@@ -548,12 +548,15 @@ fn noise_table_checks() {
         let (l, f, msg) = rig_error(&MEASURED_RIG.replace(from, to));
         assert_eq!((l, f.as_str()), (line, field), "{to}: {msg}");
     }
-    // Zero noise and an empty table are allowed (nothing stated is estimated).
-    let zero = MEASURED_RIG
-        .replace("floor_um = 0.1", "floor_um = 0.0")
-        .replace("relative = 0.02", "relative = 0.0");
+    // A zero relative part and an empty table are allowed (nothing stated is estimated); a
+    // zero floor is not (a stated noise needs one), nor one below the reading uncertainty.
+    let zero = MEASURED_RIG.replace("relative = 0.02", "relative = 0.0");
     let d = dataset(&[("rig.toml", zero.as_bytes())]);
     assert!(load_rig(&d.path().join("rig.toml")).is_ok());
+    for to in ["floor_um = 0.0", "floor_um = 0.04"] {
+        let (l, f, msg) = rig_error(&MEASURED_RIG.replace("floor_um = 0.1", to));
+        assert_eq!((l, f.as_str()), (12, "noise.floor_um"), "{to}: {msg}");
+    }
     let empty = MEASURED_RIG.replace("floor_um = 0.1\nrelative = 0.02\nreading_um = 0.05\n", "");
     let d = dataset(&[("rig.toml", empty.as_bytes())]);
     let r = load_rig(&d.path().join("rig.toml")).unwrap();

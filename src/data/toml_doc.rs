@@ -118,7 +118,12 @@ impl<'a> TomlDoc<'a> {
             .lines()
             .map(str::trim)
             .collect::<Vec<_>>()
-            .join("; ");
+            .join("; ")
+            // serde names Rust's types; a rig.toml's author wrote a number or a text.
+            .replace("expected f64", "expected a number (unquoted)")
+            .replace("expected u32", "expected a whole number (unquoted)")
+            .replace("expected usize", "expected a whole number (unquoted)")
+            .replace("expected a string", "expected a text (in quotes)");
         // An empty span at the start is how toml reports a missing top-level table: no line.
         let at = err
             .span()

@@ -1436,7 +1436,7 @@ fn discovery_of(
         (Some(n), true) => format!("M0 + {n}"),
         _ => {
             after_preds = r.f0.to_vec();
-            "M0 (no candidate refitted)".to_string()
+            "M0, no candidate refitted".to_string()
         }
     };
     let gap_set = |preds: &[CurvePrediction]| GapSet {

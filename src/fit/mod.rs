@@ -20,8 +20,8 @@ pub use lm::{
     least_squares, least_squares_warm, rss, secant_jacobian, LmFit, NearResiduals, Stop, UNSEEN,
 };
 pub use noise::{
-    estimate_noise, held_variance_components, log_likelihood, robust_weight, variance_components,
-    Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
+    estimate_noise, floor_at_bound, held_variance_components, log_likelihood, robust_weight,
+    variance_components, Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 pub use params::{Param, Transform};
 pub use profile::{profile_interval, profile_interval_or_better, ProfileInterval, Profiled};

@@ -376,6 +376,13 @@ fn full_covariance(c: &Curvatures, relative: bool) -> [[f64; 2]; 2] {
     }
 }
 
+/// Whether the floor of `m` ended at its lower bound `freedom.floor_min` (a stated reading
+/// uncertainty), within 0.05%: the optimiser's floor sqrt(floor_min^2 + e^2x) reaches the bound
+/// only as x runs to minus infinity, and stops a little above it.
+pub fn floor_at_bound(freedom: NoiseFreedom, m: &NoiseModel) -> bool {
+    freedom.floor_min > 0.0 && m.floor <= freedom.floor_min * (1.0 + 5e-4)
+}
+
 /// [`VarianceComponents`] of a fitted noise model.
 pub fn variance_components(
     data: &NoiseData,
@@ -398,12 +405,31 @@ pub fn variance_components(
 /// its own curvature. Left infinite, every interval's degrees of freedom fell to 1 (quantile
 /// 12.7): on 3 of 40 eps 0.2 sets of `discover`, whose floor was estimated at 1e-6 um under a
 /// relative part of 3%.
+///
+/// A floor that ended at its lower bound ([`floor_at_bound`]) is held there the same way: the
+/// likelihood still falls towards the smaller floors the bound forbids, so its curvature there
+/// is no measure of the floor's spread (it was negative on a digitized set whose scatter of
+/// 0.15 um lay under a stated reading uncertainty of 0.3 um, and every interval's degrees of
+/// freedom fell to 1, widening it eightfold).
 pub fn held_variance_components(
     data: &NoiseData,
     freedom: NoiseFreedom,
     m: &NoiseModel,
 ) -> VarianceComponents {
     let c = curvatures(data, freedom, m);
+    let inverse = |d: f64| if d > 0.0 { 1.0 / d } else { f64::INFINITY };
+    if floor_at_bound(freedom, m) {
+        let relative = if freedom.relative {
+            inverse(c.d2[1])
+        } else {
+            0.0
+        };
+        return VarianceComponents {
+            value: c.value,
+            covariance: [[0.0, 0.0], [0.0, relative]],
+            step: c.step,
+        };
+    }
     let full = full_covariance(&c, freedom.relative);
     let covariance = if !freedom.relative || full.iter().flatten().all(|v| v.is_finite()) {
         full
@@ -411,7 +437,6 @@ pub fn held_variance_components(
         let [d2a, d2t, _] = c.d2;
         let level_max = data.levels.iter().map(|l| l.abs()).fold(0.0, f64::max);
         let floor_smaller = c.value[0] < c.value[1] * level_max * level_max;
-        let inverse = |d: f64| if d > 0.0 { 1.0 / d } else { f64::INFINITY };
         if (floor_smaller && d2t > 0.0) || d2a <= 0.0 {
             [[0.0, 0.0], [0.0, inverse(d2t)]]
         } else {
@@ -433,7 +458,12 @@ pub fn noise_intervals(
     freedom: NoiseFreedom,
     m: &NoiseModel,
 ) -> ((f64, f64), Option<(f64, f64)>) {
-    let vc = variance_components(data, freedom, m);
+    // A floor held at its bound leaves the relative part's spread to its own curvature.
+    let vc = if floor_at_bound(freedom, m) {
+        held_variance_components(data, freedom, m)
+    } else {
+        variance_components(data, freedom, m)
+    };
     let ci = |k: usize| {
         let se = vc.covariance[k][k].sqrt();
         (

@@ -137,31 +137,50 @@ pub fn data_kind_banner(rig: &RigFile) -> String {
 }
 
 /// Whether a stated noise agrees with the scatter about the fit
-/// ([`crate::fit::NoiseFit::stated_noise_p`]): a mismatch below p 0.01, and the verdict in
-/// words; None where the noise was not stated.
+/// ([`crate::fit::NoiseFit::stated_noise_p`]): a mismatch (warned) below p 0.01, a doubt
+/// between 0.01 and 0.05, consistent above; the verdict in words. None where the noise was not
+/// stated.
 pub fn stated_noise_verdict(e: &crate::fit::Estimate) -> Option<(bool, String)> {
     let p = e.noise.stated_noise_p?;
+    let side = if e.chi_square < e.residual_dof as f64 {
+        "larger than"
+    } else {
+        "smaller than (or the model falls short of)"
+    };
     Some(if p < 0.01 {
         let p = if p < 0.001 {
             "< 0.001".to_string()
         } else {
             format!("{p:.3}")
         };
-        let side = if e.chi_square < e.residual_dof as f64 {
-            "larger than"
-        } else {
-            "smaller than (or the model falls short of)"
-        };
         (
             true,
             format!("two-sided p {p}: the stated noise is {side} the scatter about the fit"),
         )
+    } else if p < 0.05 {
+        (
+            false,
+            format!("two-sided p {p:.3}: the stated noise may be {side} the scatter about the fit (below 0.05; warned below 0.01)"),
+        )
     } else {
         (
             false,
-            format!("two-sided p {p:.2}: the stated noise agrees with the scatter about the fit"),
+            format!(
+                "two-sided p {p:.2}: the stated noise is consistent with the scatter about the fit"
+            ),
         )
     })
+}
+
+/// `lo` and `hi` with `digits` decimals joined by `sep`, or one value where they print alike
+/// (a per-point noise stated the same at every point is not a range).
+pub(crate) fn range_text(lo: f64, hi: f64, digits: usize, sep: &str) -> String {
+    let (a, b) = (format!("{lo:.digits$}"), format!("{hi:.digits$}"));
+    if a == b {
+        a
+    } else {
+        format!("{a}{sep}{b}")
+    }
 }
 
 /// One line on the noise of an engine fit: its model (or the stated per-point scales), the
@@ -173,15 +192,24 @@ pub fn noise_summary(e: &crate::fit::Estimate) -> String {
     let model = match n.source {
         NoiseSource::PerPoint => {
             let (lo, hi) = n.scale_range();
-            format!("stated per point (dte_pp_sd_um column), {lo:.3}-{hi:.3} um")
+            format!(
+                "stated per point (dte_pp_sd_um column), {} um",
+                range_text(lo, hi, 3, "-")
+            )
         }
         NoiseSource::Stated => format!(
             "stated floor {:.3} um, relative {:.4}",
             n.model.floor, n.model.relative
         ),
         NoiseSource::Estimated => format!(
-            "floor {:.3} um, relative {:.4}",
-            n.model.floor, n.model.relative
+            "floor {:.3} um{}, relative {:.4}",
+            n.model.floor,
+            if n.floor_held {
+                " (held at the stated reading uncertainty: the scatter is smaller)"
+            } else {
+                ""
+            },
+            n.model.relative
         ),
         NoiseSource::Proportional => {
             format!("proportional to the level, {:.4} of it", n.model.relative)

@@ -12,7 +12,8 @@ use crate::error::Result;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
 use crate::sim::SetKind;
 use crate::validate::{
-    DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation, LOW_SPEED_OMEGA,
+    min_max, DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation,
+    LOW_SPEED_OMEGA,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -37,14 +38,19 @@ fn noise_json(r: &MunroValidation) -> serde_json::Value {
         .iter()
         .filter_map(|&i| design.and_then(|l| l.measured.get(i)).map(|m| m.0))
         .collect();
+    // Per-point noise has no floor or relative part: its model is the unit scale the stated
+    // sigma_i multiply.
+    let per_point = n.source == crate::fit::NoiseSource::PerPoint;
     json!({
         "source": n.source,
-        "floor_um": n.model.floor,
+        "floor_um": (!per_point).then_some(n.model.floor),
         "floor_um_ci95": n.floor_ci95,
-        "relative": n.model.relative,
+        "floor_held_at_reading_um": n.floor_held,
+        "relative": (!per_point).then_some(n.model.relative),
         "relative_ci95": n.relative_ci95,
         "distribution": n.model.distribution,
         "robust_lr": n.robust_lr,
+        "stated_noise_p": n.stated_noise_p,
         "outlier_speeds_rpm": outlier_speeds,
         "chi_square": r.fit.estimate.chi_square,
         "residual_dof": r.fit.estimate.residual_dof,
@@ -455,7 +461,7 @@ fn load_figures(
         )),
         x_label: "speed (rpm)".into(),
         y_label: "residual (um)".into(),
-        series: vec![Series::markers("residual", l.residuals.clone())],
+        series: residual_series(data, r, l),
         ..XyPlot::default()
     };
     write_xy(&res, &stage.path(&format!("{stem}_residuals")))?;
@@ -466,6 +472,45 @@ fn load_figures(
         &format!("residuals at {} N", l.load_n),
     );
     Ok(())
+}
+
+/// The residuals of load `l`, the zero line, and the noise band +-2 sigma_i at each measured
+/// speed: the stated standard deviation of a per-point noise, else the fitted (or stated)
+/// noise model at the model's level there (measured minus residual). Residuals inside the band
+/// are what the noise model expects; a run of them outside is the model's.
+fn residual_series(data: &MunroData, r: &MunroValidation, l: &LoadResult) -> Vec<Series> {
+    let noise = &r.fit.estimate.noise;
+    let curve = data.curve(l.load_n);
+    let sigma = |speed: f64, level: f64| match noise.source {
+        crate::fit::NoiseSource::PerPoint => curve
+            .iter()
+            .find(|p| p.speed_rpm == speed)
+            .and_then(|p| p.sd_um),
+        _ => Some(noise.model.scale(level)),
+    };
+    let band: Option<Vec<(f64, f64)>> = l
+        .residuals
+        .iter()
+        .zip(&l.measured)
+        .map(|(&(speed, res), &(_, y))| sigma(speed, y - res).map(|s| (speed, 2.0 * s)))
+        .collect();
+    let mut series = vec![Series::markers("residual", l.residuals.clone()).with_color(0)];
+    if let Some((lo, hi)) = min_max(l.residuals.iter().map(|p| p.0)) {
+        series.insert(
+            0,
+            Series::line("", vec![(lo, 0.0), (hi, 0.0)]).with_color(6),
+        );
+    }
+    if let Some(band) = band {
+        let scale = match noise.model.distribution {
+            crate::fit::Distribution::Gaussian => "σ",
+            crate::fit::Distribution::StudentT { .. } => "scales",
+        };
+        series
+            .push(Series::dashed(format!("±2 {scale} (noise model)"), band.clone()).with_color(1));
+        series.push(Series::dashed("", band.iter().map(|&(x, s)| (x, -s)).collect()).with_color(1));
+    }
+    series
 }
 
 /// The series of load `l`'s figure: measured, the model's sweeps, the geometry path's (`geo`)
@@ -646,7 +691,7 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         let (lo, hi) = n.scale_range();
         vec![vec![
             "noise standard deviation per point".to_string(),
-            format!("{lo:.4} .. {hi:.4}"),
+            super::range_text(lo, hi, 4, " .. "),
             "stated (dte_pp_sd_um column)".into(),
             "µm".into(),
         ]]
@@ -655,7 +700,11 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
             vec![
                 "noise floor".to_string(),
                 format!("{:.4}", n.model.floor),
-                n.floor_ci95.map_or("stated".into(), |c| pair(c, 4)),
+                match n.floor_ci95 {
+                    Some(c) => pair(c, 4),
+                    None if n.floor_held => "held at the stated reading uncertainty".into(),
+                    None => "stated".into(),
+                },
                 "µm".into(),
             ],
             vec![
@@ -682,7 +731,10 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
     };
     page.paragraph(&format!(
         "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom{}. Points beyond the Bonferroni bound: {}. {} Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
-        n.robust_lr.map_or("not computed".into(), |v| format!("{v:.2} (Student-t kept above 2.71)")),
+        n.robust_lr.map_or("not computed".into(), |v| format!(
+            "{v:.2} ({} errors kept: Student-t is chosen above 2.71)",
+            if matches!(n.model.distribution, crate::fit::Distribution::Gaussian) { "Gaussian" } else { "Student-t" }
+        )),
         e.chi_square,
         e.residual_dof,
         super::stated_noise_verdict(e).map_or(String::new(), |(_, v)| format!(" ({v})")),
