@@ -430,6 +430,11 @@ fn table() -> Vec<Case> {
             "--noise-um",
         ),
         cli(
+            "validate given --rig",
+            "validate munro --rig data --fits fits --reports reports",
+            "give its folder as --data DIR",
+        ),
+        cli(
             "synth relative part on the constant family",
             "synth munro --noise constant --noise-relative 0.05 --out out",
             "--noise-relative applies to the level-dependent families",

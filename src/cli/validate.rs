@@ -37,6 +37,10 @@ struct Dirs {
     /// data/munro or data/kubo, relative to the current folder.
     #[arg(long)]
     data: Option<PathBuf>,
+    /// Not an option of `validate` (the analysis commands' `--rig FILE`): refused with a hint
+    /// to give the data set's folder as `--data`, which holds its rig.toml.
+    #[arg(long, hide = true)]
+    rig: Option<PathBuf>,
     /// Folder for the fitted-parameter JSON.
     #[arg(long, default_value = "fits")]
     fits: PathBuf,
@@ -185,6 +189,12 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         Which::Munro(m) => &m.dirs,
         Which::Kubo(k) => &k.dirs,
     };
+    if let Some(rig) = &d.rig {
+        anyhow::bail!(
+            "validate reads a whole data set: give its folder as --data DIR (rig.toml and the CSV curves), not --rig {}",
+            rig.display()
+        );
+    }
     check_out_dir("--fits", &d.fits)?;
     let report = match &a.which {
         Which::Munro(_) => "munro",
