@@ -300,6 +300,20 @@ fn design_load_text(d: &Discovery) -> Option<String> {
     ))
 }
 
+/// The notes of a run, for the terminal and the report alike.
+fn notes(d: &Discovery) -> Vec<String> {
+    [
+        design_load_text(d),
+        zeta_bound_text(d),
+        stated_noise_text(d),
+        held_out_split_text(d),
+        significant_undetected_text(d),
+    ]
+    .into_iter()
+    .flatten()
+    .collect()
+}
+
 /// The note when the noise was stated and the answer is "unexplained" with a scatter about the
 /// best model larger than every stated scale: a noise stated too small makes every test reject,
 /// whatever the model. On a set of scatter 0.15 um with `[noise] floor_um = 0.1` the answer was
@@ -354,20 +368,7 @@ pub fn summary_text(d: &Discovery) -> String {
         d.omega_n_hz_m0,
         noise_text(d)
     );
-    for t in [
-        design_load_text(d),
-        zeta_bound_text(d),
-        stated_noise_text(d),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        s.push_str(&format!("NOTE: {t}\n"));
-    }
-    if let Some(t) = held_out_split_text(d) {
-        s.push_str(&format!("NOTE: {t}\n"));
-    }
-    if let Some(t) = significant_undetected_text(d) {
+    for t in notes(d) {
         s.push_str(&format!("NOTE: {t}\n"));
     }
     for c in &d.candidates {
@@ -569,20 +570,7 @@ fn summary_section(page: &mut Page, d: &Discovery) {
         d.excluded_points,
         d.bootstrap
     ));
-    for t in [
-        design_load_text(d),
-        zeta_bound_text(d),
-        stated_noise_text(d),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        page.paragraph(&t);
-    }
-    if let Some(t) = held_out_split_text(d) {
-        page.paragraph(&t);
-    }
-    if let Some(t) = significant_undetected_text(d) {
+    for t in notes(d) {
         page.paragraph(&t);
     }
 }

@@ -933,6 +933,20 @@ mod tests {
         );
     }
 
+    /// A constant level fitted to `y` under `noise`, its errors chosen as `validate munro`
+    /// chooses them (`Robust::Auto`).
+    fn constant_fit(y: &[f64], noise: NoiseSetting) -> Estimate {
+        let n = y.len();
+        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
+        let opts = EstimateOptions {
+            noise,
+            robust: Robust::Auto,
+            stop: Stop::converged(50),
+            starts: Vec::new(),
+        };
+        estimate(&model, y, &[Param::signed("a", 0.5, 1.0)], &opts).unwrap()
+    }
+
     /// A floor that ends at its lower bound (a reading uncertainty of 0.3 on a scatter of 0.1
     /// about a constant, 200 points) is held there: the standard error is the one of the noise
     /// stated at 0.3, the degrees of freedom the residual ones (they were 1, the floor's
@@ -943,16 +957,7 @@ mod tests {
         let n = 200;
         let mut rng = Rng::new(5);
         let y: Vec<f64> = (0..n).map(|_| 1.0 + 0.1 * rng.normal()).collect();
-        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
-        let fit = |noise: NoiseSetting| {
-            let opts = EstimateOptions {
-                noise,
-                robust: Robust::Auto,
-                stop: Stop::converged(50),
-                starts: Vec::new(),
-            };
-            estimate(&model, &y, &[Param::signed("a", 0.5, 1.0)], &opts).unwrap()
-        };
+        let fit = |noise: NoiseSetting| constant_fit(&y, noise);
         let bounded = |floor_min| {
             fit(NoiseSetting::Estimate(NoiseFreedom {
                 floor_min,
@@ -985,16 +990,7 @@ mod tests {
         let n = 200;
         let mut rng = Rng::new(3);
         let y: Vec<f64> = (0..n).map(|_| 1.0 + 0.1 * rng.normal()).collect();
-        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
-        let fit = |noise: NoiseSetting| {
-            let opts = EstimateOptions {
-                noise,
-                robust: Robust::Auto,
-                stop: Stop::converged(50),
-                starts: Vec::new(),
-            };
-            estimate(&model, &y, &[Param::signed("a", 0.5, 1.0)], &opts).unwrap()
-        };
+        let fit = |noise: NoiseSetting| constant_fit(&y, noise);
         let right = fit(NoiseSetting::PerPoint(vec![0.1; n]));
         assert!(right.noise.stated_noise_p.unwrap() > 1e-3);
         let large = fit(NoiseSetting::PerPoint(vec![0.2; n]));
