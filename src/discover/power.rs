@@ -252,7 +252,7 @@ mod tests {
 
     /// The torque ripple 0.03 on the 25 rpm grid (161 speeds per curve, four times the 100 rpm
     /// grid's points), as [`torque_ripple_information`]: would denser data make the recovery
-    /// target reachable without a stated STE? (About 40 minutes on 2 cores.)
+    /// target reachable without a stated STE? (About 17 minutes on 2 cores.)
     #[test]
     #[ignore]
     fn torque_ripple_information_on_a_denser_grid() {
