@@ -430,6 +430,11 @@ fn table() -> Vec<Case> {
             "--noise-um",
         ),
         cli(
+            "discover-study with too few replicates to ever detect",
+            "discover-study --hidden none --seeds 1 --bootstrap 519 --out out/summary.json",
+            "the bootstrap needs 520",
+        ),
+        cli(
             "validate given --rig",
             "validate munro --rig data --fits fits --reports reports",
             "give its folder as --data DIR",

@@ -367,7 +367,7 @@ fn null_study_summarises_rates_and_per_test_calibration() {
         "--speed-step",
         "100",
         "--bootstrap",
-        "399",
+        "599",
         "--out",
         out.to_str().unwrap(),
     ];
@@ -913,7 +913,7 @@ fn stated_noise_is_used_as_stated() {
     let base = tmp.path().join("base");
     make_set(&base, HiddenEffects::default(), 5);
     let opts = DiscoverOptions {
-        bootstrap: 399,
+        bootstrap: 599,
         ..DiscoverOptions::default()
     };
     // rig.toml [noise].
@@ -960,6 +960,21 @@ fn stated_noise_is_used_as_stated() {
     );
     assert_eq!(d.noise.origin, NoiseOrigin::StatedOption);
     assert_eq!(d.noise_range_um, (0.3, 0.3));
+    // A noise stated at a third of the set's (0.15 um): every test rejects, no candidate
+    // explains it, and the answer says that the stated noise lies below the scatter.
+    let d = run_with(
+        &base,
+        &DiscoverOptions {
+            noise_um: Some(0.05),
+            ..opts
+        },
+    );
+    assert_eq!(d.effect, "unexplained");
+    let text = geardyn::discover::summary_text(&d);
+    assert!(
+        text.contains("a noise stated smaller than the scatter makes every test reject"),
+        "{text}"
+    );
 }
 
 /// The Student-t null set of the discover study's seed 1076 (DOP853, 50 rpm grid, floor 0.15

@@ -63,8 +63,8 @@ pub struct Args {
     keep_sets: Option<PathBuf>,
     #[command(flatten)]
     noise: NoiseArgs,
-    /// Bootstrap replicates per discovery run, in [320, 99999].
-    #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(320..=MAX_BOOTSTRAP))]
+    /// Bootstrap replicates per discovery run, in [520, 99999] (as `discover --bootstrap`).
+    #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(1..=MAX_BOOTSTRAP))]
     bootstrap: usize,
     /// Summary JSON (the scratch data sets go next to it, in a folder removed at the end; each
     /// seed's outcome is appended to SUMMARY.seeds.jsonl as soon as it is known).
@@ -81,6 +81,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
     })?;
     check_out_file("--out", &a.out)?;
     let opts = study_options(&a)?;
+    opts.check()?;
     let parent = a.out.parent().map(PathBuf::from).unwrap_or_default();
     std::fs::create_dir_all(&parent).with_context(|| parent.display().to_string())?;
     let scratch = parent.join(format!(".scratch-{}", std::process::id()));

@@ -1130,10 +1130,31 @@ pub fn discover(
 /// replicate re-estimates the noise and projects every probe) and resolve p-values to 1e-5.
 pub const MAX_BOOTSTRAP: usize = 99_999;
 
+/// The most tests Holm's correction for detection runs over: the training and held-out
+/// chi-squares, the runs test, one per Omega window, and every library candidate's own test.
+pub fn holm_tests_at_most() -> usize {
+    3 + windows().len() + LIBRARY.len()
+}
+
+/// The fewest replicates B at which the smallest Monte Carlo p-value, 1 / (B + 1), times the
+/// number of tests ([`holm_tests_at_most`]) falls below alpha / 2, the detection threshold:
+/// 520 at alpha 0.05. With fewer, nothing can ever be detected: at 399 replicates the least
+/// Holm-adjusted p of 11 tests was 0.0275, and a set whose noise was stated at a third of its
+/// scatter (every test at its least p) was answered "none".
+pub fn least_bootstrap(alpha: f64) -> usize {
+    let m = holm_tests_at_most() as f64;
+    let mut b = ((2.0 * m / alpha).floor() as usize).saturating_sub(1);
+    // At most two steps: b starts within one of the bound.
+    while m / (b as f64 + 1.0) >= alpha / 2.0 {
+        b += 1;
+    }
+    b
+}
+
 /// The options' ranges, checked before any work: alpha in (0, 0.5]; enough replicates that
-/// the smallest Monte Carlo p-value 1 / (B + 1), after Holm over the 8 detection tests, can
-/// fall below alpha / 2; at most [`MAX_BOOTSTRAP`]; a stated noise positive and finite.
-fn check_options(opts: &DiscoverOptions) -> Result<()> {
+/// a p-value can pass Holm's correction ([`least_bootstrap`]); at most [`MAX_BOOTSTRAP`]; a
+/// stated noise positive and finite.
+pub(crate) fn check_options(opts: &DiscoverOptions) -> Result<()> {
     if !(opts.alpha > 0.0 && opts.alpha <= 0.5) {
         return Err(GearError::param(
             "alpha",
@@ -1141,11 +1162,13 @@ fn check_options(opts: &DiscoverOptions) -> Result<()> {
             "alpha must be in (0, 0.5]",
         ));
     }
-    let least = (16.0 / opts.alpha).ceil() as usize;
+    let least = least_bootstrap(opts.alpha);
     if opts.bootstrap < least || opts.bootstrap > MAX_BOOTSTRAP {
         return Err(GearError::Unsupported(format!(
-            "--bootstrap {}: the bootstrap needs {least} to {MAX_BOOTSTRAP} replicates at alpha {} (8 / (B + 1) must be below alpha / 2)",
-            opts.bootstrap, opts.alpha
+            "--bootstrap {}: the bootstrap needs {least} to {MAX_BOOTSTRAP} replicates at alpha {} (the least p-value 1 / (B + 1), times the {} tests Holm's correction runs over, must be below alpha / 2)",
+            opts.bootstrap,
+            opts.alpha,
+            holm_tests_at_most()
         )));
     }
     if let Some(s) = opts.noise_um {
@@ -1498,7 +1521,7 @@ fn discovery_of(
 
 #[cfg(test)]
 mod tests {
-    use super::{make_mask, OtherStart};
+    use super::{holm_tests_at_most, least_bootstrap, make_mask, OtherStart};
     use crate::discover::forward::CurvePrediction;
 
     /// A jump from single-sided impacts (30 um) onto the back flank (157 um) drops the points
@@ -1541,6 +1564,21 @@ mod tests {
 
     /// A distinct minimum within 3.84 sigma^2 leaves the phase undetermined; one 5 sigma^2
     /// worse does not.
+    /// 13 tests (3 detection, 5 windows, 5 candidates) at alpha 0.05: 13 / 521 = 0.02495 is
+    /// below 0.025, 13 / 520 is not; at alpha 0.01, 2600 (13 / 2600 = 0.005 is not below
+    /// 0.005).
+    #[test]
+    fn the_least_bootstrap_lets_the_least_p_pass_holm() {
+        assert_eq!(holm_tests_at_most(), 13);
+        assert_eq!(least_bootstrap(0.05), 520);
+        assert_eq!(least_bootstrap(0.01), 2600);
+        for alpha in [0.5, 0.1, 0.05, 0.02, 0.01, 0.001] {
+            let b = least_bootstrap(alpha);
+            assert!(13.0 / (b as f64 + 1.0) < alpha / 2.0, "{alpha}");
+            assert!(13.0 / b as f64 >= alpha / 2.0, "{alpha}");
+        }
+    }
+
     #[test]
     fn phase_is_undetermined_only_within_the_threshold() {
         let at = |deviance_increase: f64| OtherStart {

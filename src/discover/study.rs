@@ -278,6 +278,22 @@ impl Default for StudyOptions {
     }
 }
 
+impl StudyOptions {
+    /// The options a study cannot run with, refused before anything is made or written: no
+    /// seed, or `discover` options on which every seed would fail (too few bootstrap
+    /// replicates to ever detect, an alpha or a stated noise out of range).
+    pub fn check(&self) -> Result<()> {
+        if self.seeds == 0 {
+            return Err(GearError::param(
+                "seeds",
+                0.0,
+                "a study needs at least one seed",
+            ));
+        }
+        super::run::check_options(&self.discover)
+    }
+}
+
 /// Run one study; `scratch` is a folder for the generated sets (each replaced by the next).
 /// `on_seed` gets each seed's outcome as soon as it is known, so that a long study stopped
 /// part way keeps what it found (a 20-seed study on rattle-regime sets runs half an hour).
@@ -288,13 +304,7 @@ pub fn run_study(
     progress: &dyn Progress,
     on_seed: &mut dyn FnMut(&SeedOutcome) -> Result<()>,
 ) -> Result<StudySummary> {
-    if opts.seeds == 0 {
-        return Err(GearError::param(
-            "seeds",
-            0.0,
-            "a study needs at least one seed",
-        ));
-    }
+    opts.check()?;
     let strength = study_strength(hidden, opts.strength)?;
     let speeds = opts.grid.speeds()?;
     let mut outcomes = Vec::new();
