@@ -66,6 +66,11 @@ pub struct EstimateOptions {
 }
 
 impl NoiseSetting {
+    /// Whether the noise is stated (rig.toml `[noise]` or a per-point column), not estimated.
+    fn is_stated(&self) -> bool {
+        matches!(self, NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_))
+    }
+
     /// Noise parameters estimated from the data under this setting.
     fn estimated_parameters(&self) -> usize {
         match self {
@@ -177,7 +182,7 @@ const T_DOF_GRID: [f64; 9] = [1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 10.0, 20.0, 50.0];
 /// 5% critical value of the likelihood-ratio test of Gaussian against Student-t errors: the
 /// Gaussian is the boundary dof -> infinity, so the statistic is a 50:50 mixture of chi^2_0 and
 /// chi^2_1 (Self & Liang 1987), whose 95% point is chi^2_1's 90% point.
-const ROBUST_LR_CRITICAL: f64 = 2.705_543_454_095_404;
+pub const ROBUST_LR_CRITICAL: f64 = 2.705_543_454_095_404;
 
 /// Hat-matrix diagonal of the weighted fit: H = J (J'J)^+ J' for the weighted Jacobian J
 /// (its zero columns, parameters held still, dropped).
@@ -485,11 +490,9 @@ where
     let run =
         |dist: Distribution| converge(&w, params, &first.params, (&opts.noise, opts.stop), dist);
     let g = run(Distribution::Gaussian)?;
-    let stated = matches!(
-        opts.noise,
-        NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_)
-    );
-    let (c, robust_lr) = if opts.robust == Robust::Off || (stated && opts.robust == Robust::Auto) {
+    let gaussian_only =
+        opts.robust == Robust::Off || (opts.noise.is_stated() && opts.robust == Robust::Auto);
+    let (c, robust_lr) = if gaussian_only {
         (g, None)
     } else {
         let t = run(Distribution::StudentT { dof: 4.0 })?;
@@ -787,11 +790,7 @@ fn noise_fit(
         .filter(|(_, z)| z.abs() > bonferroni)
         .map(|(i, _)| i)
         .collect();
-    let floor_held = match setting {
-        NoiseSetting::Estimate(freedom) => floor_at_bound(*freedom, &c.noise),
-        _ => false,
-    };
-    let (floor_ci95, relative_ci95) = match setting {
+    let (floor_ci95, relative_ci95, floor_held) = match setting {
         NoiseSetting::Estimate(freedom) => {
             let data = NoiseData {
                 residuals: &c.residuals,
@@ -799,9 +798,10 @@ fn noise_fit(
                 leverages: &c.leverages,
             };
             let (f, r) = noise_intervals(&data, at_boundary(*freedom, &c.noise), &c.noise);
-            ((!floor_held).then_some(f), r)
+            let held = floor_at_bound(*freedom, &c.noise);
+            ((!held).then_some(f), r, held)
         }
-        _ => (None, None),
+        _ => (None, None, false),
     };
     let source = match setting {
         NoiseSetting::Estimate(_) => NoiseSource::Estimated,
@@ -829,8 +829,7 @@ fn stated_noise_p(
     z: &[f64],
     residual_dof: usize,
 ) -> Option<f64> {
-    let stated = matches!(setting, NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_));
-    if !stated || distribution != Distribution::Gaussian {
+    if !setting.is_stated() || distribution != Distribution::Gaussian {
         return None;
     }
     let chi2: f64 = z.iter().map(|z| z * z).sum();

@@ -14,7 +14,7 @@ mod profile_search;
 
 pub use estimate::{
     estimate, estimate_warm, satterthwaite_dof_of, t_quantile_975, Estimate, EstimateOptions,
-    NearModel, NoiseFit, NoiseSetting, NoiseSource, Robust,
+    NearModel, NoiseFit, NoiseSetting, NoiseSource, Robust, ROBUST_LR_CRITICAL,
 };
 pub use lm::{
     least_squares, least_squares_warm, rss, secant_jacobian, LmFit, NearResiduals, Stop, UNSEEN,

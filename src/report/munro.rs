@@ -480,19 +480,18 @@ fn load_figures(
 /// are what the noise model expects; a run of them outside is the model's.
 fn residual_series(data: &MunroData, r: &MunroValidation, l: &LoadResult) -> Vec<Series> {
     let noise = &r.fit.estimate.noise;
+    // The load's points, in the order of its measured values and residuals (by speed).
     let curve = data.curve(l.load_n);
-    let sigma = |speed: f64, level: f64| match noise.source {
-        crate::fit::NoiseSource::PerPoint => curve
-            .iter()
-            .find(|p| p.speed_rpm == speed)
-            .and_then(|p| p.sd_um),
+    let sigma = |point: &crate::data::MunroPoint, level: f64| match noise.source {
+        crate::fit::NoiseSource::PerPoint => point.sd_um,
         _ => Some(noise.model.scale(level)),
     };
     let band: Option<Vec<(f64, f64)>> = l
         .residuals
         .iter()
         .zip(&l.measured)
-        .map(|(&(speed, res), &(_, y))| sigma(speed, y - res).map(|s| (speed, 2.0 * s)))
+        .zip(&curve)
+        .map(|((&(speed, res), &(_, y)), p)| sigma(p, y - res).map(|s| (speed, 2.0 * s)))
         .collect();
     let mut series = vec![Series::markers("residual", l.residuals.clone()).with_color(0)];
     if let Some((lo, hi)) = min_max(l.residuals.iter().map(|p| p.0)) {
@@ -732,8 +731,9 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
     page.paragraph(&format!(
         "{dist}; noise {source}. Likelihood ratio Student-t against Gaussian: {}. Standardized residuals: χ² = {:.1} on {} degrees of freedom{}. Points beyond the Bonferroni bound: {}. {} Mesh stiffness {:.1} N/µm ({}), half backlash b = {:.1} µm.",
         n.robust_lr.map_or("not computed".into(), |v| format!(
-            "{v:.2} ({} errors kept: Student-t is chosen above 2.71)",
-            if matches!(n.model.distribution, crate::fit::Distribution::Gaussian) { "Gaussian" } else { "Student-t" }
+            "{v:.2} ({} errors kept: Student-t is chosen above {:.2})",
+            if matches!(n.model.distribution, crate::fit::Distribution::Gaussian) { "Gaussian" } else { "Student-t" },
+            crate::fit::ROBUST_LR_CRITICAL
         )),
         e.chi_square,
         e.residual_dof,
