@@ -296,14 +296,26 @@ pub fn write_set(
     for &(load, ste) in &spec.loads {
         curves.push(clean_curve(spec, load, ste, &speeds)?);
     }
-    let levels: Vec<f64> = curves
+    // One noise curve per load, in the order of the CSV (design load first, speeds increasing).
+    let levels: Vec<Vec<f64>> = curves
         .iter()
-        .flat_map(|c| c.points.iter().map(|p| p.dte_pp_um))
+        .map(|c| c.points.iter().map(|p| p.dte_pp_um).collect())
         .collect();
     let mut floor = FloorStats::default();
-    let values = match &spec.noise {
-        Some(n) => noise::apply(n, &levels, &mut floor),
-        None => levels.clone(),
+    let (values, noise_z) = match &spec.noise {
+        Some(n) => {
+            let noise_curves: Vec<noise::Curve<'_>> = levels
+                .iter()
+                .map(|l| noise::Curve {
+                    speeds_rpm: &speeds,
+                    levels: l,
+                })
+                .collect();
+            let drawn = noise::apply_curves(n, &noise_curves, &mut floor)
+                .map_err(|e| format!("{}: {e}", spec.name))?;
+            (drawn.values.concat(), drawn.z)
+        }
+        None => (levels.concat(), None),
     };
     let mut csv = String::from("load_n,speed_rpm,dte_pp_um\n");
     let mut i = 0;
@@ -326,7 +338,7 @@ pub fn write_set(
 
     let (kh, kh_source) = spec.rig.mesh_stiffness();
     let seconds = t0.elapsed().as_secs_f64();
-    let truth = json!({
+    let mut truth = json!({
         "name": spec.name,
         "generator": GENERATOR,
         "set_dir": dir.display().to_string(),
@@ -360,6 +372,11 @@ pub fn write_set(
         "seconds": seconds,
         "clean": curves,
     });
+    if let Some(z) = noise_z {
+        // Correlated family only (the other families' truth files are unchanged): the drawn
+        // standardized errors, one list per load in the order of `clean`.
+        truth["noise_standardized_errors"] = json!(z);
+    }
     if let Some(parent) = truth_path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
     }

@@ -9,9 +9,14 @@
 //! its own); each pair's reading at each speed then gets an independent measurement error
 //! (SD = sqrt(floor^2 + (r D_L_j)^2); Gaussian, Student-t scaled to that SD, or Gaussian read to
 //! a grid). The envelope is the min and max of the N readings at each speed.
+//!
+//! The correlated family instead reads the envelope with an error correlated along speed: one
+//! standardized Gaussian AR(1) path z per set (the envelope of its one load), common to every
+//! pair's reading at a speed, scaled by each reading's own SD (see [`KNoise::correlated_readings`]).
 
 use crate::gen::{fmt_num, Grid, GENERATOR};
 use crate::model::Excitation;
+use crate::noise::{ar1_path, lower_z, Correlation, FloorStats, DEFAULT_RHO};
 use crate::rig::Rig;
 use crate::sim::{steady_state, Carried, SimConfig};
 use rand::Rng;
@@ -57,16 +62,24 @@ pub enum KFamily {
     Gaussian,
     StudentT,
     Quantized,
+    /// Gaussian, SD of the others, correlated along speed (one AR(1) path per envelope).
+    Correlated,
 }
 
 impl KFamily {
     #[allow(dead_code)]
-    pub const ALL: [KFamily; 3] = [KFamily::Gaussian, KFamily::StudentT, KFamily::Quantized];
+    pub const ALL: [KFamily; 4] = [
+        KFamily::Gaussian,
+        KFamily::StudentT,
+        KFamily::Quantized,
+        KFamily::Correlated,
+    ];
     pub fn name(self) -> &'static str {
         match self {
             KFamily::Gaussian => "gaussian",
             KFamily::StudentT => "student-t",
             KFamily::Quantized => "quantized",
+            KFamily::Correlated => "correlated",
         }
     }
     pub fn parse(s: &str) -> Result<KFamily, String> {
@@ -74,8 +87,9 @@ impl KFamily {
             "gaussian" | "normal" => Ok(KFamily::Gaussian),
             "student-t" | "student_t" | "t" => Ok(KFamily::StudentT),
             "quantized" | "grid" => Ok(KFamily::Quantized),
+            "correlated" => Ok(KFamily::Correlated),
             _ => Err(format!(
-                "unknown kubo noise family '{s}' (gaussian, student-t, quantized, none)"
+                "unknown kubo noise family '{s}' (gaussian, student-t, quantized, correlated, none)"
             )),
         }
     }
@@ -93,6 +107,10 @@ pub struct KNoise {
     pub dof: f64,
     /// Reading grid of the quantized family (D_L units).
     pub quantum: f64,
+    /// Correlation along speed of the correlated family (absent for the others, whose truth
+    /// records are unchanged by it).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correlation: Option<Correlation>,
 }
 
 impl KNoise {
@@ -100,20 +118,85 @@ impl KNoise {
         (self.floor.powi(2) + (self.relative * level).powi(2)).sqrt()
     }
     pub fn describe(&self) -> String {
-        let base = format!(
-            "each tooth pair's reading of D_L has an independent error of SD sqrt({}^2 + ({} x D_L_pair)^2)",
-            self.floor, self.relative
-        );
+        let independent = |tail: String| {
+            format!(
+                "each tooth pair's reading of D_L has an independent error of SD sqrt({}^2 + ({} x D_L_pair)^2), {tail}",
+                self.floor, self.relative
+            )
+        };
         match self.family {
-            KFamily::Gaussian => format!("{base}, Gaussian"),
-            KFamily::StudentT => format!("{base}, Student-t with {} dof scaled to that SD", self.dof),
-            KFamily::Quantized => format!(
-                "{base}, Gaussian, then read to a {} grid (as a digitized figure)",
+            KFamily::Gaussian => independent("Gaussian".into()),
+            KFamily::StudentT => {
+                independent(format!("Student-t with {} dof scaled to that SD", self.dof))
+            }
+            KFamily::Quantized => independent(format!(
+                "Gaussian, then read to a {} grid (as a digitized figure)",
                 self.quantum
+            )),
+            KFamily::Correlated => format!(
+                "the envelope is read with an error correlated along speed: Gaussian, one standardized error path z per envelope, common to the tooth pairs at each speed, each pair's reading D_L_pair + SD z_i with SD = sqrt({}^2 + ({} x D_L_pair)^2), so each edge of the envelope carries SD(edge) z_i; z a stationary AR(1) in increasing speed, {}",
+                self.floor,
+                self.relative,
+                self.correlation().describe()
             ),
         }
     }
+
+    /// The correlation of the correlated family ([`DEFAULT_RHO`] on the grid if none was set).
+    pub fn correlation(&self) -> Correlation {
+        self.correlation
+            .unwrap_or(Correlation::GridLag1 { rho: DEFAULT_RHO })
+    }
+
+    /// Correlated family: every pair's readings along the speeds (increasing) with one
+    /// standardized error path z common to the pairs, reading_ji = D_ji + SD(D_ji) z_i; returns
+    /// (readings per pair, z).
+    ///
+    /// z is a stationary Gaussian AR(1) in increasing speed ([`ar1_path`], innovations from
+    /// `rng`). Since y -> y + SD(y) z_i is increasing in y (its slope 1 + z_i r^2 y / SD(y) >=
+    /// 1 - |z_i| r > 0 for any |z_i| < 1 / r), the envelope's edges are the readings of the
+    /// noise-free edges: min_i + SD(min_i) z_i and max_i + SD(max_i) z_i, each with exactly the
+    /// family's error, and min <= max is kept (independent errors on the two edges would cross
+    /// where the noise-free envelope is narrower than the reading error, as it is at low speed).
+    /// A z_i that would make a reading negative has its innovation drawn again (counted in
+    /// `stats`).
+    pub fn correlated_readings<R: Rng>(
+        &self,
+        speeds_rpm: &[f64],
+        pair_levels: &[Vec<f64>],
+        rng: &mut R,
+        stats: &mut FloorStats,
+    ) -> Result<(Vec<Vec<f64>>, Vec<f64>), String> {
+        let correlation = self.correlation();
+        correlation.check()?;
+        let phis = correlation.phis(speeds_rpm)?;
+        if pair_levels.iter().any(|l| l.len() != speeds_rpm.len()) {
+            return Err("kubo noise: a pair has not as many levels as speeds".into());
+        }
+        // The most restrictive bound over the pairs at each speed.
+        let lower: Vec<f64> = (0..speeds_rpm.len())
+            .map(|i| {
+                pair_levels
+                    .iter()
+                    .map(|l| lower_z(l[i], self.sd(l[i])))
+                    .fold(f64::NEG_INFINITY, f64::max)
+            })
+            .collect();
+        let z = ar1_path(rng, &phis, &lower, stats);
+        let readings = pair_levels
+            .iter()
+            .map(|l| {
+                l.iter()
+                    .zip(&z)
+                    .map(|(&d, &zi)| (d + self.sd(d) * zi).max(0.0))
+                    .collect()
+            })
+            .collect();
+        Ok((readings, z))
+    }
+
     /// One noisy reading (redrawn while negative; quantized readings rounded to the grid).
+    /// Independent families only (the correlated one: [`KNoise::correlated_readings`]).
     pub fn draw<R: Rng>(&self, level: f64, rng: &mut R, t: &StudentT<f64>) -> (f64, usize) {
         let sd = self.sd(level);
         let t_sd = if self.dof > 2.0 {
@@ -373,7 +456,22 @@ pub fn write_kubo_set(
     // Readings: pair-major order of draws from one stream (pair j, then speed i).
     let mut readings = vec![vec![0.0; speeds.len()]; pairs.len()];
     let mut redrawn = 0usize;
+    let mut noise_z = None;
     match &spec.noise {
+        Some(n) if n.family == KFamily::Correlated => {
+            let mut rng = ChaCha20Rng::seed_from_u64(spec.noise_seed);
+            let levels: Vec<Vec<f64>> = pairs
+                .iter()
+                .map(|c| c.points.iter().map(|p| p.dynamic_factor).collect())
+                .collect();
+            let mut stats = FloorStats::default();
+            let (r, z) = n
+                .correlated_readings(&speeds, &levels, &mut rng, &mut stats)
+                .map_err(|e| format!("{}: {e}", spec.name))?;
+            readings = r;
+            redrawn = stats.redrawn;
+            noise_z = Some(z);
+        }
         Some(n) => {
             let mut rng = ChaCha20Rng::seed_from_u64(spec.noise_seed);
             let t = StudentT::new(n.dof).map_err(|e| format!("dof: {e}"))?;
@@ -414,7 +512,7 @@ pub fn write_kubo_set(
         .filter(|p| p.period != Some(1))
         .count();
     let seconds = t0.elapsed().as_secs_f64();
-    let truth = json!({
+    let mut truth = json!({
         "name": spec.name,
         "kind": "kubo",
         "generator": GENERATOR,
@@ -461,6 +559,11 @@ pub fn write_kubo_set(
         "readings": readings,
         "envelope": env,
     });
+    if let Some(z) = noise_z {
+        // Correlated family only (the other families' truth files are unchanged): the drawn
+        // standardized error path, common to the pairs, one value per speed.
+        truth["noise_standardized_errors"] = json!(z);
+    }
     if let Some(parent) = truth_path.parent() {
         std::fs::create_dir_all(parent).map_err(|e| e.to_string())?;
     }

@@ -12,7 +12,7 @@ mod tests;
 
 use clap::{Parser, Subcommand, ValueEnum};
 use gen::{write_set, Effect, Grid, SetSpec};
-use noise::{Family, NoiseSpec};
+use noise::{Correlation, Family, NoiseSpec};
 use rand::seq::SliceRandom;
 use rand::Rng;
 use rand_chacha::rand_core::SeedableRng;
@@ -81,6 +81,14 @@ struct Common {
     /// Reading grid of the quantized family (um)
     #[arg(long, default_value_t = 0.25)]
     noise_quantum_um: f64,
+    /// correlated family: lag-one correlation of the standardized errors between neighbouring
+    /// speeds of the grid, in [0, 0.999] (default 0.6 when --noise-corr-length-rpm is not given)
+    #[arg(long, visible_alias = "rho", allow_negative_numbers = true)]
+    noise_rho: Option<f64>,
+    /// correlated family: correlation length L in rpm instead of --noise-rho, corr(z_i, z_j) =
+    /// exp(-|s_i - s_j| / L) (finite, > 0)
+    #[arg(long, visible_alias = "corr-length-rpm", allow_negative_numbers = true)]
+    noise_corr_length_rpm: Option<f64>,
     /// Dopri5 relative tolerance (absolute: rtol / 100)
     #[arg(long, default_value_t = 1e-10)]
     rtol: f64,
@@ -138,7 +146,7 @@ struct SetArgs {
     torque_ripple_ratio: f64,
     #[arg(long, default_value_t = 0.0)]
     torque_ripple_phase: f64,
-    /// Noise family: constant, relative, student-t, quantized, or none
+    /// Noise family: constant, relative, student-t, quantized, correlated, or none
     #[arg(long, default_value = "constant")]
     noise: String,
     /// Noise seed
@@ -182,10 +190,12 @@ struct BatchArgs {
     /// kubo: tooth pairs per set, rotating over this list (set i: entry i mod len)
     #[arg(long, default_value = "4,8,12")]
     tooth_pairs_cycle: String,
-    /// kubo: reading-error families, rotating (set i: entry (i / len(pairs)) mod len, so every
-    /// pair count meets every family)
-    #[arg(long, default_value = "gaussian,student-t,quantized")]
-    families: String,
+    /// Noise families, rotating. validate, discover: set i (within each kind of discover) gets
+    /// entry i mod len (default constant,relative,student-t,quantized); kubo: entry
+    /// (i / len(pairs)) mod len, so every pair count meets every family (default
+    /// gaussian,student-t,quantized). Add correlated for errors correlated along speed.
+    #[arg(long)]
+    families: Option<String>,
     /// kubo: relative SD of each pair's STE amplitude
     #[arg(long, default_value_t = 0.05)]
     pair_ste_scatter: f64,
@@ -256,7 +266,7 @@ struct KuboSetArgs {
     /// Relative SD of each pair's STE amplitude, drawn once per set
     #[arg(long, default_value_t = 0.05)]
     pair_ste_scatter: f64,
-    /// Reading error family: gaussian, student-t, quantized, or none
+    /// Reading error family: gaussian, student-t, quantized, correlated, or none
     #[arg(long, default_value = "gaussian")]
     noise: String,
     /// Relative part of the reading error's SD (times the pair's D_L)
@@ -271,6 +281,14 @@ struct KuboSetArgs {
     /// Reading grid of the quantized family (D_L units)
     #[arg(long, default_value_t = 0.02)]
     noise_quantum: f64,
+    /// correlated family: lag-one correlation of the standardized errors between neighbouring
+    /// speeds of the grid, in [0, 0.999] (default 0.6 when --noise-corr-length-rpm is not given)
+    #[arg(long, visible_alias = "rho", allow_negative_numbers = true)]
+    noise_rho: Option<f64>,
+    /// correlated family: correlation length L in rpm instead of --noise-rho, corr(z_i, z_j) =
+    /// exp(-|s_i - s_j| / L) (finite, > 0)
+    #[arg(long, visible_alias = "corr-length-rpm", allow_negative_numbers = true)]
+    noise_corr_length_rpm: Option<f64>,
     /// Seed (pair STE draws: splitmix64(seed, 4); reading errors: splitmix64(seed, 2))
     #[arg(long, default_value_t = 1)]
     seed: u64,
@@ -343,14 +361,157 @@ fn sim_config(c: &Common) -> SimConfig {
     }
 }
 
-fn noise_spec(c: &Common, family: Family, seed: u64) -> NoiseSpec {
-    NoiseSpec {
-        family,
+/// The correlation of a correlated family from its two flags; refuses either flag when no family
+/// in use is correlated (they would be silently ignored), and values out of range.
+fn correlation_flags(
+    correlated: bool,
+    rho: Option<f64>,
+    length_rpm: Option<f64>,
+    families: &str,
+) -> Result<Option<Correlation>, String> {
+    if !correlated {
+        return match (rho, length_rpm) {
+            (Some(_), _) => Err(format!(
+                "--noise-rho applies only to the correlated family (noise family: {families})"
+            )),
+            (None, Some(_)) => Err(format!(
+                "--noise-corr-length-rpm applies only to the correlated family (noise family: {families})"
+            )),
+            (None, None) => Ok(None),
+        };
+    }
+    Correlation::from_flags(rho, length_rpm).map(Some)
+}
+
+/// The floor and relative part of a correlated family's scale must be finite and >= 0.
+fn check_scale(
+    floor: f64,
+    floor_flag: &str,
+    relative: f64,
+    relative_flag: &str,
+) -> Result<(), String> {
+    for (v, flag) in [(floor, floor_flag), (relative, relative_flag)] {
+        if !(v.is_finite() && v >= 0.0) {
+            return Err(format!("{flag} {v}: must be a finite number >= 0"));
+        }
+    }
+    Ok(())
+}
+
+/// The Munro-mode noise of every set drawn with these flags, less its family and seed; Err if
+/// the correlation flags do not apply to `families` (the families in use) or are out of range.
+fn noise_template(c: &Common, families: &[Family]) -> Result<NoiseSpec, String> {
+    let correlated = families.contains(&Family::Correlated);
+    let names: Vec<&str> = families.iter().map(|f| f.name()).collect();
+    let correlation = correlation_flags(
+        correlated,
+        c.noise_rho,
+        c.noise_corr_length_rpm,
+        &names.join(","),
+    )?;
+    let relative = c.noise_relative.unwrap_or(0.03);
+    if correlated {
+        check_scale(c.noise_um, "--noise-um", relative, "--noise-relative")?;
+    }
+    Ok(NoiseSpec {
+        family: Family::Constant,
         floor_um: c.noise_um,
-        relative: c.noise_relative.unwrap_or(0.03),
+        relative,
         dof: c.noise_dof,
         quantum_um: c.noise_quantum_um,
+        seed: 0,
+        correlation,
+    })
+}
+
+/// One set's noise: the template with its family and seed (the correlation only for the
+/// correlated family, so the other families' truth records stay as they were).
+fn noise_spec(template: &NoiseSpec, family: Family, seed: u64) -> NoiseSpec {
+    NoiseSpec {
+        family,
         seed,
+        correlation: if family == Family::Correlated {
+            template.correlation
+        } else {
+            None
+        },
+        ..template.clone()
+    }
+}
+
+/// The noise of `set` (None for --noise none).
+fn set_noise(a: &SetArgs) -> Result<Option<NoiseSpec>, String> {
+    if a.noise == "none" {
+        correlation_flags(
+            false,
+            a.common.noise_rho,
+            a.common.noise_corr_length_rpm,
+            "none",
+        )?;
+        return Ok(None);
+    }
+    let family = Family::parse(&a.noise)?;
+    let template = noise_template(&a.common, &[family])?;
+    Ok(Some(noise_spec(&template, family, a.seed)))
+}
+
+/// The reading error of `kubo-set` (None for --noise none).
+fn kubo_set_noise(a: &KuboSetArgs) -> Result<Option<kubo::KNoise>, String> {
+    let family = match a.noise.as_str() {
+        "none" => None,
+        s => Some(kubo::KFamily::parse(s)?),
+    };
+    let correlated = family == Some(kubo::KFamily::Correlated);
+    let correlation =
+        correlation_flags(correlated, a.noise_rho, a.noise_corr_length_rpm, &a.noise)?;
+    if correlated {
+        check_scale(
+            a.noise_floor,
+            "--noise-floor",
+            a.noise_relative,
+            "--noise-relative",
+        )?;
+    }
+    Ok(family.map(|family| kubo::KNoise {
+        family,
+        relative: a.noise_relative,
+        floor: a.noise_floor,
+        dof: a.noise_dof,
+        quantum: a.noise_quantum,
+        correlation,
+    }))
+}
+
+/// The rotation of a Kubo batch's reading-error families and the correlated family's correlation
+/// (None when no family is correlated).
+fn kubo_families(a: &BatchArgs) -> Result<(Vec<kubo::KFamily>, Option<Correlation>), String> {
+    let fams: Vec<kubo::KFamily> = a
+        .families
+        .as_deref()
+        .unwrap_or("gaussian,student-t,quantized")
+        .split(',')
+        .map(|x| kubo::KFamily::parse(x.trim()))
+        .collect::<Result<_, _>>()?;
+    let correlated = fams.contains(&kubo::KFamily::Correlated);
+    let names: Vec<&str> = fams.iter().map(|f| f.name()).collect();
+    let correlation = correlation_flags(
+        correlated,
+        a.common.noise_rho,
+        a.common.noise_corr_length_rpm,
+        &names.join(","),
+    )?;
+    if correlated {
+        let relative = a.common.noise_relative.unwrap_or(0.02);
+        check_scale(a.noise_floor, "--noise-floor", relative, "--noise-relative")?;
+    }
+    Ok((fams, correlation))
+}
+
+/// The rotation of a Munro-mode batch's noise families.
+fn munro_families(a: &BatchArgs) -> Result<Vec<Family>, String> {
+    match &a.families {
+        None => Ok(Family::INDEPENDENT.to_vec()),
+        Some(list) => list.split(',').map(|x| Family::parse(x.trim())).collect(),
     }
 }
 
@@ -406,11 +567,7 @@ fn run_set(a: SetArgs) -> Result<(), String> {
     } else {
         parse_grid(&a.speeds)?
     };
-    let noise = if a.noise == "none" {
-        None
-    } else {
-        Some(noise_spec(&a.common, Family::parse(&a.noise)?, a.seed))
-    };
+    let noise = set_noise(&a)?;
     let name = a
         .out
         .file_name()
@@ -469,17 +626,7 @@ fn run_kubo_set(a: KuboSetArgs) -> Result<(), String> {
         Some(p) => Rig::from_file(p)?,
         None => Rig::from_toml_str(kubo::KUBO_RIG_TOML)?,
     };
-    let noise = if a.noise == "none" {
-        None
-    } else {
-        Some(kubo::KNoise {
-            family: kubo::KFamily::parse(&a.noise)?,
-            relative: a.noise_relative,
-            floor: a.noise_floor,
-            dof: a.noise_dof,
-            quantum: a.noise_quantum,
-        })
-    };
+    let noise = kubo_set_noise(&a)?;
     let name = a
         .out
         .file_name()
@@ -544,11 +691,7 @@ fn run_kubo_batch(a: BatchArgs) -> Result<(), String> {
         .split(',')
         .map(|x| x.trim().parse::<usize>().map_err(|e| format!("--tooth-pairs-cycle: {e}")))
         .collect::<Result<_, _>>()?;
-    let fams: Vec<kubo::KFamily> = a
-        .families
-        .split(',')
-        .map(|x| kubo::KFamily::parse(x.trim()))
-        .collect::<Result<_, _>>()?;
+    let (fams, correlation) = kubo_families(&a)?;
     let relative = a.common.noise_relative.unwrap_or(0.02);
     let sim = kubo::kubo_sim(a.common.rtol);
     let width = a.seeds.to_string().len().max(3);
@@ -581,6 +724,11 @@ fn run_kubo_batch(a: BatchArgs) -> Result<(), String> {
                 floor: a.noise_floor,
                 dof: a.common.noise_dof,
                 quantum: a.noise_quantum,
+                correlation: if family == kubo::KFamily::Correlated {
+                    correlation
+                } else {
+                    None
+                },
             }),
             pair_seed: mix(seed, 4),
             noise_seed: mix(seed, 2),
@@ -683,13 +831,15 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
         "--speed-range",
     )?;
     let sim = sim_config(&a.common);
+    let fams = munro_families(&a)?;
+    let template = noise_template(&a.common, &fams)?;
 
     // The list of sets, in generation order (each: effect kind, family).
     let mut plan: Vec<(&str, Family)> = Vec::new();
     match a.kind {
         Kind::Validate => {
             for i in 0..a.seeds {
-                plan.push(("none", Family::ALL[i % 4]));
+                plan.push(("none", fams[i % fams.len()]));
             }
         }
         Kind::Kubo => unreachable!("kubo batches are made by run_kubo_batch"),
@@ -701,7 +851,7 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
                 ("ripple", a.ripple_sets),
             ] {
                 for i in 0..n {
-                    plan.push((kind, Family::ALL[i % 4]));
+                    plan.push((kind, fams[i % fams.len()]));
                 }
             }
             // Neutral names in a seeded random order: the set names do not tell the effect.
@@ -778,7 +928,7 @@ fn run_batch(a: BatchArgs) -> Result<(), String> {
             loads,
             effect,
             grid,
-            noise: Some(noise_spec(&a.common, family, mix(seed, 2))),
+            noise: Some(noise_spec(&template, family, mix(seed, 2))),
             sim: sim.clone(),
             extra: json!({
                 "batch_kind": format!("{:?}", a.kind).to_lowercase(),
