@@ -340,7 +340,8 @@ pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
 pub struct NoiseArgs {
     /// Noise family: constant (Gaussian), relative (Gaussian, floor plus 3% of the level),
     /// student-t (3 degrees of freedom, floor plus 3%), quantized (floor plus 3%, read to a
-    /// 0.25 µm grid).
+    /// 0.25 µm grid), correlated (Gaussian, floor plus 3%, an AR(1) along speed within each
+    /// curve of lag-one correlation 0.6 on the grid).
     #[arg(long, default_value = "constant")]
     pub noise: String,
     /// Noise floor (the standard deviation of the constant family), µm, in [0, 1000].
@@ -358,6 +359,10 @@ pub struct NoiseArgs {
     /// Reading grid of the quantized family, µm, in (0, 1000] (default 0.25).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     pub noise_quantum_um: Option<f64>,
+    /// Lag-one correlation along speed of the correlated family's errors on the curve's grid
+    /// (an AR(1) within each curve), in [0, 0.999] (default 0.6).
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 0.999, false))]
+    pub noise_rho: Option<f64>,
 }
 
 impl NoiseArgs {
@@ -366,7 +371,7 @@ impl NoiseArgs {
         use geardyn::validate::NoiseFamily;
         let family = NoiseFamily::parse(&self.noise).ok_or_else(|| {
             anyhow::anyhow!(
-                "unknown --noise '{}': constant, relative, student-t or quantized",
+                "unknown --noise '{}': constant, relative, student-t, quantized or correlated",
                 self.noise
             )
         })?;
@@ -374,7 +379,7 @@ impl NoiseArgs {
         if let Some(r) = self.noise_relative {
             if family == NoiseFamily::Constant {
                 anyhow::bail!(
-                    "--noise-relative applies to the level-dependent families (relative, student-t, quantized); --noise constant has none"
+                    "--noise-relative applies to the level-dependent families (relative, student-t, quantized, correlated); --noise constant has none"
                 );
             }
             n.model.relative = r;
@@ -390,6 +395,12 @@ impl NoiseArgs {
                 anyhow::bail!("--noise-quantum-um applies to --noise quantized only");
             }
             n.quantum_um = Some(q);
+        }
+        if let Some(rho) = self.noise_rho {
+            if family != NoiseFamily::Correlated {
+                anyhow::bail!("--noise-rho applies to --noise correlated only");
+            }
+            n.rho_on_grid = Some(rho);
         }
         Ok(n)
     }

@@ -9,8 +9,9 @@ use geardyn::report::{
     data_kind_banner, interval_digits, write_kubo_report, write_munro_report, MunroFigures,
 };
 use geardyn::validate::{
-    spread_interval, validate_kubo, validate_munro, DesignModel, GeometryOptions, KuboFitPath,
-    KuboOptions, KuboValidation, LoadResult, MunroOptions, ReliefRule, SteMode, PAIR_SPREAD,
+    spread_interval, validate_kubo, validate_munro, CorrelationChoice, DesignModel,
+    GeometryOptions, KuboFitPath, KuboOptions, KuboValidation, LoadResult, MunroOptions,
+    ReliefRule, SteMode, PAIR_SPREAD,
 };
 use std::path::PathBuf;
 
@@ -118,9 +119,32 @@ struct MunroArgs {
     /// the legend, so a few far attractors do not squeeze the curves.
     #[arg(long)]
     all_attractors_in_range: bool,
+    /// Errors correlated along speed within a curve (docs/correlated-errors.md). auto:
+    /// estimated, and kept when the data reject independent errors; off: independent errors;
+    /// on: always estimated. Default: auto, or the length rig.toml's [noise] correlation_rpm
+    /// states.
+    #[arg(long, value_enum)]
+    correlation: Option<CorrelationArg>,
     /// The predictions' attractor searches (25 speeds, 7 x 7 initial conditions each).
     #[command(flatten)]
     escape: EscapeArgs,
+}
+
+#[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
+enum CorrelationArg {
+    Auto,
+    Off,
+    On,
+}
+
+impl CorrelationArg {
+    fn choice(self) -> CorrelationChoice {
+        match self {
+            CorrelationArg::Auto => CorrelationChoice::Auto,
+            CorrelationArg::Off => CorrelationChoice::Off,
+            CorrelationArg::On => CorrelationChoice::On,
+        }
+    }
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -209,6 +233,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let opts = MunroOptions {
                 ste: m.ste_mode(&dir.join("rig.toml"))?,
                 escape: m.escape.budget(defaults.escape),
+                correlation: m.correlation.map(CorrelationArg::choice),
                 ..defaults
             };
             let r = validate_munro(&data, &opts, &Bar::new())?;
@@ -240,6 +265,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 "noise: {}\n",
                 geardyn::report::noise_summary(&r.fit.estimate)
             ));
+            let names = geardyn::report::munro_curve_names(&r);
+            if let Some(c) = geardyn::report::correlation_summary(&r.fit.estimate, &names) {
+                s.push_str(&format!("{c}\n"));
+            }
             if r.geometry.is_some() {
                 s.push_str("STE read from each curve:\n");
             }

@@ -337,6 +337,11 @@ pub struct StatedNoise {
     /// 1000 um.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub reading_um: Option<f64>,
+    /// Correlation length (rpm) of the errors along speed within a curve,
+    /// exp(-|s_i - s_j| / length) (docs/correlated-errors.md); 0 states independent errors.
+    /// Finite, in [0, 1e6) rpm. Left out, the fit estimates it when the data say so.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correlation_rpm: Option<f64>,
 }
 
 /// Largest plausible noise level in micrometres (a DTE noise of a millimetre is a unit mistake).
@@ -381,6 +386,16 @@ impl StatedNoise {
                 })
             })
             .or_else(|| optional(self.reading_um, |v| in_um("reading_um", v)))
+            .or_else(|| {
+                optional(self.correlation_rpm, |v| {
+                    require(
+                        "correlation_rpm",
+                        v,
+                        v.is_finite() && (0.0..1e6).contains(&v),
+                        "the correlation length along speed must be a finite number of rpm in [0, 1000000) (0: independent errors)",
+                    )
+                })
+            })
             .or_else(|| optional(self.floor_um, below_reading))
     }
 }

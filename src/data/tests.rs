@@ -458,6 +458,7 @@ fn measured_rig_with_noise_loads_and_round_trips() {
             floor_um: Some(0.1),
             relative: Some(0.02),
             reading_um: Some(0.05),
+            correlation_rpm: None,
         })
     );
     let out = d.path().join("copy.toml");

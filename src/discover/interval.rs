@@ -398,6 +398,7 @@ mod tests {
         let zeros = vec![0.0; m];
         let levels = vec![1.0; m];
         let data = NoiseData {
+            correlation: None,
             residuals: &values,
             levels: &levels,
             leverages: &zeros,

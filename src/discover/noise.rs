@@ -470,6 +470,7 @@ fn with_kept<T>(pseudo: &Pseudo, keep: &[bool], f: impl FnOnce(&NoiseData) -> T)
         residuals: &values,
         levels: &levels,
         leverages: &leverages,
+        correlation: None,
     })
 }
 
@@ -576,6 +577,7 @@ mod tests {
             floor: 0.15,
             relative: 0.03,
             distribution: Distribution::Gaussian,
+            correlation_length: 0.0,
         };
         let misfit = |s: f64| 3.0 * (s / 700.0).sin();
         let n = estimated(truth, 5, misfit, TailChoice::Auto);
@@ -595,6 +597,7 @@ mod tests {
             floor: 0.15,
             relative: 0.03,
             distribution: Distribution::StudentT { dof: 3.0 },
+            correlation_length: 0.0,
         };
         let n = estimated(truth, 8, |_| 0.0, TailChoice::Auto);
         assert!(

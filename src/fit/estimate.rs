@@ -9,12 +9,15 @@
 //! n / (n - p) correction) form beside it for a misspecified noise model; a t quantile with the
 //! residual degrees of freedom for both (the noise model is estimated from the same data).
 
+use super::correlation::{curve_correlations, Axis, Correlation, CurveCorrelation};
 use super::lm::{least_squares_warm, LmFit, NearResiduals, Stop};
 use super::noise::{
-    estimate_noise, floor_at_bound, held_variance_components, log_likelihood, noise_intervals,
-    robust_weight, Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
+    estimate_length, estimate_noise, estimate_noise_and_length, floor_at_bound,
+    held_variance_components, length_interval, neg_log_likelihood, noise_intervals, robust_weight,
+    Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
 };
 use super::params::{restarted, Param};
+use super::whitener::Whitener;
 use crate::error::{GearError, Result};
 use nalgebra::DMatrix;
 use serde::Serialize;
@@ -53,10 +56,38 @@ pub enum Robust {
     Auto,
 }
 
+/// What is known of the errors' correlation along speed within a curve
+/// (docs/correlated-errors.md).
+#[derive(Clone, Debug)]
+pub enum CorrelationSetting {
+    /// Independent errors, and no axis to check them on.
+    Independent,
+    /// The correlation length estimated, and kept when the likelihood-ratio test against
+    /// independent errors rejects at 5% ([`CORRELATION_LR_CRITICAL`]).
+    Auto(Axis),
+    /// The correlation length always estimated.
+    Estimated(Axis),
+    /// A stated correlation length (rpm; 0: independent errors), held.
+    Stated(Axis, f64),
+}
+
+impl CorrelationSetting {
+    fn axis(&self) -> Option<&Axis> {
+        match self {
+            CorrelationSetting::Independent => None,
+            CorrelationSetting::Auto(a)
+            | CorrelationSetting::Estimated(a)
+            | CorrelationSetting::Stated(a, _) => Some(a),
+        }
+    }
+}
+
 /// Settings of [`estimate`].
 #[derive(Clone, Debug)]
 pub struct EstimateOptions {
     pub noise: NoiseSetting,
+    /// The errors' correlation along speed.
+    pub correlation: CorrelationSetting,
     pub robust: Robust,
     /// Stop rule of each weighted least-squares fit.
     pub stop: Stop,
@@ -121,6 +152,42 @@ pub struct NoiseFit {
     /// model short of the data) where above. None for an estimated noise, whose chi-square is
     /// about its degrees of freedom by construction, and for Student-t errors.
     pub stated_noise_p: Option<f64>,
+    /// The errors' correlation along speed, where the fit had an axis.
+    pub correlation: Option<CorrelationFit>,
+}
+
+/// Where the correlation length came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CorrelationSource {
+    /// Estimated and kept: the test rejected independent errors, or the fit was told to
+    /// estimate it.
+    Estimated,
+    /// Tested and not kept: the errors are taken as independent.
+    IndependentByTest,
+    /// Stated (rig.toml `[noise] correlation_rpm`, or `--correlation off` as 0).
+    Stated,
+}
+
+/// The errors' correlation along speed of a fit (docs/correlated-errors.md), and the
+/// residual-correlation diagnostic of each curve.
+#[derive(Clone, Debug, Serialize)]
+pub struct CorrelationFit {
+    pub source: CorrelationSource,
+    /// Correlation length (rpm) of the noise model; 0: independent errors.
+    pub length_rpm: f64,
+    /// Its profile-likelihood 95% interval where it was estimated (upper None: unbounded).
+    pub length_ci95: Option<(f64, Option<f64>)>,
+    /// The median gap between neighbouring speeds of a curve (rpm), and the lag-one
+    /// correlation exp(-gap / length) of the errors there.
+    pub median_step_rpm: Option<f64>,
+    pub rho_median_step: f64,
+    /// 2 (log L correlated - log L independent) at the two fits, where both were made; the
+    /// test's 5% critical value is [`CORRELATION_LR_CRITICAL`].
+    pub lr_vs_independent: Option<f64>,
+    /// Per curve: the standardized residuals' lag-one correlation and the innovations'
+    /// Ljung-Box test.
+    pub curves: Vec<CurveCorrelation>,
 }
 
 impl NoiseFit {
@@ -172,6 +239,10 @@ pub struct Estimate {
     /// The parameter definitions (transforms) of the fit.
     #[serde(skip)]
     pub param_defs: Vec<Param>,
+    /// The map from residuals to the fit's least-squares vector at the fit (scales, robust
+    /// weights, correlation): the profiles' likelihood.
+    #[serde(skip)]
+    pub whitener: Whitener,
 }
 
 /// Reweighting iterations at most: the weights converge in 3-6 on every set tried.
@@ -183,6 +254,10 @@ const T_DOF_GRID: [f64; 9] = [1.0, 1.5, 2.0, 3.0, 4.0, 6.0, 10.0, 20.0, 50.0];
 /// Gaussian is the boundary dof -> infinity, so the statistic is a 50:50 mixture of chi^2_0 and
 /// chi^2_1 (Self & Liang 1987), whose 95% point is chi^2_1's 90% point.
 pub const ROBUST_LR_CRITICAL: f64 = 2.705_543_454_095_404;
+/// 5% critical value of the likelihood-ratio test of independent against correlated errors:
+/// independence (length 0) is the boundary of the length's range, so the statistic is the
+/// same 50:50 mixture of chi^2_0 and chi^2_1 (Self & Liang 1987).
+pub const CORRELATION_LR_CRITICAL: f64 = ROBUST_LR_CRITICAL;
 
 /// Hat-matrix diagonal of the weighted fit: H = J (J'J)^+ J' for the weighted Jacobian J
 /// (its zero columns, parameters held still, dropped).
@@ -232,20 +307,15 @@ impl<M> Weighted<'_, M>
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    fn fit(&self, params: &[Param], weights: &[f64], stop: Stop) -> Result<LmFit> {
+    fn fit(&self, params: &[Param], whitener: &Whitener, stop: Stop) -> Result<LmFit> {
         let residuals = |m: Vec<f64>| -> Result<Vec<f64>> {
             if m.len() != self.y.len() {
                 return Err(GearError::Numerical(
                     "the model's curve has another length than the data".into(),
                 ));
             }
-            Ok(self
-                .y
-                .iter()
-                .zip(&m)
-                .zip(weights)
-                .map(|((y, f), w)| (y - f) * w.sqrt())
-                .collect())
+            let r: Vec<f64> = self.y.iter().zip(&m).map(|(y, f)| y - f).collect();
+            Ok(whitener.apply(&r))
         };
         let f = |p: &[f64]| residuals((self.model)(p)?);
         let near = self
@@ -256,59 +326,119 @@ where
     }
 }
 
+/// The correlation length of one converged fit: held (with the axis it is held on, if any),
+/// or estimated on an axis.
+#[derive(Clone, Copy)]
+enum Length<'a> {
+    Held(Option<&'a Axis>, f64),
+    Free(&'a Axis),
+}
+
+impl<'a> Length<'a> {
+    fn axis(self) -> Option<&'a Axis> {
+        match self {
+            Length::Held(a, _) => a,
+            Length::Free(a) => Some(a),
+        }
+    }
+}
+
+/// The noise model with a held correlation length fitted to residuals under `setting` and
+/// `dist`, and its negative log-likelihood.
+fn noise_with_length(
+    setting: &NoiseSetting,
+    data: &NoiseData,
+    dist: Distribution,
+) -> Result<(NoiseModel, f64)> {
+    let length = data.correlation.map_or(0.0, |c| c.length);
+    match setting {
+        NoiseSetting::Estimate(freedom) => estimate_noise(data, *freedom, dist),
+        NoiseSetting::Stated(m) => {
+            let m = NoiseModel {
+                distribution: dist,
+                correlation_length: length,
+                ..*m
+            };
+            let scales: Vec<f64> = data.levels.iter().map(|l| m.scale(*l)).collect();
+            let nll = neg_log_likelihood(dist, data.residuals, &scales, data.correlation);
+            Ok((m, nll))
+        }
+        NoiseSetting::PerPoint(sd) => {
+            let m = NoiseModel {
+                distribution: dist,
+                correlation_length: length,
+                ..NoiseModel::constant(1.0)
+            };
+            Ok((
+                m,
+                neg_log_likelihood(dist, data.residuals, sd, data.correlation),
+            ))
+        }
+        NoiseSetting::ProportionalToLevel => {
+            // Residuals in units of the level: a floor-only model of them is the common
+            // factor s.
+            let c = proportional_levels(data.levels);
+            let r: Vec<f64> = data.residuals.iter().zip(&c).map(|(r, c)| r / c).collect();
+            let zero = vec![0.0; r.len()];
+            let scaled = NoiseData {
+                residuals: &r,
+                levels: &zero,
+                leverages: data.leverages,
+                correlation: data.correlation,
+            };
+            let freedom = NoiseFreedom {
+                floor_min: 0.0,
+                relative: false,
+            };
+            let s = estimate_noise(&scaled, freedom, dist)?.0;
+            let scales: Vec<f64> = c.iter().map(|c| s.floor * c).collect();
+            let m = NoiseModel {
+                floor: 0.0,
+                relative: s.floor,
+                distribution: dist,
+                correlation_length: length,
+            };
+            Ok((
+                m,
+                neg_log_likelihood(dist, data.residuals, &scales, data.correlation),
+            ))
+        }
+    }
+}
+
+/// The residuals `base` (their correlation not set) with the correlation of `axis` at
+/// `length`.
+fn at_length<'a>(base: &NoiseData<'a>, axis: Option<&'a Axis>, length: f64) -> NoiseData<'a> {
+    NoiseData {
+        residuals: base.residuals,
+        levels: base.levels,
+        leverages: base.leverages,
+        correlation: axis.map(|axis| Correlation { axis, length }),
+    }
+}
+
 /// One noise model fitted to the residuals at the current fit (Gaussian or Student-t with the
-/// best dof of the grid), with its negative log-likelihood.
+/// best dof of the grid; the correlation length held or profiled), with its scales and
+/// negative log-likelihood.
 fn noise_at(
     setting: &NoiseSetting,
     data: &NoiseData,
     dist: Distribution,
+    length: Length,
 ) -> Result<(NoiseModel, Vec<f64>, f64)> {
     let pick = |dist: Distribution| -> Result<(NoiseModel, f64)> {
-        match setting {
-            NoiseSetting::Estimate(freedom) => estimate_noise(data, *freedom, dist),
-            NoiseSetting::Stated(m) => {
-                let m = NoiseModel {
-                    distribution: dist,
-                    ..*m
-                };
-                let scales: Vec<f64> = data.levels.iter().map(|l| m.scale(*l)).collect();
-                Ok((m, -log_likelihood(dist, data.residuals, &scales)))
-            }
-            NoiseSetting::PerPoint(sd) => {
-                let m = NoiseModel {
-                    distribution: dist,
-                    ..NoiseModel::constant(1.0)
-                };
-                let ones = vec![1.0; sd.len()];
-                let r: Vec<f64> = data.residuals.iter().zip(sd).map(|(r, c)| r / c).collect();
-                let ll = log_likelihood(dist, &r, &ones) - sd.iter().map(|c| c.ln()).sum::<f64>();
-                Ok((m, -ll))
-            }
-            NoiseSetting::ProportionalToLevel => {
-                // Residuals in units of the level: a floor-only model of them is the common
-                // factor s.
-                let c = proportional_levels(data.levels);
-                let r: Vec<f64> = data.residuals.iter().zip(&c).map(|(r, c)| r / c).collect();
-                let zero = vec![0.0; r.len()];
-                let scaled = NoiseData {
-                    residuals: &r,
-                    levels: &zero,
-                    leverages: data.leverages,
-                };
-                let freedom = NoiseFreedom {
-                    floor_min: 0.0,
-                    relative: false,
-                };
-                let s = estimate_noise(&scaled, freedom, dist)?.0;
-                let ones = vec![s.floor; r.len()];
-                let ll = log_likelihood(dist, &r, &ones) - c.iter().map(|c| c.ln()).sum::<f64>();
-                let m = NoiseModel {
-                    floor: 0.0,
-                    relative: s.floor,
-                    distribution: dist,
-                };
-                Ok((m, -ll))
-            }
+        match length {
+            Length::Held(axis, l) => noise_with_length(setting, &at_length(data, axis, l), dist),
+            // The floor, relative part and length in one search; a stated scale's length
+            // alone by profiling.
+            Length::Free(axis) => match setting {
+                NoiseSetting::Estimate(freedom) => {
+                    estimate_noise_and_length(data, *freedom, dist, axis)
+                }
+                _ => estimate_length(axis, &|l| {
+                    noise_with_length(setting, &at_length(data, Some(axis), l), dist)
+                }),
+            },
         }
     };
     let (m, nll) = match dist {
@@ -352,7 +482,8 @@ struct Converged {
     lm: LmFit,
     noise: NoiseModel,
     scales: Vec<f64>,
-    weights: Vec<f64>,
+    /// The least-squares map of the last fit (`lm` is its fit).
+    whitener: Whitener,
     levels: Vec<f64>,
     residuals: Vec<f64>,
     leverages: Vec<f64>,
@@ -360,18 +491,48 @@ struct Converged {
     iterations: usize,
 }
 
+impl Converged {
+    /// The residuals as the noise estimate sees them, with the fitted correlation held.
+    fn noise_data<'a>(&'a self, axis: Option<&'a Axis>) -> NoiseData<'a> {
+        NoiseData {
+            residuals: &self.residuals,
+            levels: &self.levels,
+            leverages: &self.leverages,
+            correlation: axis.map(|axis| Correlation {
+                axis,
+                length: self.noise.correlation_length,
+            }),
+        }
+    }
+}
+
+/// Whether a reweighting step moved nothing that matters: the parameters to 1e-7, the noise
+/// scale to 1e-5 and the correlation length to 1e-4 (relative; the length is profiled to about
+/// 1e-6 in its logarithm).
+fn settled(previous: &Option<(Vec<f64>, NoiseModel)>, params: &[f64], noise: &NoiseModel) -> bool {
+    previous.as_ref().is_some_and(|(p, m)| {
+        p.iter()
+            .zip(params)
+            .all(|(a, b)| (a - b).abs() <= 1e-7 * a.abs().max(1e-300))
+            && (m.floor - noise.floor).abs() <= 1e-5 * m.floor
+            && (m.relative - noise.relative).abs() <= 1e-5 * m.relative.max(1e-6)
+            && (m.correlation_length - noise.correlation_length).abs()
+                <= 1e-4 * m.correlation_length
+    })
+}
+
 fn converge<M>(
     w: &Weighted<M>,
     params: &[Param],
     start: &[f64],
     (setting, stop): (&NoiseSetting, Stop),
-    dist: Distribution,
+    (dist, length): (Distribution, Length),
 ) -> Result<Converged>
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    let mut weights = initial_weights(setting, w.y);
-    let mut lm = w.fit(&restarted(params, start), &weights, stop)?;
+    let mut whitener = initial_whitener(setting, w.y);
+    let mut lm = w.fit(&restarted(params, start), &whitener, stop)?;
     let mut previous: Option<(Vec<f64>, NoiseModel)> = None;
     for it in 0..MAX_REWEIGHTS {
         let levels = (w.model)(&lm.params)?;
@@ -381,21 +542,15 @@ where
             residuals: &residuals,
             levels: &levels,
             leverages: &leverages,
+            correlation: None,
         };
-        let (noise, scales, nll) = noise_at(setting, &data, dist)?;
-        let settled = previous.as_ref().is_some_and(|(p, m)| {
-            p.iter()
-                .zip(&lm.params)
-                .all(|(a, b)| (a - b).abs() <= 1e-7 * a.abs().max(1e-300))
-                && (m.floor - noise.floor).abs() <= 1e-5 * m.floor
-                && (m.relative - noise.relative).abs() <= 1e-5 * m.relative.max(1e-6)
-        });
-        if settled || it + 1 == MAX_REWEIGHTS {
+        let (noise, scales, nll) = noise_at(setting, &data, dist, length)?;
+        if settled(&previous, &lm.params, &noise) || it + 1 == MAX_REWEIGHTS {
             return Ok(Converged {
                 lm,
                 noise,
                 scales,
-                weights,
+                whitener,
                 levels,
                 residuals,
                 leverages,
@@ -403,31 +558,43 @@ where
                 iterations: it + 1,
             });
         }
-        weights = residuals
-            .iter()
-            .zip(&scales)
-            .map(|(r, s)| robust_weight(noise.distribution, r / s) / (s * s))
-            .collect();
+        whitener = noise_whitener(&noise, scales, &residuals, length.axis());
         previous = Some((lm.params.clone(), noise));
-        lm = w.fit(&restarted(params, &lm.params), &weights, stop)?;
+        lm = w.fit(&restarted(params, &lm.params), &whitener, stop)?;
     }
     Err(GearError::Numerical(
         "the reweighted fit did not settle".into(),
     ))
 }
 
-/// Weights of the first fit: the stated noise where there is one (at the data's own level),
-/// else equal.
-fn initial_weights(setting: &NoiseSetting, y: &[f64]) -> Vec<f64> {
-    match setting {
+/// The least-squares map of a fitted noise model: its scales and correlation, and the robust
+/// weight of each innovation of `residuals` (the E-step of Lange, Little & Taylor 1989).
+fn noise_whitener(
+    noise: &NoiseModel,
+    scales: Vec<f64>,
+    residuals: &[f64],
+    axis: Option<&Axis>,
+) -> Whitener {
+    let n = scales.len();
+    let unit = Whitener::new(scales.clone(), vec![1.0; n], axis, noise.correlation_length);
+    let robust = unit
+        .innovations(residuals)
+        .iter()
+        .map(|e| robust_weight(noise.distribution, *e))
+        .collect();
+    Whitener::new(scales, robust, axis, noise.correlation_length)
+}
+
+/// The least-squares map of the first fit: independent errors of the stated noise where there
+/// is one (at the data's own level), else equal.
+fn initial_whitener(setting: &NoiseSetting, y: &[f64]) -> Whitener {
+    Whitener::independent(match setting {
         NoiseSetting::Estimate(_) => vec![1.0; y.len()],
-        NoiseSetting::Stated(m) => y.iter().map(|v| m.scale(*v).powi(-2)).collect(),
-        NoiseSetting::PerPoint(sd) => sd.iter().map(|c| c.powi(-2)).collect(),
+        NoiseSetting::Stated(m) => y.iter().map(|v| m.scale(*v)).collect(),
+        NoiseSetting::PerPoint(sd) => sd.clone(),
         // The first fit has no model level yet: the data's own.
-        NoiseSetting::ProportionalToLevel => {
-            proportional_levels(y).iter().map(|c| c.powi(-2)).collect()
-        }
-    }
+        NoiseSetting::ProportionalToLevel => proportional_levels(y),
+    })
 }
 
 /// Fit the model's curve (`model(p)`: its value at every data point) to `y`: the parameters
@@ -472,11 +639,11 @@ where
     } else {
         opts.starts.clone()
     };
-    let weights0 = initial_weights(&opts.noise, y);
+    let whitener0 = initial_whitener(&opts.noise, y);
     let mut best: Option<LmFit> = None;
     let mut start_costs = Vec::new();
     for s in &starts {
-        match w.fit(&restarted(params, s), &weights0, opts.stop) {
+        match w.fit(&restarted(params, s), &whitener0, opts.stop) {
             Ok(f) => {
                 start_costs.push(f.rss);
                 if best.as_ref().is_none_or(|b| f.rss < b.rss) {
@@ -487,20 +654,116 @@ where
         }
     }
     let first = best.ok_or_else(|| GearError::Numerical("no start of the fit converged".into()))?;
-    let run =
-        |dist: Distribution| converge(&w, params, &first.params, (&opts.noise, opts.stop), dist);
-    let g = run(Distribution::Gaussian)?;
+    let run = |start: &[f64], dist: Distribution, length: Length| {
+        converge(&w, params, start, (&opts.noise, opts.stop), (dist, length))
+    };
+    let axis = opts.correlation.axis();
+    // Independent errors first (or the stated length); then, where the length is to be
+    // estimated, the correlated fit from there, kept as `Auto` says.
+    let held = match opts.correlation {
+        CorrelationSetting::Stated(_, l) => l,
+        _ => 0.0,
+    };
+    let independent = run(
+        &first.params,
+        Distribution::Gaussian,
+        Length::Held(axis, held),
+    )?;
+    let (g, length, correlation_lr) = match &opts.correlation {
+        CorrelationSetting::Auto(a) | CorrelationSetting::Estimated(a) => {
+            let c = run(
+                &independent.lm.params,
+                Distribution::Gaussian,
+                Length::Free(a),
+            )?;
+            let lr = 2.0 * (independent.nll - c.nll);
+            let keep = matches!(opts.correlation, CorrelationSetting::Estimated(_))
+                || lr > CORRELATION_LR_CRITICAL;
+            if keep {
+                (c, Length::Free(a), Some(lr))
+            } else {
+                (independent, Length::Held(axis, 0.0), Some(lr))
+            }
+        }
+        _ => (independent, Length::Held(axis, held), None),
+    };
     let gaussian_only =
         opts.robust == Robust::Off || (opts.noise.is_stated() && opts.robust == Robust::Auto);
     let (c, robust_lr) = if gaussian_only {
         (g, None)
     } else {
-        let t = run(Distribution::StudentT { dof: 4.0 })?;
+        let t = run(&first.params, Distribution::StudentT { dof: 4.0 }, length)?;
         let lr = 2.0 * (g.nll - t.nll);
         let keep_t = opts.robust == Robust::On || lr > ROBUST_LR_CRITICAL;
         (if keep_t { t } else { g }, Some(lr))
     };
-    summarise(c, params, &opts.noise, robust_lr, start_costs, noise_params)
+    let correlation = axis.map(|a| correlation_fit(&c, &opts.noise, (a, length), correlation_lr));
+    summarise(
+        c,
+        params,
+        (&opts.noise, axis),
+        (robust_lr, correlation),
+        start_costs,
+        noise_params,
+    )
+}
+
+/// The correlation part of a converged fit `c` on `axis`: the length, its interval where it
+/// was estimated (`length` free), the test's likelihood ratio, and each curve's diagnostic.
+fn correlation_fit(
+    c: &Converged,
+    setting: &NoiseSetting,
+    (axis, length): (&Axis, Length),
+    lr: Option<f64>,
+) -> CorrelationFit {
+    let fitted = c.noise.correlation_length;
+    let unit = Whitener::new(
+        c.scales.clone(),
+        vec![1.0; c.scales.len()],
+        Some(axis),
+        fitted,
+    );
+    let z: Vec<f64> = c
+        .residuals
+        .iter()
+        .zip(&c.scales)
+        .map(|(r, s)| r / s)
+        .collect();
+    let e = unit.innovations(&c.residuals);
+    let free = matches!(length, Length::Free(_));
+    let data = NoiseData {
+        residuals: &c.residuals,
+        levels: &c.levels,
+        leverages: &c.leverages,
+        correlation: None,
+    };
+    let length_ci95 = free.then(|| {
+        length_interval(axis, (fitted, c.nll), &|l| {
+            noise_with_length(
+                setting,
+                &at_length(&data, Some(axis), l),
+                c.noise.distribution,
+            )
+        })
+    });
+    let source = match (free, lr) {
+        (true, _) => CorrelationSource::Estimated,
+        (false, Some(_)) => CorrelationSource::IndependentByTest,
+        (false, None) => CorrelationSource::Stated,
+    };
+    let median_step_rpm = axis.median_step();
+    CorrelationFit {
+        source,
+        length_rpm: fitted,
+        length_ci95,
+        median_step_rpm,
+        rho_median_step: match median_step_rpm {
+            Some(h) if fitted > 0.0 => (-h / fitted).exp(),
+            _ => 0.0,
+        },
+        lr_vs_independent: lr,
+        curves: curve_correlations(axis, &z, &e, usize::from(free)),
+    }
 }
 
 /// The noise parameters whose uncertainty the intervals carry: a relative part estimated at
@@ -518,7 +781,7 @@ fn at_boundary(f: NoiseFreedom, m: &NoiseModel) -> NoiseFreedom {
 /// Fisher information. A stated noise gives infinite dof (normal quantile); a common scale of
 /// stated relative scales the residual dof (the exact t of a weighted linear fit).
 fn satterthwaite_dof(
-    setting: &NoiseSetting,
+    (setting, axis): (&NoiseSetting, Option<&Axis>),
     c: &Converged,
     cov: &DMatrix<f64>,
     inverse_fisher: &dyn Fn(&NoiseModel) -> Option<DMatrix<f64>>,
@@ -530,12 +793,7 @@ fn satterthwaite_dof(
         NoiseSetting::ProportionalToLevel => return vec![residual_dof as f64; p],
         NoiseSetting::Stated(_) | NoiseSetting::PerPoint(_) => return vec![f64::INFINITY; p],
     };
-    let data = NoiseData {
-        residuals: &c.residuals,
-        levels: &c.levels,
-        leverages: &c.leverages,
-    };
-    let vc = held_variance_components(&data, freedom, &c.noise);
+    let vc = held_variance_components(&c.noise_data(axis), freedom, &c.noise);
     let diagonal =
         |m: &NoiseModel| inverse_fisher(m).map(|f| f.diagonal().iter().copied().collect());
     let v0: Vec<f64> = cov.diagonal().iter().copied().collect();
@@ -619,31 +877,29 @@ pub fn satterthwaite_dof_of(
 fn summarise(
     c: Converged,
     params: &[Param],
-    setting: &NoiseSetting,
-    robust_lr: Option<f64>,
+    (setting, axis): (&NoiseSetting, Option<&Axis>),
+    (robust_lr, correlation): (Option<f64>, Option<CorrelationFit>),
     start_costs: Vec<f64>,
     noise_params: usize,
 ) -> Result<Estimate> {
     let n = c.residuals.len();
     let p = params.len();
-    let jf = model_jacobian(&c);
-    let z: Vec<f64> = c
-        .residuals
-        .iter()
-        .zip(&c.scales)
-        .map(|(r, s)| r / s)
-        .collect();
+    let jf = c.whitener.unapply_columns(&(-&c.lm.jacobian));
+    // The least-squares map of the fitted noise model at unit robust weights.
+    let unit = |m: &NoiseModel| {
+        let scales = scales_of(setting, m, &c.levels);
+        Whitener::new(scales, vec![1.0; n], axis, m.correlation_length)
+    };
+    let whitener = noise_whitener(&c.noise, c.scales.clone(), &c.residuals, axis);
+    // The innovations: the standardized residuals, decorrelated along speed.
+    let z = unit(&c.noise).innovations(&c.residuals);
     let info_factor = match c.noise.distribution {
         Distribution::Gaussian => 1.0,
         Distribution::StudentT { dof } => (dof + 1.0) / (dof + 3.0),
     };
     // Inverse Fisher information under a noise model, the levels and Jacobian held.
     let inverse_fisher = |m: &NoiseModel| -> Option<DMatrix<f64>> {
-        let scales = scales_of(setting, m, &c.levels);
-        let mut g = jf.clone();
-        for (i, s) in scales.iter().enumerate() {
-            g.row_mut(i).scale_mut(1.0 / s);
-        }
+        let g = unit(m).innovations_of_columns(&jf);
         pinv_sym(&(g.transpose() * &g * info_factor))
     };
     let cov = inverse_fisher(&c.noise).ok_or_else(|| {
@@ -653,14 +909,16 @@ fn summarise(
         )
     })?;
     let residual_dof = n.saturating_sub(p + noise_params).max(1);
-    let sandwich = sandwich_covariance(&c, &jf, &z, &cov, residual_dof);
-    let dof = satterthwaite_dof(setting, &c, &cov, &inverse_fisher, residual_dof);
+    let g = unit(&c.noise).innovations_of_columns(&jf);
+    let sandwich = sandwich_covariance(c.noise.distribution, &g, &z, &cov, residual_dof);
+    let dof = satterthwaite_dof((setting, axis), &c, &cov, &inverse_fisher, residual_dof);
     let quantile: Vec<f64> = dof.iter().map(|d| t_quantile_975(*d)).collect();
     let unseen: Vec<bool> = (0..p).map(|j| jf.column(j).norm() == 0.0).collect();
     let (std_errors, ci95) = wald_intervals(params, &c.lm.params, &cov, &quantile, &unseen);
     let (std_errors_sandwich, ci95_sandwich) =
         wald_intervals(params, &c.lm.params, &sandwich, &quantile, &unseen);
-    let noise = noise_fit(&c, setting, robust_lr, &z, residual_dof);
+    let mut noise = noise_fit(&c, (setting, axis), robust_lr, &z, residual_dof);
+    noise.correlation = correlation;
     Ok(Estimate {
         names: params.iter().map(|d| d.name.clone()).collect(),
         params: c.lm.params.clone(),
@@ -677,41 +935,34 @@ fn summarise(
         noise,
         residuals: c.residuals,
         levels: c.levels,
-        weights: c.weights,
+        weights: whitener.weights(),
         start_costs,
         iterations: c.iterations,
         settled: c.iterations < MAX_REWEIGHTS,
         model_jacobian: jf,
         param_defs: params.to_vec(),
+        whitener,
     })
 }
 
-/// The Jacobian of the model values, from the weighted residuals' -sqrt(w_i) df_i/dp.
-fn model_jacobian(c: &Converged) -> DMatrix<f64> {
-    let mut jf = c.lm.jacobian.clone();
-    for (i, w) in c.weights.iter().enumerate() {
-        jf.row_mut(i).scale_mut(-1.0 / w.sqrt());
-    }
-    jf
-}
-
-/// The sandwich covariance cov M cov (Huber 1967; White 1980), M the sum over the points of
-/// g_i' g_i psi(z_i)^2, g_i = df_i/dp / sigma_i the score's direction at point i, psi the
-/// noise model's score function, scaled by n / residual_dof (MacKinnon & White's HC1).
+/// The sandwich covariance cov M cov (Huber 1967; White 1980), M the sum over the
+/// innovations of g_k' g_k psi(z_k)^2, g_k row k of the whitened Jacobian `g` (df/dp / sigma
+/// with independent errors) the score's direction, psi the noise model's score function,
+/// scaled by n / residual_dof (MacKinnon & White's HC1).
 fn sandwich_covariance(
-    c: &Converged,
-    jf: &DMatrix<f64>,
+    dist: Distribution,
+    g: &DMatrix<f64>,
     z: &[f64],
     cov: &DMatrix<f64>,
     residual_dof: usize,
 ) -> DMatrix<f64> {
     // The score function psi(z) = z w(z), w the reweighting's weight.
-    let psi = |z: f64| z * robust_weight(c.noise.distribution, z);
-    let p = jf.ncols();
+    let psi = |z: f64| z * robust_weight(dist, z);
+    let p = g.ncols();
     let mut meat = DMatrix::zeros(p, p);
     for (i, zi) in z.iter().enumerate() {
-        let gi = jf.row(i) * (1.0 / c.scales[i]);
-        meat += gi.transpose() * &gi * psi(*zi).powi(2);
+        let gi = g.row(i);
+        meat += gi.transpose() * gi * psi(*zi).powi(2);
     }
     meat *= z.len() as f64 / residual_dof as f64;
     cov * meat * cov
@@ -776,7 +1027,7 @@ fn wald_intervals(
 /// bound |z| > Phi^-1(1 - 0.025 / n).
 fn noise_fit(
     c: &Converged,
-    setting: &NoiseSetting,
+    (setting, axis): (&NoiseSetting, Option<&Axis>),
     robust_lr: Option<f64>,
     z: &[f64],
     residual_dof: usize,
@@ -792,11 +1043,7 @@ fn noise_fit(
         .collect();
     let (floor_ci95, relative_ci95, floor_held) = match setting {
         NoiseSetting::Estimate(freedom) => {
-            let data = NoiseData {
-                residuals: &c.residuals,
-                levels: &c.levels,
-                leverages: &c.leverages,
-            };
+            let data = c.noise_data(axis);
             let (f, r) = noise_intervals(&data, at_boundary(*freedom, &c.noise), &c.noise);
             let held = floor_at_bound(*freedom, &c.noise);
             ((!held).then_some(f), r, held)
@@ -819,6 +1066,7 @@ fn noise_fit(
         outliers,
         scales: c.scales.clone(),
         stated_noise_p: stated_noise_p(setting, c.noise.distribution, z, residual_dof),
+        correlation: None,
     }
 }
 
@@ -874,6 +1122,7 @@ mod tests {
                 floor_min: 0.0,
                 relative: false,
             }),
+            correlation: CorrelationSetting::Independent,
             robust: Robust::Off,
             stop: Stop::converged(50),
             starts: Vec::new(),
@@ -908,6 +1157,7 @@ mod tests {
         let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
         let opts = EstimateOptions {
             noise: NoiseSetting::ProportionalToLevel,
+            correlation: CorrelationSetting::Independent,
             robust: Robust::Off,
             stop: Stop::converged(50),
             starts: Vec::new(),
@@ -939,11 +1189,116 @@ mod tests {
         let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
         let opts = EstimateOptions {
             noise,
+            correlation: CorrelationSetting::Independent,
             robust: Robust::Auto,
             stop: Stop::converged(50),
             starts: Vec::new(),
         };
         estimate(&model, y, &[Param::signed("a", 0.5, 1.0)], &opts).unwrap()
+    }
+
+    /// Two curves of 60 points (a decay a exp(-k t) on an even 10 rpm grid) with errors of
+    /// sd 0.05 correlated along speed, rho 0.6 per step (length 19.6 rpm), over 200 seeds:
+    /// with the correlation estimated (`Auto`) the Fisher intervals of both parameters cover
+    /// the truth at the nominal 95% (binomial sd 1.5%: accepted 0.90-0.99), the correlated
+    /// fit is kept on nearly every seed and the median length is within 15% of the truth;
+    /// taken as independent the same intervals cover about 80% (the "half as wide"),
+    /// below 0.88. On independent errors `Auto` keeps independent errors on about 95% of seeds
+    /// (the test's level, accepted up to 10%).
+    #[test]
+    fn errors_correlated_along_speed_are_estimated_and_widen_the_intervals() {
+        let t: Vec<f64> = (0..60).map(|i| 10.0 * i as f64).collect();
+        let axis = Axis::new(
+            (0..120).map(|i| i / 60).collect(),
+            t.iter().chain(&t).copied().collect(),
+        )
+        .unwrap();
+        let truth = [3.0, 0.004];
+        let curve = |p: &[f64]| -> Vec<f64> {
+            t.iter()
+                .chain(&t)
+                .map(|t| p[0] * (-p[1] * t).exp())
+                .collect()
+        };
+        let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(curve(p)) };
+        let params = [Param::positive("a", 1.0), Param::positive("k", 0.01)];
+        let opts = |correlation| EstimateOptions {
+            noise: NoiseSetting::Estimate(NoiseFreedom {
+                floor_min: 0.0,
+                relative: false,
+            }),
+            correlation,
+            robust: Robust::Off,
+            stop: Stop::converged(50),
+            starts: Vec::new(),
+        };
+        let length = -10.0 / 0.6_f64.ln();
+        let correlated = Correlation {
+            axis: &axis,
+            length,
+        };
+        let seeds = 200;
+        let (mut auto_covered, mut white_covered, mut kept) = ([0; 2], [0; 2], 0);
+        let mut lengths = Vec::new();
+        let mut false_keeps = 0;
+        for seed in 0..seeds {
+            let mut rng = Rng::new(1000 + seed);
+            let e: Vec<f64> = (0..120).map(|_| rng.normal()).collect();
+            let z = correlated.correlate(&e);
+            let y: Vec<f64> = curve(&truth)
+                .iter()
+                .zip(&z)
+                .map(|(v, z)| v + 0.05 * z)
+                .collect();
+            let auto = estimate(
+                &model,
+                &y,
+                &params,
+                &opts(CorrelationSetting::Auto(axis.clone())),
+            )
+            .unwrap();
+            let white =
+                estimate(&model, &y, &params, &opts(CorrelationSetting::Independent)).unwrap();
+            for j in 0..2 {
+                let inside = |c: (f64, f64)| c.0 <= truth[j] && truth[j] <= c.1;
+                auto_covered[j] += usize::from(inside(auto.ci95[j]));
+                white_covered[j] += usize::from(inside(white.ci95[j]));
+            }
+            let c = auto.noise.correlation.as_ref().unwrap();
+            kept += usize::from(c.source == CorrelationSource::Estimated);
+            lengths.push(c.length_rpm);
+            let y_white: Vec<f64> = curve(&truth)
+                .iter()
+                .zip(&e)
+                .map(|(v, e)| v + 0.05 * e)
+                .collect();
+            let w = estimate(
+                &model,
+                &y_white,
+                &params,
+                &opts(CorrelationSetting::Auto(axis.clone())),
+            )
+            .unwrap();
+            let wc = w.noise.correlation.as_ref().unwrap();
+            false_keeps += usize::from(wc.source == CorrelationSource::Estimated);
+        }
+        let rate = |k: usize| k as f64 / seeds as f64;
+        for j in 0..2 {
+            let (a, w) = (rate(auto_covered[j]), rate(white_covered[j]));
+            assert!((0.90..=0.99).contains(&a), "parameter {j}: correlated {a}");
+            assert!(w < 0.88, "parameter {j}: independent {w}");
+        }
+        assert!(rate(kept) > 0.95, "kept {kept}");
+        lengths.sort_by(f64::total_cmp);
+        let median = lengths[lengths.len() / 2];
+        assert!(
+            (median / length - 1.0).abs() < 0.15,
+            "median length {median} of {length}"
+        );
+        assert!(
+            rate(false_keeps) <= 0.10,
+            "independent errors taken as correlated {false_keeps}"
+        );
     }
 
     /// A floor that ends at its lower bound (a reading uncertainty of 0.3 on a scatter of 0.1

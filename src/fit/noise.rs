@@ -15,7 +15,12 @@
 //! Its parameters are estimated from the residuals of a fit by maximum likelihood with the
 //! mean held (pseudo-likelihood, Carroll & Ruppert 1988, Sec. 3.2), the squared residuals
 //! divided by 1 - h_ii so that the p fitted parameters do not bias the scale low.
+//!
+//! The errors of one curve may be correlated along speed (docs/correlated-errors.md,
+//! [`super::correlation`]): the model's `correlation_length`, estimated by profiling the
+//! likelihood over it ([`estimate_length`]).
 
+use super::correlation::{length_bounds, Axis, Correlation};
 use crate::error::{GearError, Result};
 use crate::validate::Rng;
 use argmin::core::{CostFunction, Executor};
@@ -53,6 +58,9 @@ pub struct NoiseModel {
     /// Part proportional to the level (>= 0, dimensionless).
     pub relative: f64,
     pub distribution: Distribution,
+    /// Length (rpm) of the errors' correlation along speed within a curve,
+    /// exp(-|s_i - s_j| / length); 0 for independent errors (docs/correlated-errors.md).
+    pub correlation_length: f64,
 }
 
 impl NoiseModel {
@@ -62,6 +70,7 @@ impl NoiseModel {
             floor: sd,
             relative: 0.0,
             distribution: Distribution::Gaussian,
+            correlation_length: 0.0,
         }
     }
 
@@ -119,6 +128,27 @@ pub fn log_likelihood(dist: Distribution, residuals: &[f64], scales: &[f64]) -> 
     }
 }
 
+/// -log L of residuals r_i with scales s_i under `dist` and, where given, their correlation
+/// along speed (docs/correlated-errors.md): the innovations' -log L plus sum log s_i plus
+/// 1/2 sum log(1 - phi_k^2). With independent errors -[`log_likelihood`].
+pub fn neg_log_likelihood(
+    dist: Distribution,
+    residuals: &[f64],
+    scales: &[f64],
+    correlation: Option<Correlation>,
+) -> f64 {
+    match correlation.filter(|c| c.length > 0.0) {
+        None => -log_likelihood(dist, residuals, scales),
+        Some(c) => {
+            let z: Vec<f64> = residuals.iter().zip(scales).map(|(r, s)| r / s).collect();
+            let e = c.innovations(&z);
+            -log_likelihood(dist, &e, &vec![1.0; e.len()])
+                + scales.iter().map(|s| s.ln()).sum::<f64>()
+                + c.half_log_det()
+        }
+    }
+}
+
 /// Weight of a point in the iteratively reweighted fit under `dist`, relative to 1 / sigma^2:
 /// 1 for Gaussian errors, (dof + 1) / (dof + z^2) for Student-t (the E-step of Lange, Little &
 /// Taylor 1989, eq. 4).
@@ -138,18 +168,30 @@ pub struct NoiseFreedom {
     pub relative: bool,
 }
 
-/// Residuals as the noise estimate sees them: r_i, the model's level mu_i there, and the
-/// leverage h_ii of the point in the fit.
+/// Residuals as the noise estimate sees them: r_i, the model's level mu_i there, the leverage
+/// h_ii of the point (of its innovation, with correlated errors) in the fit, and the errors'
+/// correlation along speed, held (None: independent).
 pub struct NoiseData<'a> {
     pub residuals: &'a [f64],
     pub levels: &'a [f64],
     pub leverages: &'a [f64],
+    pub correlation: Option<Correlation<'a>>,
+}
+
+impl NoiseData<'_> {
+    /// The held correlation length (0: independent).
+    fn length(&self) -> f64 {
+        self.correlation.map_or(0.0, |c| c.length)
+    }
 }
 
 struct NegLogLik<'a> {
     data: &'a NoiseData<'a>,
     freedom: NoiseFreedom,
     dist: Distribution,
+    /// The correlation length estimated too, on this axis (the last coordinate, ln L); None:
+    /// held as `data` holds it.
+    free_length: Option<&'a Axis>,
 }
 
 impl NegLogLik<'_> {
@@ -166,19 +208,55 @@ impl NegLogLik<'_> {
             floor,
             relative,
             distribution: self.dist,
+            correlation_length: match (self.free_length, x.last()) {
+                (Some(_), Some(u)) => u.exp(),
+                _ => self.data.length(),
+            },
         }
     }
 
+    /// -log L of the residuals, each (each innovation, with correlated errors) divided by
+    /// sqrt(1 - h).
     fn value(&self, m: &NoiseModel) -> f64 {
         let d = self.data;
         let scales: Vec<f64> = d.levels.iter().map(|l| m.scale(*l)).collect();
-        let adjusted: Vec<f64> = d
-            .residuals
-            .iter()
-            .zip(d.leverages)
-            .map(|(r, h)| r / (1.0 - h.clamp(0.0, 0.99)).sqrt())
-            .collect();
-        -log_likelihood(self.dist, &adjusted, &scales)
+        let adjust = |v: f64, h: &f64| v / (1.0 - h.clamp(0.0, 0.99)).sqrt();
+        let correlation = match self.free_length {
+            Some(axis) => Some(Correlation {
+                axis,
+                length: m.correlation_length,
+            }),
+            None => d.correlation,
+        };
+        match correlation.filter(|c| c.length > 0.0) {
+            None => {
+                let adjusted: Vec<f64> = d
+                    .residuals
+                    .iter()
+                    .zip(d.leverages)
+                    .map(|(r, h)| adjust(*r, h))
+                    .collect();
+                -log_likelihood(self.dist, &adjusted, &scales)
+            }
+            Some(c) => {
+                let z: Vec<f64> = d
+                    .residuals
+                    .iter()
+                    .zip(&scales)
+                    .map(|(r, s)| r / s)
+                    .collect();
+                let e: Vec<f64> = c
+                    .innovations(&z)
+                    .iter()
+                    .zip(d.leverages)
+                    .map(|(e, h)| adjust(*e, h))
+                    .collect();
+                let ones = vec![1.0; e.len()];
+                -log_likelihood(self.dist, &e, &ones)
+                    + scales.iter().map(|s| s.ln()).sum::<f64>()
+                    + c.half_log_det()
+            }
+        }
     }
 }
 
@@ -203,6 +281,39 @@ pub fn estimate_noise(
     freedom: NoiseFreedom,
     dist: Distribution,
 ) -> Result<(NoiseModel, f64)> {
+    estimate_noise_on(data, freedom, dist, None)
+}
+
+/// [`estimate_noise`] with the correlation length estimated too, on `axis`, jointly in one
+/// Nelder-Mead search (its start the median step, where neighbours correlate by 1/e; ten times
+/// cheaper than profiling the length over inner fits), and compared with independent errors,
+/// the better kept.
+pub fn estimate_noise_and_length(
+    data: &NoiseData,
+    freedom: NoiseFreedom,
+    dist: Distribution,
+    axis: &Axis,
+) -> Result<(NoiseModel, f64)> {
+    let held = NoiseData {
+        correlation: None,
+        ..*data
+    };
+    let independent = estimate_noise(&held, freedom, dist)?;
+    if length_bounds(axis).is_none() {
+        return Ok(independent);
+    }
+    match estimate_noise_on(data, freedom, dist, Some(axis)) {
+        Ok(c) if c.1 < independent.1 => Ok(c),
+        _ => Ok(independent),
+    }
+}
+
+fn estimate_noise_on(
+    data: &NoiseData,
+    freedom: NoiseFreedom,
+    dist: Distribution,
+    free_length: Option<&Axis>,
+) -> Result<(NoiseModel, f64)> {
     let n = data.residuals.len();
     if n < 3 || data.levels.len() != n || data.leverages.len() != n {
         return Err(GearError::Numerical(
@@ -218,7 +329,9 @@ pub fn estimate_noise(
         data,
         freedom,
         dist,
+        free_length,
     };
+    let length0 = free_length.and_then(Axis::median_step);
     let mut best: Option<(Vec<f64>, f64)> = None;
     let starts: &[f64] = if freedom.relative {
         &[0.01, 0.1]
@@ -226,11 +339,12 @@ pub fn estimate_noise(
         &[0.0]
     };
     for &rel0 in starts {
-        let x0 = if freedom.relative {
+        let mut x0 = if freedom.relative {
             vec![floor0.ln(), rel0.ln()]
         } else {
             vec![floor0.ln()]
         };
+        x0.extend(length0.map(f64::ln));
         let mut simplex = vec![x0.clone()];
         for i in 0..x0.len() {
             let mut v = x0.clone();
@@ -245,6 +359,7 @@ pub fn estimate_noise(
                 data,
                 freedom,
                 dist,
+                free_length,
             },
             solver,
         )
@@ -273,6 +388,103 @@ pub fn estimate_noise(
         ));
     }
     Ok((m, nll))
+}
+
+/// Noise models with their negative log-likelihood at a held correlation length (rpm): the
+/// inner fit of [`estimate_length`] and [`length_interval`].
+pub type AtLength<'a> = &'a dyn Fn(f64) -> Result<(NoiseModel, f64)>;
+
+/// Points of the coarse search over ln L, and golden-section steps after it (0.618^30 of two
+/// grid cells: far below what any report prints).
+const LENGTH_GRID: usize = 10;
+const LENGTH_REFINE: usize = 30;
+
+/// The noise model with its correlation length estimated too: -log L profiled over the length
+/// (`at_length` refits the other noise parameters at each), on a grid of ln L over
+/// [`length_bounds`] and refined by golden section about its least point, then compared with
+/// independent errors (L = 0), the better kept. An axis whose curves have one point each has
+/// no length to estimate.
+pub fn estimate_length(axis: &Axis, at_length: AtLength) -> Result<(NoiseModel, f64)> {
+    let independent = at_length(0.0)?;
+    let Some((lo, hi)) = length_bounds(axis) else {
+        return Ok(independent);
+    };
+    let (a, b) = (lo.ln(), hi.ln());
+    let u_of = |k: usize| a + (b - a) * k as f64 / (LENGTH_GRID - 1) as f64;
+    let nll = |u: f64| at_length(u.exp()).map_or(f64::INFINITY, |f| f.1);
+    let values: Vec<f64> = (0..LENGTH_GRID).map(|k| nll(u_of(k))).collect();
+    let k = (0..LENGTH_GRID)
+        .min_by(|&i, &j| values[i].total_cmp(&values[j]))
+        .unwrap_or(0);
+    let (mut x0, mut x1) = (
+        u_of(k.saturating_sub(1)),
+        u_of((k + 1).min(LENGTH_GRID - 1)),
+    );
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    let (mut c, mut d) = (x1 - g * (x1 - x0), x0 + g * (x1 - x0));
+    let (mut fc, mut fd) = (nll(c), nll(d));
+    for _ in 0..LENGTH_REFINE {
+        if fc < fd {
+            x1 = d;
+            (d, fd) = (c, fc);
+            c = x1 - g * (x1 - x0);
+            fc = nll(c);
+        } else {
+            x0 = c;
+            (c, fc) = (d, fd);
+            d = x0 + g * (x1 - x0);
+            fd = nll(d);
+        }
+    }
+    let candidates = [(u_of(k), values[k]), (c, fc), (d, fd)];
+    let (u, f) = candidates
+        .into_iter()
+        .min_by(|p, q| p.1.total_cmp(&q.1))
+        .unwrap_or((u_of(k), values[k]));
+    if f < independent.1 {
+        at_length(u.exp())
+    } else {
+        Ok(independent)
+    }
+}
+
+/// The profile-likelihood 95% interval of a correlation length estimated at `fitted`
+/// (-log L `nll`): where -log L, the other noise parameters refitted, rises by 1.92 (chi^2_1's
+/// 95% point over 2), by bisection in ln L. The lower end is 0 where independent errors lie
+/// within that; the upper end None where the profile stays within it up to [`length_bounds`]'
+/// largest length (a drift longer than the curves: not told from an offset).
+pub fn length_interval(
+    axis: &Axis,
+    (fitted, nll): (f64, f64),
+    at_length: AtLength,
+) -> (f64, Option<f64>) {
+    const RISE: f64 = 1.920_729_410_347_062;
+    let Some((lo, hi)) = length_bounds(axis) else {
+        return (0.0, None);
+    };
+    if fitted <= 0.0 {
+        return (0.0, Some(fitted));
+    }
+    let above = |l: f64| at_length(l).map_or(true, |f| f.1 - nll > RISE);
+    let crossing = |inside: f64, outside: f64| {
+        let (mut a, mut b) = (inside.ln(), outside.ln());
+        for _ in 0..40 {
+            let m = 0.5 * (a + b);
+            if above(m.exp()) {
+                b = m;
+            } else {
+                a = m;
+            }
+        }
+        (0.5 * (a + b)).exp()
+    };
+    let lower = if above(0.0) && fitted > lo {
+        crossing(fitted, lo)
+    } else {
+        0.0
+    };
+    let upper = (fitted < hi && above(hi)).then(|| crossing(fitted, hi));
+    (lower, upper)
 }
 
 /// The noise model's variance components (floor^2, relative^2) and their covariance from the
@@ -326,6 +538,7 @@ fn curvatures(data: &NoiseData, freedom: NoiseFreedom, m: &NoiseModel) -> Curvat
             data,
             freedom,
             dist: m.distribution,
+            free_length: None,
         }
         .value(&mm)
     };
@@ -489,6 +702,7 @@ mod tests {
             residuals,
             levels,
             leverages: &leverages,
+            correlation: None,
         };
         let freedom = NoiseFreedom {
             floor_min: 0.0,
@@ -508,6 +722,7 @@ mod tests {
             floor: 0.15,
             relative: 0.03,
             distribution: Distribution::Gaussian,
+            correlation_length: 0.0,
         };
         let mut rng = Rng::new(11);
         let n = 2000;
@@ -544,6 +759,7 @@ mod tests {
             residuals: &residuals,
             levels: &levels,
             leverages: &leverages,
+            correlation: None,
         };
         let freedom = NoiseFreedom {
             floor_min: 0.5,

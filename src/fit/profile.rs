@@ -236,17 +236,19 @@ where
         self.likelihood_residuals_of(&(self.model)(p)?)
     }
 
-    /// [`Profile::likelihood_residuals`] of the model's curve `m`.
+    /// [`Profile::likelihood_residuals`] of the model's curve `m`: the innovations (the
+    /// standardized residuals, decorrelated along speed where the errors are correlated), as
+    /// deviance residuals under Student-t errors.
     fn likelihood_residuals_of(&self, m: &[f64]) -> Result<Vec<f64>> {
-        let residuals = self.y.iter().zip(m).map(|(y, f)| y - f);
+        let residuals: Vec<f64> = self.y.iter().zip(m).map(|(y, f)| y - f).collect();
         Ok(match self.est.noise.model.distribution {
-            Distribution::Gaussian => residuals
-                .zip(&self.est.weights)
-                .map(|(r, w)| r * w.sqrt())
-                .collect(),
-            dist => residuals
-                .zip(&self.est.noise.scales)
-                .map(|(r, s)| deviance_residual(dist, r / s))
+            Distribution::Gaussian => self.est.whitener.apply(&residuals),
+            dist => self
+                .est
+                .whitener
+                .innovations(&residuals)
+                .iter()
+                .map(|e| deviance_residual(dist, *e))
                 .collect(),
         })
     }
@@ -400,8 +402,8 @@ where
 
 /// For each parameter but `index`: its internal coordinate at the estimate, and its change per
 /// unit change of `index`'s internal coordinate along the ridge of the weighted sum of squares,
-/// -F_oo^+ F_oi, F the information J'WJ in internal coordinates (J the model's Jacobian, W the
-/// fit's final weights). Zero slopes where F_oo cannot be inverted.
+/// -F_oo^+ F_oi, F the information G'G in internal coordinates (G the model's Jacobian mapped
+/// as the fit's final least-squares residuals are, [`super::Whitener::apply`]). Zero slopes where F_oo cannot be inverted.
 fn ridge_slopes(est: &Estimate, index: usize) -> Vec<(f64, f64)> {
     let defs = &est.param_defs;
     let p = est.params.len();
@@ -414,10 +416,14 @@ fn ridge_slopes(est: &Estimate, index: usize) -> Vec<(f64, f64)> {
     for (c, (d, u)) in defs.iter().zip(&internal).enumerate() {
         j.column_mut(c).scale_mut(d.transform.derivative(*u));
     }
-    for (r, w) in est.weights.iter().enumerate() {
-        j.row_mut(r).scale_mut(w.sqrt());
+    let mut g = j.clone();
+    for c in 0..j.ncols() {
+        let col: Vec<f64> = j.column(c).iter().copied().collect();
+        for (r, v) in est.whitener.apply(&col).into_iter().enumerate() {
+            g[(r, c)] = v;
+        }
     }
-    let f = j.transpose() * &j;
+    let f = g.transpose() * &g;
     let others: Vec<usize> = (0..p).filter(|&c| c != index).collect();
     let f_oo = DMatrix::from_fn(others.len(), others.len(), |a, b| f[(others[a], others[b])]);
     let f_oi = DVector::from_fn(others.len(), |a, _| f[(others[a], index)]);
@@ -432,7 +438,7 @@ fn ridge_slopes(est: &Estimate, index: usize) -> Vec<(f64, f64)> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fit::{estimate, EstimateOptions, NoiseSetting, Robust};
+    use crate::fit::{estimate, CorrelationSetting, EstimateOptions, NoiseSetting, Robust};
 
     /// Points and per-point standard deviations of the tests: no noise is drawn, the data
     /// are a fixed wiggle about the curve, so that the fit has residuals.
@@ -465,6 +471,7 @@ mod tests {
             params,
             &EstimateOptions {
                 noise: NoiseSetting::PerPoint(sd.to_vec()),
+                correlation: CorrelationSetting::Independent,
                 robust: Robust::Off,
                 stop: Stop::converged(100).central(),
                 starts: Vec::new(),
@@ -656,6 +663,7 @@ mod tests {
             &params,
             &EstimateOptions {
                 noise: NoiseSetting::PerPoint(vec![0.1; x.len()]),
+                correlation: CorrelationSetting::Independent,
                 robust: Robust::On,
                 stop: Stop::converged(100).central(),
                 starts: Vec::new(),

@@ -51,6 +51,8 @@ fn noise_json(r: &MunroValidation) -> serde_json::Value {
         "distribution": n.model.distribution,
         "robust_lr": n.robust_lr,
         "stated_noise_p": n.stated_noise_p,
+        "correlation": n.correlation,
+        "correlation_curves": curve_names(r),
         "outlier_speeds_rpm": outlier_speeds,
         "chi_square": r.fit.estimate.chi_square,
         "residual_dof": r.fit.estimate.residual_dof,
@@ -744,6 +746,21 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
         r.stiffness_source_text,
         r.half_backlash_um
     ));
+    if let Some(text) = super::correlation_summary(e, &curve_names(r)) {
+        page.heading("Errors along speed");
+        page.paragraph(&text);
+    }
+}
+
+/// The names of the design-load fit's curves, in the engine's order: the design load, then the
+/// loads whose low-speed parts joined it.
+pub fn curve_names(r: &MunroValidation) -> Vec<String> {
+    let design = r.loads.iter().find(|l| l.fitted).map(|l| l.load_n);
+    design
+        .into_iter()
+        .chain(r.fit.other_loads.iter().map(|(l, _)| *l))
+        .map(|l| format!("{l} N"))
+        .collect()
 }
 
 /// How the design-load curve was modelled in a fit (`model`; `in_contact`: whether the fit

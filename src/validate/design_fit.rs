@@ -10,8 +10,8 @@ use super::munro::up_sweep_pp_um;
 use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
 use crate::fit::{
-    estimate, profile_interval, Estimate, EstimateOptions, NoiseFreedom, NoiseModel, NoiseSetting,
-    Param, ProfileInterval, Robust, Stop,
+    estimate, profile_interval, Axis, CorrelationSetting, Estimate, EstimateOptions, NoiseFreedom,
+    NoiseModel, NoiseSetting, Param, ProfileInterval, Robust, Stop,
 };
 use crate::model::{Dimensional, GearPair};
 use serde::Serialize;
@@ -87,6 +87,39 @@ pub enum MunroNoise {
     Stated(NoiseModel),
     /// Stated per point (`dte_pp_sd_um`; every point has one).
     PerPoint,
+}
+
+/// How a fit treats the errors' correlation along speed within a curve
+/// (docs/correlated-errors.md).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum CorrelationChoice {
+    /// Estimated, and kept when the data reject independent errors (the default).
+    Auto,
+    /// Independent errors (`--correlation off`).
+    Off,
+    /// Always estimated (`--correlation on`).
+    On,
+    /// Stated (rig.toml `[noise] correlation_rpm`), rpm; 0 is independent errors.
+    Stated(f64),
+}
+
+impl CorrelationChoice {
+    /// The engine's setting on the fit's points `axis`.
+    pub fn setting(self, axis: Axis) -> CorrelationSetting {
+        match self {
+            CorrelationChoice::Auto => CorrelationSetting::Auto(axis),
+            CorrelationChoice::Off => CorrelationSetting::Stated(axis, 0.0),
+            CorrelationChoice::On => CorrelationSetting::Estimated(axis),
+            CorrelationChoice::Stated(l) => CorrelationSetting::Stated(axis, l),
+        }
+    }
+}
+
+/// How a fit treats its errors: their tails and their correlation along speed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ErrorChoice {
+    pub robust: Robust,
+    pub correlation: CorrelationChoice,
 }
 
 /// pp DTE of eq. 13 at each point for (zeta, omega_n, STE).
@@ -269,6 +302,32 @@ impl Curves<'_> {
             .map(|p| p.dte_pp_um)
             .collect()
     }
+
+    /// The points' curves (the design load 0, the others 1, 2, ...) and speeds.
+    fn axis(&self) -> Result<Axis> {
+        let curves = std::iter::once(self.design).chain(self.others.iter().map(|c| c.as_slice()));
+        let (curve, speed) = curves
+            .enumerate()
+            .flat_map(|(k, c)| c.iter().map(move |p| (k, p.speed_rpm)))
+            .unzip();
+        Axis::new(curve, speed)
+    }
+
+    /// The engine's settings for these points.
+    fn options(
+        &self,
+        (noise, errors): (MunroNoise, ErrorChoice),
+        stop: Stop,
+        starts: Vec<Vec<f64>>,
+    ) -> Result<EstimateOptions> {
+        Ok(EstimateOptions {
+            noise: self.noise(noise),
+            correlation: errors.correlation.setting(self.axis()?),
+            robust: errors.robust,
+            stop,
+            starts,
+        })
+    }
 }
 
 /// Fit zeta, omega_n and (unless `given_ste`) the STE amplitude to the design-load curve
@@ -288,8 +347,7 @@ pub fn fit_design_load(
     (design_load_n, design): (f64, &[&MunroPoint]),
     others: &[(f64, Vec<&MunroPoint>)],
     given_ste: Option<f64>,
-    noise: MunroNoise,
-    robust: Robust,
+    noise: (MunroNoise, ErrorChoice),
 ) -> Result<DesignLoadFit> {
     let peak = design
         .iter()
@@ -325,17 +383,7 @@ pub fn fit_design_load(
     };
     let run = |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>, stop: Stop| {
         let model = |p: &[f64]| c.model(p);
-        estimate(
-            &model,
-            &c.data(),
-            params,
-            &EstimateOptions {
-                noise: c.noise(noise),
-                robust,
-                stop,
-                starts,
-            },
-        )
+        estimate(&model, &c.data(), params, &c.options(noise, stop, starts)?)
     };
     let first = run(&alone, &params, starts, stop)?;
     let (zeta, wn) = (first.params[0], first.params[1]);
@@ -403,8 +451,7 @@ pub fn fit_design_geometry(
     (design_fm, design): (f64, &[&MunroPoint]),
     ste_at: &(dyn Fn(f64) -> Result<Vec<(u32, f64, f64)>> + Sync),
     relief: (f64, bool),
-    noise: MunroNoise,
-    robust: Robust,
+    noise: (MunroNoise, ErrorChoice),
 ) -> Result<DesignLoadFit> {
     let peak = design
         .iter()
@@ -462,14 +509,9 @@ pub fn fit_design_geometry(
         given_ste: None,
     };
     let y = curves.data();
-    let options = |stop: Stop, starts: Vec<Vec<f64>>| EstimateOptions {
-        noise: curves.noise(noise),
-        robust,
-        stop,
-        starts,
-    };
+    let options = |stop: Stop, starts: Vec<Vec<f64>>| curves.options(noise, stop, starts);
     let stop = Stop::converged(FIT_JACOBIANS).central();
-    let mut fit = estimate(&closed_form, &y, &params, &options(stop, starts))?;
+    let mut fit = estimate(&closed_form, &y, &params, &options(stop, starts)?)?;
     let mut design_model = DesignModel::Linear;
     let mut profile_stop = stop;
     // As `fit_design_load`: where the closed form separates the teeth somewhere, it does not
@@ -484,7 +526,7 @@ pub fn fit_design_geometry(
             &swept,
             &y,
             &params,
-            &options(sweeps.or_stalled(SWEPT_FIT_STALL), start),
+            &options(sweeps.or_stalled(SWEPT_FIT_STALL), start)?,
         )?;
         profile_stop = sweeps.or_stalled(SWEPT_PROFILE_STALL);
     }

@@ -180,7 +180,10 @@ impl ContactFit<'_> {
         // The closed form is smooth: the fit and its profiles run to convergence.
         let stop = Stop::converged(100).central();
         MidlineFit::new(
-            midline(self.points.iter().copied()),
+            (
+                self.points.iter().map(|k| k.speed_rpm).collect(),
+                midline(self.points.iter().copied()),
+            ),
             self.ste_um,
             // In contact D_L - 1 is proportional to the STE amplitude, so the mean of two
             // pairs' D_L is one pair's at their mean STE: the spread does not enter.

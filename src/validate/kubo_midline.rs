@@ -6,8 +6,8 @@
 use crate::data::KuboPoint;
 use crate::error::Result;
 use crate::fit::{
-    estimate_warm, profile_interval_or_better, Estimate, EstimateOptions, NearModel, NoiseSetting,
-    Param, ProfileInterval, Profiled, Robust, Stop,
+    estimate_warm, profile_interval_or_better, Axis, CorrelationSetting, Estimate, EstimateOptions,
+    NearModel, NoiseSetting, Param, ProfileInterval, Profiled, Robust, Stop,
 };
 
 /// The midline of the envelope at each of `points`: the data both fits take.
@@ -43,6 +43,8 @@ pub fn spread_interval((lo, hi): (f64, f64)) -> (f64, f64) {
 
 /// A fit of some model curve to a midline.
 pub(super) struct MidlineFit {
+    /// The measured speeds (rpm) and the envelope's midline there.
+    speeds: Vec<f64>,
     y: Vec<f64>,
     params: Vec<Param>,
     /// Parameters whose profile intervals are wanted (the pair spread is a nuisance).
@@ -59,7 +61,7 @@ impl MidlineFit {
     /// envelope's edges are its extreme pairs, see [`super::kubo_swept`]). The fit stops at
     /// `stop`, the inner fits of its profile intervals at `profile_stop`.
     pub fn new(
-        midline: Vec<f64>,
+        (speeds, midline): (Vec<f64>, Vec<f64>),
         ste_held: Option<f64>,
         pair_spread: Option<f64>,
         stop: Stop,
@@ -79,6 +81,7 @@ impl MidlineFit {
             params.push(Param::signed(PAIR_SPREAD, h, h));
         }
         MidlineFit {
+            speeds,
             y: midline,
             params,
             profiled,
@@ -123,6 +126,12 @@ impl MidlineFit {
                 // pairs varies by about 30% from speed to speed); weighting by it left the
                 // standard errors 10-20% small.
                 noise: NoiseSetting::ProportionalToLevel,
+                // The midline's errors may drift along speed as a measured curve's do
+                // (docs/correlated-errors.md).
+                correlation: CorrelationSetting::Auto(Axis::new(
+                    vec![0; self.speeds.len()],
+                    self.speeds.clone(),
+                )?),
                 robust: Robust::Off,
                 stop: self.stop,
                 starts: starts.to_vec(),

@@ -437,7 +437,7 @@ impl SweptFit<'_> {
     fn problem(&self) -> MidlineFit {
         let stop = Stop::converged(SWEPT_JACOBIANS).central();
         MidlineFit::new(
-            self.midline.clone(),
+            (self.speeds.clone(), self.midline.clone()),
             self.ste_um,
             self.pair_spread,
             stop.or_stalled(FIT_STALL),

@@ -16,7 +16,10 @@ mod synth;
 mod test_run;
 
 pub use curve_metrics::{jump_location, min_max, rms, transition_location};
-pub use design_fit::{fit_design_load, DesignLoadFit, DesignModel, MunroNoise, LOW_SPEED_OMEGA};
+pub use design_fit::{
+    fit_design_load, CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise,
+    LOW_SPEED_OMEGA,
+};
 pub use fit_check::{fit_failure, FITTED_ZETA};
 pub use geometry_ste::{
     geometry_model, GearMesh, GeometryExcitation, GeometryFit, GeometryModel,

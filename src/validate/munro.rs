@@ -12,7 +12,7 @@
 use super::curve_metrics::{jump_location, location_error, location_error_text, min_max, rms};
 use super::design_fit::{
     curve_in_contact, curve_in_contact_harmonics, fit_design_geometry, fit_design_load,
-    DesignLoadFit, DesignModel, MunroNoise, LOW_SPEED_OMEGA,
+    CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise, LOW_SPEED_OMEGA,
 };
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::geometry_ste::{
@@ -45,6 +45,9 @@ pub struct MunroOptions {
     pub escape: EscapeBudget,
     /// Student-t errors for the design-load fit: off, on, or when the residuals say so.
     pub robust: Robust,
+    /// The errors' correlation along speed (`--correlation`); None: as rig.toml's `[noise]
+    /// correlation_rpm` states it, else [`CorrelationChoice::Auto`].
+    pub correlation: Option<CorrelationChoice>,
     /// Where the STE at the predicted loads comes from.
     pub ste: SteMode,
 }
@@ -85,6 +88,7 @@ impl Default for MunroOptions {
                 ..EscapeBudget::default()
             },
             robust: Robust::Auto,
+            correlation: None,
             ste: SteMode::Curve,
         }
     }
@@ -356,7 +360,7 @@ fn ste_from_lowest_speed(first: &MunroPoint, zeta: f64, omega: f64, load_n: f64)
 /// load has fewer than [`MIN_DESIGN_POINTS`] points.
 pub fn fit_munro_design_load(
     data: &MunroData,
-    robust: Robust,
+    errors: (Robust, Option<CorrelationChoice>),
 ) -> Result<(DesignLoadFit, Option<f64>)> {
     let (dim, design, curve) = design_curve(data)?;
     let ste_given = ste_from_rig(data, design);
@@ -372,8 +376,7 @@ pub fn fit_munro_design_load(
         (design, &curve),
         &others,
         ste_given,
-        noise_setting(data)?,
-        robust,
+        (noise_setting(data)?, error_choice(data, errors)?),
     )?;
     Ok((fit, ste_given))
 }
@@ -388,7 +391,7 @@ pub fn validate_munro(
     let dim = Dimensional::from_rig(rig)?;
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
-    let (fit, ste_given) = fit_munro_design_load(data, opts.robust)?;
+    let (fit, ste_given) = fit_munro_design_load(data, (opts.robust, opts.correlation))?;
     let fit = usable_design_fit(data, fit)?;
     let (zeta, wn, ste_design) = fit.values(ste_given);
     let design_source = if ste_given.is_some() {
@@ -490,8 +493,10 @@ fn validate_geometry(
         (dim.mean_force(design), &curve),
         &ste_at,
         (start_um, fit_depth),
-        noise_setting(data)?,
-        opts.robust,
+        (
+            noise_setting(data)?,
+            error_choice(data, (opts.robust, opts.correlation))?,
+        ),
     )?;
     let what = match g.relief {
         ReliefRule::Fit => "design-load fit with the geometry's STE",
@@ -631,6 +636,7 @@ pub fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
             floor,
             relative: stated.and_then(|n| n.relative).unwrap_or(0.0),
             distribution: Distribution::Gaussian,
+            correlation_length: stated.and_then(|n| n.correlation_rpm).unwrap_or(0.0),
         })),
         Some(_) | None if stated.is_some_and(|n| n.relative.is_some() || n.floor_um.is_some()) => {
             Err(rig_key_error(
@@ -644,6 +650,34 @@ pub fn noise_setting(data: &MunroData) -> Result<MunroNoise> {
             floor_min: stated.and_then(|n| n.reading_um).unwrap_or(0.0),
         }),
     }
+}
+
+/// How the design-load fit treats its errors: the tails as `robust` says; the correlation along
+/// speed as `correlation` says (the command line), else as rig.toml's `[noise] correlation_rpm`
+/// states it, else estimated when the data say so. A length stated in both places is refused:
+/// one statement of the noise.
+pub fn error_choice(
+    data: &MunroData,
+    (robust, correlation): (Robust, Option<CorrelationChoice>),
+) -> Result<ErrorChoice> {
+    let stated = data.rig.noise.as_ref().and_then(|n| n.correlation_rpm);
+    let correlation = match (correlation, stated) {
+        (Some(_), Some(_)) => {
+            return Err(rig_key_error(
+                &data.dir,
+                "noise",
+                "correlation_rpm",
+                "the correlation length is stated here and by --correlation on the command line: state it once (remove the key, or the option)",
+            ))
+        }
+        (Some(c), None) => c,
+        (None, Some(l)) => CorrelationChoice::Stated(l),
+        (None, None) => CorrelationChoice::Auto,
+    };
+    Ok(ErrorChoice {
+        robust,
+        correlation,
+    })
 }
 
 fn predict_load(

@@ -226,7 +226,7 @@ pub fn run_validate_study(
         t.seed = opts.first_seed + k as u64;
         write_munro_set(&t, &clean, &dir)?;
         let data = load_munro(&dir)?;
-        let fitted = fit_munro_design_load(&data, opts.robust)
+        let fitted = fit_munro_design_load(&data, (opts.robust, None))
             .and_then(|(fit, _)| usable_design_fit(&data, fit));
         let fit = match fitted {
             Ok(f) => f,

@@ -165,12 +165,42 @@ pub struct SynthNoise {
     pub model: NoiseModel,
     /// Values read to this grid (um), as off a digitized figure; None: written to 1e-5 um.
     pub quantum_um: Option<f64>,
+    /// Lag-one correlation on the curve's grid of the standardized errors, an AR(1) along
+    /// speed within each curve (a drawn line's reading error, a rig's drift); None:
+    /// independent errors.
+    pub rho_on_grid: Option<f64>,
 }
 
 impl SynthNoise {
     /// A noisy reading of the true value `y` (never negative: a pp value).
     pub fn read(&self, y: f64, rng: &mut Rng) -> f64 {
-        let v = (y + self.model.draw(y, rng)).max(0.0);
+        self.quantized((y + self.model.draw(y, rng)).max(0.0))
+    }
+
+    /// Noisy readings of one curve's true values `ys` in increasing speed: independent draws
+    /// (in the order of the points, as [`SynthNoise::read`] makes them), or with
+    /// `rho_on_grid` standardized errors z_1 ~ N(0, 1), z_k = rho z_{k-1} + sqrt(1 - rho^2)
+    /// N(0, 1) (a stationary AR(1) on the grid), each scaled by its point's sigma.
+    pub fn read_curve(&self, ys: &[f64], rng: &mut Rng) -> Vec<f64> {
+        let Some(rho) = self.rho_on_grid else {
+            return ys.iter().map(|y| self.read(*y, rng)).collect();
+        };
+        let mut z = 0.0;
+        ys.iter()
+            .enumerate()
+            .map(|(k, y)| {
+                let e = rng.normal();
+                z = if k == 0 {
+                    e
+                } else {
+                    rho * z + (1.0 - rho * rho).sqrt() * e
+                };
+                self.quantized((y + self.model.scale(*y) * z).max(0.0))
+            })
+            .collect()
+    }
+
+    fn quantized(&self, v: f64) -> f64 {
         match self.quantum_um {
             Some(q) if q > 0.0 => (v / q).round() * q,
             _ => v,
@@ -193,6 +223,9 @@ impl SynthNoise {
         if let Some(q) = self.quantum_um {
             t.insert("noise_quantum_um".into(), q.into());
         }
+        if let Some(rho) = self.rho_on_grid {
+            t.insert("noise_rho_on_grid".into(), rho.into());
+        }
     }
 }
 
@@ -210,6 +243,10 @@ pub enum NoiseFamily {
     /// Floor plus 3% of the level, read to a 0.25 um grid (a digitized figure: about a pixel
     /// of a 60 um axis 240 pixels high).
     Quantized,
+    /// Gaussian, floor plus 3% of the level, correlated along speed within each curve: an
+    /// AR(1) on the grid of lag-one correlation 0.6 (a digitized line's smooth reading error,
+    /// a rig's slow drift; docs/correlated-errors.md).
+    Correlated,
 }
 
 /// Relative part of the level-dependent families.
@@ -218,14 +255,17 @@ pub const FAMILY_RELATIVE: f64 = 0.03;
 pub const FAMILY_T_DOF: f64 = 3.0;
 /// Reading grid of the quantized family, um.
 pub const FAMILY_QUANTUM_UM: f64 = 0.25;
+/// Lag-one correlation on the grid of the correlated family.
+pub const FAMILY_RHO: f64 = 0.6;
 
 impl NoiseFamily {
     /// All families, in the order of the studies' tables.
-    pub const ALL: [NoiseFamily; 4] = [
+    pub const ALL: [NoiseFamily; 5] = [
         NoiseFamily::Constant,
         NoiseFamily::Relative,
         NoiseFamily::StudentT,
         NoiseFamily::Quantized,
+        NoiseFamily::Correlated,
     ];
 
     /// Name on the command line and in rig.toml.
@@ -235,6 +275,7 @@ impl NoiseFamily {
             NoiseFamily::Relative => "relative",
             NoiseFamily::StudentT => "student-t",
             NoiseFamily::Quantized => "quantized",
+            NoiseFamily::Correlated => "correlated",
         }
     }
 
@@ -258,6 +299,7 @@ impl NoiseFamily {
                 Distribution::Gaussian,
                 Some(FAMILY_QUANTUM_UM),
             ),
+            NoiseFamily::Correlated => (FAMILY_RELATIVE, Distribution::Gaussian, None),
         };
         SynthNoise {
             family: self,
@@ -265,8 +307,10 @@ impl NoiseFamily {
                 floor: floor_um,
                 relative,
                 distribution,
+                correlation_length: 0.0,
             },
             quantum_um,
+            rho_on_grid: (self == NoiseFamily::Correlated).then_some(FAMILY_RHO),
         }
     }
 }
@@ -294,6 +338,15 @@ fn check_noise(n: &SynthNoise) -> Result<()> {
                 "noise_dof",
                 dof,
                 "Student-t noise needs 2 < dof <= 1000 (a finite variance)",
+            ));
+        }
+    }
+    if let Some(rho) = n.rho_on_grid {
+        if !(0.0..=0.999).contains(&rho) {
+            return Err(GearError::param(
+                "noise_rho",
+                rho,
+                "the lag-one correlation of the errors along speed must be in [0, 0.999]",
             ));
         }
     }
@@ -538,9 +591,13 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
     for (load, speeds, ys) in &clean.curves {
-        for (s, y) in speeds.iter().zip(ys) {
-            let y = y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s));
-            let noisy = truth.noise.read(y, &mut rng);
+        let seen: Vec<f64> = speeds
+            .iter()
+            .zip(ys)
+            .map(|(s, y)| y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s)))
+            .collect();
+        let noisy = truth.noise.read_curve(&seen, &mut rng);
+        for (s, noisy) in speeds.iter().zip(noisy) {
             if noisy > MAX_DTE_UM {
                 return Err(GearError::Unsupported(format!(
                     "the synthetic curve at {load} N reaches {noisy:.1} um at {s} rpm, beyond \
