@@ -634,6 +634,18 @@ fn noise_and_measured_rig_errors_are_located() {
             "negative reading",
         ),
         (
+            r.replace("reading_um = 0.05", "reading_um = 0.05\ncorrelation_rpm = -50.0"),
+            15,
+            "noise.correlation_rpm",
+            "negative correlation length",
+        ),
+        (
+            r.replace("reading_um = 0.05", "reading_um = 0.05\ncorrelation_rpm = inf"),
+            15,
+            "noise.correlation_rpm",
+            "infinite correlation length",
+        ),
+        (
             r.replace("reading_um = 0.05", "reading_um = inf"),
             14,
             "noise.reading_um",
@@ -699,6 +711,7 @@ fn good_measured_set_with_stated_noise_loads() {
             floor_um: Some(0.1),
             relative: Some(0.02),
             reading_um: Some(0.05),
+            correlation_rpm: None,
         })
     );
     assert!(m.points.iter().all(|p| p.sd_um.is_none()));

@@ -568,3 +568,64 @@ fn cli_validate_bad_data_writes_nothing() {
         "partial output written"
     );
 }
+
+/// The errors' correlation along speed through the command line (docs/correlated-errors.md):
+/// the shipped set, whose errors were drawn independently, keeps independent errors under
+/// the default `auto` (its likelihood ratio 1.1 lies below 2.71) and munro.json gives each
+/// curve's diagnostic; `--correlation on` estimates a length and reports its interval; a length
+/// stated in rig.toml beside `--correlation` is refused, naming the key, and nothing is written.
+#[test]
+fn cli_validate_reports_the_errors_correlation_along_speed() {
+    let tmp = tempfile::tempdir().unwrap();
+    let shipped = format!("{}/data/munro", env!("CARGO_MANIFEST_DIR"));
+    let run = |data: &str, extra: &[&str], tag: &str| {
+        let fits = tmp.path().join(format!("fits-{tag}"));
+        let reports = tmp.path().join(format!("reports-{tag}"));
+        let mut args = vec![
+            "validate",
+            "munro",
+            "--data",
+            data,
+            "--fits",
+            fits.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let out = geardyn(&args);
+        let json = std::fs::read_to_string(fits.join("munro.json"))
+            .ok()
+            .map(|t| serde_json::from_str::<serde_json::Value>(&t).unwrap());
+        (out, json, fits)
+    };
+    let (out, json, _) = run(&shipped, &[], "auto");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let c = &json.unwrap()["noise"]["correlation"];
+    assert_eq!(c["source"], "independent_by_test", "{c}");
+    assert_eq!(c["length_rpm"], 0.0);
+    assert!(c["lr_vs_independent"].as_f64().unwrap() < 2.71);
+    assert_eq!(c["curves"].as_array().unwrap().len(), 4);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("errors independent along speed"), "{stdout}");
+
+    let (out, json, _) = run(&shipped, &["--correlation", "on"], "on");
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let c = &json.unwrap()["noise"]["correlation"];
+    assert_eq!(c["source"], "estimated", "{c}");
+    assert!(c["length_ci95"].is_array(), "{c}");
+
+    let data = tmp.path().join("stated");
+    std::fs::create_dir_all(&data).unwrap();
+    std::fs::copy(format!("{shipped}/dte.csv"), data.join("dte.csv")).unwrap();
+    let rig = std::fs::read_to_string(format!("{shipped}/rig.toml")).unwrap();
+    std::fs::write(
+        data.join("rig.toml"),
+        rig.replace("[source]\n", "[noise]\ncorrelation_rpm = 80.0\n\n[source]\n"),
+    )
+    .unwrap();
+    let (out, json, fits) = run(data.to_str().unwrap(), &["--correlation", "off"], "both");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("correlation_rpm") && err.contains("state it once"), "{err}");
+    assert!(json.is_none() && !fits.exists());
+}
