@@ -340,8 +340,8 @@ pub fn parse_load_ste(s: &str) -> Result<(f64, f64), String> {
 pub struct NoiseArgs {
     /// Noise family: constant (Gaussian), relative (Gaussian, floor plus 3% of the level),
     /// student-t (3 degrees of freedom, floor plus 3%), quantized (floor plus 3%, read to a
-    /// 0.25 µm grid), correlated (Gaussian, floor plus 3%, an AR(1) along speed within each
-    /// curve of lag-one correlation 0.6 on the grid).
+    /// 0.25 µm grid), correlated (Gaussian, floor plus 3%, correlated along speed within each
+    /// curve, 0.6 between neighbours at the median step).
     #[arg(long, default_value = "constant")]
     pub noise: String,
     /// Noise floor (the standard deviation of the constant family), µm, in [0, 1000].
@@ -359,8 +359,9 @@ pub struct NoiseArgs {
     /// Reading grid of the quantized family, µm, in (0, 1000] (default 0.25).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     pub noise_quantum_um: Option<f64>,
-    /// Lag-one correlation along speed of the correlated family's errors on the curve's grid
-    /// (an AR(1) within each curve), in [0, 0.999] (default 0.6).
+    /// Correlation of the correlated family's errors at neighbouring speeds of the curve's
+    /// median step (an Ornstein-Uhlenbeck process in speed within each curve; on an even grid
+    /// an AR(1)), in [0, 0.999] (default 0.6).
     #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 0.999, false))]
     pub noise_rho: Option<f64>,
 }

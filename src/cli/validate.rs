@@ -318,6 +318,13 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 r.transition_error_text(" rpm"),
                 kubo_intervals(&r)
             );
+            let names = [format!("{} N midline", r.load_n)];
+            let correlation = r
+                .fit
+                .as_ref()
+                .and_then(|f| geardyn::report::correlation_summary(f, &names))
+                .map_or(String::new(), |c| format!("{c}\n"));
+            let s = format!("{s}{correlation}");
             (written, data_kind_banner(&data.rig), s)
         }
     };

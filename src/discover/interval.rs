@@ -399,6 +399,7 @@ mod tests {
         let levels = vec![1.0; m];
         let data = NoiseData {
             correlation: None,
+            jacobian: None,
             residuals: &values,
             levels: &levels,
             leverages: &zeros,

@@ -471,6 +471,7 @@ fn with_kept<T>(pseudo: &Pseudo, keep: &[bool], f: impl FnOnce(&NoiseData) -> T)
         levels: &levels,
         leverages: &leverages,
         correlation: None,
+        jacobian: None,
     })
 }
 

@@ -13,8 +13,9 @@ use super::correlation::{curve_correlations, Axis, Correlation, CurveCorrelation
 use super::lm::{least_squares_warm, LmFit, NearResiduals, Stop};
 use super::noise::{
     estimate_length, estimate_noise, estimate_noise_and_length, floor_at_bound,
-    held_variance_components, length_interval, neg_log_likelihood, noise_intervals, robust_weight,
-    Distribution, NoiseData, NoiseFreedom, NoiseModel, VarianceComponents,
+    held_variance_components, length_interval, neg_log_likelihood, noise_intervals,
+    restricted_term, robust_weight, Distribution, NoiseData, NoiseFreedom, NoiseModel,
+    VarianceComponents,
 };
 use super::params::{restarted, Param};
 use super::whitener::Whitener;
@@ -360,8 +361,7 @@ fn noise_with_length(
                 ..*m
             };
             let scales: Vec<f64> = data.levels.iter().map(|l| m.scale(*l)).collect();
-            let nll = neg_log_likelihood(dist, data.residuals, &scales, data.correlation);
-            Ok((m, nll))
+            Ok((m, restricted_nll(dist, data, &scales)))
         }
         NoiseSetting::PerPoint(sd) => {
             let m = NoiseModel {
@@ -369,10 +369,7 @@ fn noise_with_length(
                 correlation_length: length,
                 ..NoiseModel::constant(1.0)
             };
-            Ok((
-                m,
-                neg_log_likelihood(dist, data.residuals, sd, data.correlation),
-            ))
+            Ok((m, restricted_nll(dist, data, sd)))
         }
         NoiseSetting::ProportionalToLevel => {
             // Residuals in units of the level: a floor-only model of them is the common
@@ -380,11 +377,20 @@ fn noise_with_length(
             let c = proportional_levels(data.levels);
             let r: Vec<f64> = data.residuals.iter().zip(&c).map(|(r, c)| r / c).collect();
             let zero = vec![0.0; r.len()];
+            // The Jacobian in the same units of the level as the residuals.
+            let j = data.jacobian.map(|j| {
+                let mut j = j.clone();
+                for (i, c) in c.iter().enumerate() {
+                    j.row_mut(i).scale_mut(1.0 / c);
+                }
+                j
+            });
             let scaled = NoiseData {
                 residuals: &r,
                 levels: &zero,
                 leverages: data.leverages,
                 correlation: data.correlation,
+                jacobian: j.as_ref(),
             };
             let freedom = NoiseFreedom {
                 floor_min: 0.0,
@@ -398,12 +404,18 @@ fn noise_with_length(
                 distribution: dist,
                 correlation_length: length,
             };
-            Ok((
-                m,
-                neg_log_likelihood(dist, data.residuals, &scales, data.correlation),
-            ))
+            Ok((m, restricted_nll(dist, data, &scales)))
         }
     }
+}
+
+/// -log L of the residuals of `data` at scales `scales`, restricted where `data` has the
+/// model's Jacobian ([`restricted_term`]).
+fn restricted_nll(dist: Distribution, data: &NoiseData, scales: &[f64]) -> f64 {
+    neg_log_likelihood(dist, data.residuals, scales, data.correlation)
+        + data
+            .jacobian
+            .map_or(0.0, |j| restricted_term(j, scales, data.correlation))
 }
 
 /// The residuals `base` (their correlation not set) with the correlation of `axis` at
@@ -414,6 +426,7 @@ fn at_length<'a>(base: &NoiseData<'a>, axis: Option<&'a Axis>, length: f64) -> N
         levels: base.levels,
         leverages: base.leverages,
         correlation: axis.map(|axis| Correlation { axis, length }),
+        jacobian: base.jacobian,
     }
 }
 
@@ -482,11 +495,11 @@ struct Converged {
     lm: LmFit,
     noise: NoiseModel,
     scales: Vec<f64>,
-    /// The least-squares map of the last fit (`lm` is its fit).
-    whitener: Whitener,
     levels: Vec<f64>,
     residuals: Vec<f64>,
     leverages: Vec<f64>,
+    /// The model's Jacobian at the fit (n x p).
+    jacobian: DMatrix<f64>,
     nll: f64,
     iterations: usize,
 }
@@ -502,6 +515,7 @@ impl Converged {
                 axis,
                 length: self.noise.correlation_length,
             }),
+            jacobian: Some(&self.jacobian),
         }
     }
 }
@@ -538,11 +552,13 @@ where
         let levels = (w.model)(&lm.params)?;
         let residuals: Vec<f64> = w.y.iter().zip(&levels).map(|(y, f)| y - f).collect();
         let leverages = leverages(&lm.jacobian);
+        let jacobian = whitener.unapply_columns(&(-&lm.jacobian));
         let data = NoiseData {
             residuals: &residuals,
             levels: &levels,
             leverages: &leverages,
             correlation: None,
+            jacobian: Some(&jacobian),
         };
         let (noise, scales, nll) = noise_at(setting, &data, dist, length)?;
         if settled(&previous, &lm.params, &noise) || it + 1 == MAX_REWEIGHTS {
@@ -550,10 +566,10 @@ where
                 lm,
                 noise,
                 scales,
-                whitener,
                 levels,
                 residuals,
                 leverages,
+                jacobian,
                 nll,
                 iterations: it + 1,
             });
@@ -736,6 +752,7 @@ fn correlation_fit(
         levels: &c.levels,
         leverages: &c.leverages,
         correlation: None,
+        jacobian: Some(&c.jacobian),
     };
     let length_ci95 = free.then(|| {
         length_interval(axis, (fitted, c.nll), &|l| {
@@ -884,7 +901,7 @@ fn summarise(
 ) -> Result<Estimate> {
     let n = c.residuals.len();
     let p = params.len();
-    let jf = c.whitener.unapply_columns(&(-&c.lm.jacobian));
+    let jf = c.jacobian.clone();
     // The least-squares map of the fitted noise model at unit robust weights.
     let unit = |m: &NoiseModel| {
         let scales = scales_of(setting, m, &c.levels);

@@ -25,6 +25,7 @@ use crate::error::{GearError, Result};
 use crate::validate::Rng;
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
+use nalgebra::DMatrix;
 use serde::Serialize;
 use statrs::function::gamma::ln_gamma;
 
@@ -149,6 +150,38 @@ pub fn neg_log_likelihood(
     }
 }
 
+/// The restricted likelihood's term 1/2 log det(G'G), G the model's Jacobian `jacobian`
+/// standardized by `scales` and decorrelated along speed like the residuals (columns the
+/// model does not see left out): added to -log L of the residuals at the fit, it is -log of the
+/// likelihood of the residuals' error contrasts (REML, Patterson & Thompson 1971; for a model
+/// nonlinear in its parameters at its linearisation, Harville 1977). Maximum likelihood with the
+/// mean's parameters estimated biases the noise low: the scale by the fitted parameters' share
+/// of the residuals (what the leverage correction removes), and a correlation length the more,
+/// since the fitted curve absorbs the slow part of correlated errors.
+pub fn restricted_term(
+    jacobian: &DMatrix<f64>,
+    scales: &[f64],
+    correlation: Option<Correlation>,
+) -> f64 {
+    let keep: Vec<usize> = (0..jacobian.ncols())
+        .filter(|&c| jacobian.column(c).norm() > 0.0)
+        .collect();
+    let mut g = DMatrix::from_fn(jacobian.nrows(), keep.len(), |i, c| {
+        jacobian[(i, keep[c])] / scales[i]
+    });
+    if let Some(c) = correlation.filter(|c| c.length > 0.0) {
+        g = c.innovations_of_columns(&g);
+    }
+    let info = g.transpose() * g;
+    let eigen = info.symmetric_eigenvalues();
+    let top = eigen.iter().fold(0.0f64, |a, b| a.max(*b));
+    0.5 * eigen
+        .iter()
+        .filter(|v| **v > 1e-12 * top)
+        .map(|v| v.ln())
+        .sum::<f64>()
+}
+
 /// Weight of a point in the iteratively reweighted fit under `dist`, relative to 1 / sigma^2:
 /// 1 for Gaussian errors, (dof + 1) / (dof + z^2) for Student-t (the E-step of Lange, Little &
 /// Taylor 1989, eq. 4).
@@ -169,13 +202,16 @@ pub struct NoiseFreedom {
 }
 
 /// Residuals as the noise estimate sees them: r_i, the model's level mu_i there, the leverage
-/// h_ii of the point (of its innovation, with correlated errors) in the fit, and the errors'
-/// correlation along speed, held (None: independent).
+/// h_ii of the point (of its innovation, with correlated errors) in the fit, the errors'
+/// correlation along speed, held (None: independent), and the model's Jacobian at the fit
+/// (n x p), where there is one: the noise is then estimated by the restricted likelihood
+/// ([`restricted_term`]) instead of the leverage correction.
 pub struct NoiseData<'a> {
     pub residuals: &'a [f64],
     pub levels: &'a [f64],
     pub leverages: &'a [f64],
     pub correlation: Option<Correlation<'a>>,
+    pub jacobian: Option<&'a DMatrix<f64>>,
 }
 
 impl NoiseData<'_> {
@@ -216,10 +252,21 @@ impl NegLogLik<'_> {
     }
 
     /// -log L of the residuals, each (each innovation, with correlated errors) divided by
-    /// sqrt(1 - h).
+    /// sqrt(1 - h); or, given the model's Jacobian, their restricted -log L.
     fn value(&self, m: &NoiseModel) -> f64 {
         let d = self.data;
         let scales: Vec<f64> = d.levels.iter().map(|l| m.scale(*l)).collect();
+        if let Some(j) = d.jacobian {
+            let correlation = match self.free_length {
+                Some(axis) => Some(Correlation {
+                    axis,
+                    length: m.correlation_length,
+                }),
+                None => d.correlation,
+            };
+            return neg_log_likelihood(self.dist, d.residuals, &scales, correlation)
+                + restricted_term(j, &scales, correlation);
+        }
         let adjust = |v: f64, h: &f64| v / (1.0 - h.clamp(0.0, 0.99)).sqrt();
         let correlation = match self.free_length {
             Some(axis) => Some(Correlation {
@@ -703,6 +750,7 @@ mod tests {
             levels,
             leverages: &leverages,
             correlation: None,
+            jacobian: None,
         };
         let freedom = NoiseFreedom {
             floor_min: 0.0,
@@ -760,6 +808,7 @@ mod tests {
             levels: &levels,
             leverages: &leverages,
             correlation: None,
+            jacobian: None,
         };
         let freedom = NoiseFreedom {
             floor_min: 0.5,

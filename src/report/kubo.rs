@@ -53,6 +53,7 @@ pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
         "ste_um": r.ste_um,
         "ste_um_std_error": std_error("ste_um"),
         "ste_um_ci95": ci("ste_um"),
+        "noise_correlation": r.fit.as_ref().and_then(|f| f.noise.correlation.as_ref()),
         // The curve is even in the spread; its sign is the fit's accident.
         "pair_ste_half_spread": value(PAIR_SPREAD).map(f64::abs),
         "pair_ste_half_spread_std_error": std_error(PAIR_SPREAD),
@@ -290,6 +291,11 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
             fit.n,
             fit.residual_dof
         ));
+        let midline = [format!("{} N midline", r.load_n)];
+        if let Some(text) = super::correlation_summary(fit, &midline) {
+            page.heading("Errors along speed");
+            page.paragraph(&text);
+        }
         // Critical damping bounds every damping the rig could have.
         if fit.ci95.first().is_some_and(|c| c.1 >= 1.0) {
             page.paragraph(

@@ -165,9 +165,10 @@ pub struct SynthNoise {
     pub model: NoiseModel,
     /// Values read to this grid (um), as off a digitized figure; None: written to 1e-5 um.
     pub quantum_um: Option<f64>,
-    /// Lag-one correlation on the curve's grid of the standardized errors, an AR(1) along
-    /// speed within each curve (a drawn line's reading error, a rig's drift); None:
-    /// independent errors.
+    /// Correlation of the standardized errors of neighbouring speeds at the curve's median
+    /// step: an Ornstein-Uhlenbeck process in speed within each curve, corr = exp(-|ds| / L)
+    /// with L = -median step / ln rho (on an even grid the AR(1) of lag-one correlation rho; a
+    /// drawn line's reading error, a rig's drift); None: independent errors.
     pub rho_on_grid: Option<f64>,
 }
 
@@ -177,14 +178,18 @@ impl SynthNoise {
         self.quantized((y + self.model.draw(y, rng)).max(0.0))
     }
 
-    /// Noisy readings of one curve's true values `ys` in increasing speed: independent draws
-    /// (in the order of the points, as [`SynthNoise::read`] makes them), or with
-    /// `rho_on_grid` standardized errors z_1 ~ N(0, 1), z_k = rho z_{k-1} + sqrt(1 - rho^2)
-    /// N(0, 1) (a stationary AR(1) on the grid), each scaled by its point's sigma.
-    pub fn read_curve(&self, ys: &[f64], rng: &mut Rng) -> Vec<f64> {
+    /// Noisy readings of one curve's true values `ys` at increasing speeds `speeds` (rpm):
+    /// independent draws (in the order of the points, as [`SynthNoise::read`] makes them), or
+    /// with `rho_on_grid` standardized errors z_1 ~ N(0, 1), z_k = phi_k z_{k-1} +
+    /// sqrt(1 - phi_k^2) N(0, 1), phi_k = rho^(step_k / median step), each scaled by its
+    /// point's sigma.
+    pub fn read_curve(&self, speeds: &[f64], ys: &[f64], rng: &mut Rng) -> Vec<f64> {
         let Some(rho) = self.rho_on_grid else {
             return ys.iter().map(|y| self.read(*y, rng)).collect();
         };
+        let mut steps: Vec<f64> = speeds.windows(2).map(|w| w[1] - w[0]).collect();
+        steps.sort_by(f64::total_cmp);
+        let median = steps.get(steps.len() / 2).copied().unwrap_or(1.0);
         let mut z = 0.0;
         ys.iter()
             .enumerate()
@@ -193,7 +198,8 @@ impl SynthNoise {
                 z = if k == 0 {
                     e
                 } else {
-                    rho * z + (1.0 - rho * rho).sqrt() * e
+                    let phi = rho.powf((speeds[k] - speeds[k - 1]) / median);
+                    phi * z + (1.0 - phi * phi).sqrt() * e
                 };
                 self.quantized((y + self.model.scale(*y) * z).max(0.0))
             })
@@ -244,8 +250,9 @@ pub enum NoiseFamily {
     /// of a 60 um axis 240 pixels high).
     Quantized,
     /// Gaussian, floor plus 3% of the level, correlated along speed within each curve: an
-    /// AR(1) on the grid of lag-one correlation 0.6 (a digitized line's smooth reading error,
-    /// a rig's slow drift; docs/correlated-errors.md).
+    /// Ornstein-Uhlenbeck process in speed whose neighbours at the median step correlate by
+    /// 0.6 (a digitized line's smooth reading error, a rig's slow drift;
+    /// docs/correlated-errors.md).
     Correlated,
 }
 
@@ -596,7 +603,7 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
             .zip(ys)
             .map(|(s, y)| y * truth.hidden.sensor_gain(dim.mesh_frequency_hz(*s)))
             .collect();
-        let noisy = truth.noise.read_curve(&seen, &mut rng);
+        let noisy = truth.noise.read_curve(speeds, &seen, &mut rng);
         for (s, noisy) in speeds.iter().zip(noisy) {
             if noisy > MAX_DTE_UM {
                 return Err(GearError::Unsupported(format!(
