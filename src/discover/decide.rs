@@ -14,7 +14,7 @@ use super::run::{
     detection_tests, make_mask, model_jacobian, noise_about, predict_all, rival, row_scales,
     significant, CandidateResult, DiscoverOptions, HeldFit, OtherStart, TestResult,
 };
-use crate::error::Result;
+use crate::error::{GearError, Result};
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 
@@ -66,6 +66,24 @@ impl Refitted {
     pub fn quantile(&self, train: &[usize]) -> f64 {
         self.noise
             .quantile(LIBRARY[self.cand], &self.fit.lm, train, &self.mask)
+    }
+}
+
+/// A failure inside candidate `cand` (its index in [`LIBRARY`]) while a decision checked it:
+/// the candidate fails `because` ([`CandidateResult::fail`]), and the decision is made again
+/// without it ([`Rounds::decided`]).
+struct CandidateFailed {
+    cand: usize,
+    because: String,
+}
+
+impl CandidateFailed {
+    /// For `map_err`: in candidate `cand`, `what` ("its profile interval") failed.
+    fn of(cand: usize, what: &'static str) -> impl Fn(GearError) -> CandidateFailed {
+        move |e| CandidateFailed {
+            cand,
+            because: format!("{what} failed: {e}"),
+        }
     }
 }
 
@@ -211,27 +229,31 @@ impl Rounds<'_> {
         first: &[usize],
         cands: &mut [CandidateResult],
         refits: &mut Vec<Refitted>,
-    ) -> Result<Decision> {
+    ) -> Decision {
         let alpha = self.opts.alpha;
         self.refit(first, cands, refits);
-        let mut decision = self.decision(cands, refits)?;
+        let mut decision = self.decision(cands, refits);
         let rest: Vec<usize> = (0..cands.len())
             .filter(|&c| significant(&cands[c], alpha) && !first.contains(&c))
             .collect();
         if decision.effect == "unexplained" && !rest.is_empty() {
             self.refit(&rest, cands, refits);
-            decision = self.decision(cands, refits)?;
+            decision = self.decision(cands, refits);
         }
         let rivals: Vec<usize> = (0..cands.len())
             .filter(|&c| rival(&cands[c], alpha))
             .collect();
         if self.held_out_rivals(&decision) && !rivals.is_empty() {
             self.refit(&rivals, cands, refits);
-            decision = self.decision(cands, refits)?;
+            decision = self.decision(cands, refits);
         }
-        // Say why a significant candidate has no estimate (a failed refit says so already).
+        // Say why a significant candidate has no estimate (a failed one says so already).
         for c in cands.iter_mut() {
-            if significant(c, alpha) && c.estimate.is_none() && c.note.is_none() {
+            if significant(c, alpha)
+                && c.estimate.is_none()
+                && c.note.is_none()
+                && c.failed.is_none()
+            {
                 c.note = Some(format!(
                     "not refitted: its score statistic {:.1} ranks below the {} significant \
                      candidates refitted first (by score, and the largest LR), and the answer \
@@ -242,20 +264,26 @@ impl Rounds<'_> {
                 ));
             }
         }
-        Ok(decision)
+        decision
     }
 
-    /// Refit the candidates `list` (in parallel) and record each converged refit in `cands`
-    /// and `refits`, then every refit's drop on the points all of them and M0 keep.
+    /// Refit the candidates `list` (in parallel; those failed already are not tried again)
+    /// and record each converged refit in `cands` and `refits`, then every refit's drop on the
+    /// points all of them and M0 keep.
     pub fn refit(&self, list: &[usize], cands: &mut [CandidateResult], refits: &mut Vec<Refitted>) {
+        let list: Vec<usize> = list
+            .iter()
+            .copied()
+            .filter(|&c| cands[c].failed.is_none())
+            .collect();
         let fits: Vec<Result<(Refitted, Option<OtherStart>)>> =
             list.par_iter().map(|&c| self.refit_one(c)).collect();
-        // A refit that failed leaves its candidate unrefitted, with the reason as its note.
+        // A refit that failed fails its candidate; the others go on.
         for (&c, fit) in list.iter().zip(fits) {
             let (r, other) = match fit {
                 Ok(f) => f,
                 Err(e) => {
-                    cands[c].note = Some(format!("refit failed: {e}"));
+                    cands[c].fail(format!("its refit failed: {e}"));
                     continue;
                 }
             };
@@ -350,27 +378,44 @@ impl Rounds<'_> {
     /// fell to 719, and the harmonic, with zeta 0.0045 against a true 0.0175, was named. (Since
     /// a matched start also scores zero STE, [`super::refit::ste_roots`], the stiffness
     /// variation leads there from the first decision; no study seed since has needed a second.)
-    pub fn decision(
-        &self,
-        cands: &mut [CandidateResult],
-        refits: &mut Vec<Refitted>,
-    ) -> Result<Decision> {
-        let mut d = self.decide(cands, refits)?;
+    pub fn decision(&self, cands: &mut [CandidateResult], refits: &mut Vec<Refitted>) -> Decision {
+        let mut d = self.decided(cands, refits);
         self.keep_profile(cands, refits, &mut d);
         for _ in 0..refits.len() {
             if largest_drop(cands, refits, self.opts.alpha) == d.rests_on {
                 break;
             }
-            d = self.decide(cands, refits)?;
+            d = self.decided(cands, refits);
             self.keep_profile(cands, refits, &mut d);
         }
-        Ok(d)
+        d
+    }
+
+    /// [`Rounds::decide`], where a candidate that fails inside it (its profile, the check of
+    /// its refit) is recorded as failed and its refit dropped, and the decision is made again
+    /// without it. Each failure is of a candidate in `refits` and removes it, so this ends.
+    fn decided(&self, cands: &mut [CandidateResult], refits: &mut Vec<Refitted>) -> Decision {
+        loop {
+            match self.decide(cands, refits) {
+                Ok(d) => return d,
+                Err(CandidateFailed { cand, because }) => {
+                    cands[cand].fail(because);
+                    refits.retain(|r| r.cand != cand);
+                    self.record_drops(cands, refits);
+                }
+            }
+        }
     }
 
     /// The decision from the refits so far: the candidate with the largest drop, ambiguous
     /// with those the data cannot tell apart from it, its profile interval, the detection
-    /// tests after its refit, and its verdict ([`Rounds::verdict`]).
-    fn decide(&self, cands: &[CandidateResult], refits: &[Refitted]) -> Result<Decision> {
+    /// tests after its refit, and its verdict ([`Rounds::verdict`]). Anything that fails in
+    /// it fails a candidate: M0's part of the run is done.
+    fn decide(
+        &self,
+        cands: &[CandidateResult],
+        refits: &[Refitted],
+    ) -> std::result::Result<Decision, CandidateFailed> {
         let mut d = Decision {
             effect: if self.detected { "unexplained" } else { "none" }.to_string(),
             ambiguous_with: Vec::new(),
@@ -408,9 +453,12 @@ impl Rounds<'_> {
         let Some(chosen) = refits.iter().find(|r| r.cand == best) else {
             return Ok(d);
         };
-        self.profile_chosen(&mut d, best, chosen, cands)?;
+        self.profile_chosen(&mut d, best, chosen, cands)
+            .map_err(CandidateFailed::of(best, "its profile interval"))?;
         let chosen = d.better_refit.as_ref().unwrap_or(chosen);
-        let checked = self.check_refit(chosen)?;
+        let checked = self
+            .check_refit(chosen)
+            .map_err(CandidateFailed::of(best, "the check of its refit"))?;
         d.post_fit = checked.post_fit;
         d.compare_mask = checked.compare_mask;
         d.refit_held = Some(checked.held);
@@ -438,7 +486,7 @@ impl Rounds<'_> {
         best: usize,
         cands: &[CandidateResult],
         refits: &[Refitted],
-    ) -> Result<()> {
+    ) -> std::result::Result<(), CandidateFailed> {
         let half = self.opts.alpha / 2.0;
         if !self.fails_held_out(d) {
             return Ok(());
@@ -446,7 +494,9 @@ impl Rounds<'_> {
         let mut others: Vec<&Refitted> = refits.iter().filter(|r| r.cand != best).collect();
         others.sort_by(|a, b| drop_of(&cands[b.cand]).total_cmp(&drop_of(&cands[a.cand])));
         for r in others {
-            let check = self.check_refit(r)?;
+            let check = self
+                .check_refit(r)
+                .map_err(CandidateFailed::of(r.cand, "the check of its refit"))?;
             let passes = |name| p_value_of(&check.post_fit, name).is_some_and(|p| p >= half);
             if passes(CHI_SQUARE_TRAINING) && passes(CHI_SQUARE_HELD_OUT) {
                 let other = cands[r.cand].name.to_string();

@@ -312,30 +312,32 @@ pub fn fit_ste(
         let pred = predict_near(setup, i, g, p[0], effect, &at_base)?;
         Ok(residuals_of(setup, &[i], &[pred], mask, scales))
     };
-    let rss_at = |e: f64| f(&[e]).map(|r| rss(&r));
+    // A scanned amplitude whose prediction fails is a rejected trial point, as a step of the
+    // least squares is (`crate::fit::lm`): infinitely bad, not the end of the fit.
+    let rss_at = |e: f64| f(&[e]).map_or(f64::INFINITY, |r| rss(&r));
     // (amplitude, RSS) of the best finite point of the scan, if any.
-    let scan = |factors: &[f64], around: f64| -> Result<Option<(f64, f64)>> {
+    let scan = |factors: &[f64], around: f64| -> Option<(f64, f64)> {
         let scanned: Vec<(f64, f64)> = factors
             .par_iter()
             .map(|k| {
                 let e = k * around;
-                Ok((e, rss_at(e)?))
+                (e, rss_at(e))
             })
-            .collect::<Result<_>>()?;
-        Ok(scanned
+            .collect();
+        scanned
             .into_iter()
             .filter(|(_, r)| r.is_finite())
-            .min_by(|a, b| a.1.total_cmp(&b.1)))
+            .min_by(|a, b| a.1.total_cmp(&b.1))
     };
-    let best = match scan(&STE_SCAN, start.abs())? {
+    let best = match scan(&STE_SCAN, start.abs()) {
         Some(coarse) => {
-            scan(&STE_SCAN_FINE, coarse.0)?
+            scan(&STE_SCAN_FINE, coarse.0)
                 // Ties go to the smaller amplitude, the first in scan order.
                 .filter(|fine| fine.1 < coarse.1 || (fine.1 == coarse.1 && fine.0 < coarse.0))
                 .unwrap_or(coarse)
                 .0
         }
-        None => scan(&STE_SCAN_FINE, start.abs())?.map_or(start.abs(), |fine| fine.0),
+        None => scan(&STE_SCAN_FINE, start.abs()).map_or(start.abs(), |fine| fine.0),
     };
     let lm = least_squares_warm(
         &f,

@@ -26,10 +26,13 @@ pub(super) fn library_probes() -> Vec<(usize, Vec<f64>)> {
 /// the training curves on their kept points, its delta, and whether some probe moves the
 /// design-load curve by the noise (the identifiability rule on the refit's first stage of a
 /// candidate without a phase; a phase-carrying one's refit starts from a polar profile).
+/// A candidate one of whose probes cannot be simulated at M0's fit has no probes and the
+/// reason in `failed`.
 pub(super) struct ProbeDictionary {
     pub raw: Vec<Vec<DVector<f64>>>,
     pub deltas: Vec<Vec<Vec<f64>>>,
     pub seen_at_design: [bool; LIBRARY.len()],
+    pub failed: Vec<Option<String>>,
 }
 
 /// What every probe's curves are taken against: M0's fit, its curves and their kept points.
@@ -108,7 +111,11 @@ impl AtM0<'_> {
 }
 
 /// [`ProbeDictionary`] of M0's fit `m0` (globals and training STEs; its curves `f0`) on the
-/// training curves `train`, one step of `progress` a probe.
+/// training curves `train`, one step of `progress` a probe. A probe that fails is the failure
+/// of its candidate, not of the run: the probes are the candidate's own model at M0's fit,
+/// and a damping law's gamma -1 at M0's zeta 0.64 asks for zeta 1.27 at half the design load
+/// (an independent set with a 2nd STE harmonic of 40% whose M0 ended there, and the whole run
+/// stopped).
 pub(super) fn probe_dictionary(
     setup: &Setup,
     train: &[usize],
@@ -117,7 +124,7 @@ pub(super) fn probe_dictionary(
     f0: &[CurvePrediction],
     scales: &Scales,
     progress: &dyn Progress,
-) -> Result<ProbeDictionary> {
+) -> ProbeDictionary {
     let at = AtM0 {
         setup,
         train,
@@ -140,17 +147,32 @@ pub(super) fn probe_dictionary(
     // The design-load curve's rows are the first kept points of each probe's differences.
     let design_rows = mask[train[0]].iter().filter(|keep| **keep).count();
     let mut seen_at_design = [false; LIBRARY.len()];
+    let mut failed: Vec<Option<String>> = vec![None; LIBRARY.len()];
     for (v, (c, d)) in probe_rows.into_iter().zip(&probes) {
-        let v = v?;
-        seen_at_design[*c] |= at.standardized_norm(train[0], &v[..design_rows]) >= 1.0;
-        raw[*c].push(DVector::from_vec(v));
-        deltas[*c].push(d.clone());
+        match v {
+            Ok(v) => {
+                seen_at_design[*c] |= at.standardized_norm(train[0], &v[..design_rows]) >= 1.0;
+                raw[*c].push(DVector::from_vec(v));
+                deltas[*c].push(d.clone());
+            }
+            Err(e) => {
+                failed[*c].get_or_insert_with(|| {
+                    format!("its probe delta = {d:?} could not be simulated at M0's fit: {e}")
+                });
+            }
+        }
     }
-    Ok(ProbeDictionary {
+    for c in (0..LIBRARY.len()).filter(|&c| failed[c].is_some()) {
+        raw[c].clear();
+        deltas[c].clear();
+        seen_at_design[c] = false;
+    }
+    ProbeDictionary {
         raw,
         deltas,
         seen_at_design,
-    })
+        failed,
+    }
 }
 
 #[cfg(test)]
@@ -160,32 +182,34 @@ mod tests {
     use crate::discover::forward::{Curve, Globals};
     use crate::fit::LmFit;
     use crate::model::Dimensional;
+    use crate::progress::NoProgress;
     use crate::validate::{munro_rig, MunroNoise};
 
-    /// The design load alone, in contact across the resonance (zeta 0.02, 1600 Hz, STE 0.3 um),
-    /// with M0's fit at those values, its curve, every point kept and a noise scale of 0.05 um.
-    fn at_m0_parts() -> (Setup, ModelFit, Mask, Vec<CurvePrediction>, Scales) {
-        let speeds = vec![1500.0, 2200.0, 2700.0, 2950.0, 3100.0, 3500.0, 4500.0];
-        let n = speeds.len();
-        let setup = Setup::new(
+    /// Munro's rig with a curve at each load of `loads` over `speeds` (measured values 1 um:
+    /// the probes do not read them).
+    fn setup_at(loads: &[f64], speeds: &[f64]) -> Setup {
+        let curves = loads
+            .iter()
+            .map(|&load_n| Curve {
+                load_n,
+                speeds_rpm: speeds.to_vec(),
+                dte_pp_um: vec![1.0; speeds.len()],
+                sd_um: None,
+            })
+            .collect();
+        Setup::new(
             Dimensional::from_rig(&munro_rig()).unwrap(),
             3780.0,
-            vec![Curve {
-                load_n: 3780.0,
-                speeds_rpm: speeds,
-                dte_pp_um: vec![1.0; n],
-                sd_um: None,
-            }],
+            curves,
             MunroNoise::Estimate { floor_min: 0.0 },
-        );
-        let globals = Globals {
-            zeta: 0.02,
-            omega_n_hz: 1600.0,
-        };
-        let f0 = vec![predict(&setup, 0, globals, 0.3, &Effect::none()).unwrap()];
-        let m0 = ModelFit {
+        )
+    }
+
+    /// M0's fit at `globals` with the training STEs `ste_um` (the probes read no more of it).
+    fn m0_at(globals: Globals, ste_um: Vec<f64>) -> ModelFit {
+        ModelFit {
             globals,
-            ste_um: vec![0.3],
+            ste_um,
             effect: Effect::none(),
             lm: LmFit {
                 params: Vec::new(),
@@ -195,8 +219,68 @@ mod tests {
                 secant_jacobian: None,
                 evaluations: 0,
             },
+        }
+    }
+
+    /// The design load alone, in contact across the resonance (zeta 0.02, 1600 Hz, STE 0.3 um),
+    /// with M0's fit at those values, its curve, every point kept and a noise scale of 0.05 um.
+    fn at_m0_parts() -> (Setup, ModelFit, Mask, Vec<CurvePrediction>, Scales) {
+        let speeds = [1500.0, 2200.0, 2700.0, 2950.0, 3100.0, 3500.0, 4500.0];
+        let n = speeds.len();
+        let setup = setup_at(&[3780.0], &speeds);
+        let globals = Globals {
+            zeta: 0.02,
+            omega_n_hz: 1600.0,
         };
+        let f0 = vec![predict(&setup, 0, globals, 0.3, &Effect::none()).unwrap()];
+        let m0 = m0_at(globals, vec![0.3]);
         (setup, m0, vec![vec![true; n]], f0, vec![vec![0.05; n]])
+    }
+
+    /// M0's fit at zeta 0.64 (as on an independent set with a 2nd STE harmonic of 40%, 64
+    /// speeds at Omega 0.4-1.45, whose M0 ended at zeta 0.636 and 1282 Hz): the damping law's
+    /// probe gamma = -1 asks for zeta 1.28 at half the design load, outside 0 < zeta < 1. The
+    /// dictionary is still made: the damping law has failed, with the probe and the reason,
+    /// and has no probes; every other candidate has all of its own. (The run used to end
+    /// there with the bare "invalid parameter zeta".)
+    #[test]
+    fn a_probe_outside_the_models_range_fails_its_candidate_not_the_dictionary() {
+        let speeds = [1600.0, 2400.0, 3200.0, 4000.0, 5600.0];
+        let n = speeds.len();
+        let setup = setup_at(&[3780.0, 1890.0], &speeds);
+        let globals = Globals {
+            zeta: 0.64,
+            omega_n_hz: 1282.0,
+        };
+        let ste = vec![0.8, 6.0];
+        let f0: Vec<CurvePrediction> = (0..2)
+            .map(|i| predict(&setup, i, globals, ste[i], &Effect::none()).unwrap())
+            .collect();
+        let m0 = m0_at(globals, ste);
+        let (mask, scales) = (vec![vec![true; n]; 2], vec![vec![0.05; n]; 2]);
+        let dict = probe_dictionary(&setup, &[0, 1], &m0, &mask, &f0, &scales, &NoProgress);
+        let damping = LIBRARY
+            .iter()
+            .position(|&c| c == Candidate::DampingLaw)
+            .unwrap();
+        let why = dict.failed[damping]
+            .as_deref()
+            .expect("the damping law failed");
+        assert!(
+            why.contains("[-1.0]") && why.contains("invalid parameter zeta = 1.28"),
+            "{why}"
+        );
+        assert!(dict.raw[damping].is_empty() && dict.deltas[damping].is_empty());
+        assert!(!dict.seen_at_design[damping]);
+        for (c, cand) in LIBRARY.iter().enumerate().filter(|(c, _)| *c != damping) {
+            assert!(
+                dict.failed[c].is_none(),
+                "{}: {:?}",
+                cand.name(),
+                dict.failed[c]
+            );
+            assert_eq!(dict.raw[c].len(), cand.probes().len(), "{}", cand.name());
+        }
     }
 
     /// A stiffness variation whose first-order part is w = -0.5 um (eps 0.5 um / the static

@@ -41,6 +41,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "p_holm": c.p_holm,
             "identifiable": c.identifiable,
             "note": c.note,
+            "failed": c.failed,
             "score": c.score,
             "score_p_approx": c.score_p_approx,
             "lr": c.lr,
@@ -385,9 +386,7 @@ pub fn summary_text(d: &Discovery) -> String {
             Some(phase_text(c))
                 .filter(|t| !t.is_empty())
                 .map_or(String::new(), |t| format!(", phase {t}")),
-            c.note
-                .as_ref()
-                .map_or(String::new(), |n| format!("  ({n})"))
+            remarks(c).map_or(String::new(), |n| format!("  ({n})"))
         ));
     }
     for t in d.candidates.iter().filter_map(other_start_text) {
@@ -596,6 +595,14 @@ fn detection_section(page: &mut Page, heading: &str, tests: &[super::run::TestRe
     page.table(&["test", "statistic", "p", "p (Holm)"], &rows);
 }
 
+/// What is said of a candidate beside its numbers: "failed, because ..." when it failed, and
+/// its note; None when neither.
+fn remarks(c: &CandidateResult) -> Option<String> {
+    let failed = c.failed.as_ref().map(|b| format!("failed, because {b}"));
+    let said: Vec<String> = failed.into_iter().chain(c.note.clone()).collect();
+    (!said.is_empty()).then(|| said.join("; "))
+}
+
 /// Every candidate's score, test, refit estimate with its interval and phase.
 fn candidates_section(page: &mut Page, d: &Discovery) {
     page.heading("Candidates");
@@ -614,7 +621,7 @@ fn candidates_section(page: &mut Page, d: &Discovery) {
                     format!("{a:.4} .. {b:.4}{}", interval_method_text(c))
                 }),
                 phase_text(c),
-                c.note.clone().unwrap_or_default(),
+                remarks(c).unwrap_or_default(),
             ]
         })
         .collect();

@@ -83,6 +83,11 @@ pub struct CandidateResult {
     /// Whether the data can determine it (see `note`).
     pub identifiable: bool,
     pub note: Option<String>,
+    /// Why the candidate failed, when something inside it did (a probe or a refit whose
+    /// model leaves its valid range, a sweep that does not settle, a fit that does not
+    /// converge): it is reported "failed, because ..." without an estimate, and the run goes
+    /// on with the others ([`CandidateResult::fail`]).
+    pub failed: Option<String>,
     /// Score statistic max_k (r . d_k)^2 / |d_k|^2 over the probes (projected residual r).
     pub score: f64,
     /// Its chi-square(dim) tail, Wilson-Hilferty; for ranking only.
@@ -153,6 +158,28 @@ pub struct OtherStart {
     pub ci95: Option<(f64, f64)>,
     /// Its own 95% Wald arc of the phase, degrees (see [`CandidateResult::phase_wald95_deg`]).
     pub phase_wald95_deg: Option<(f64, f64)>,
+}
+
+impl CandidateResult {
+    /// Record that the candidate failed `because` (a clause: "its refit failed: ..."), and
+    /// drop what a refit of it had found: a failed candidate has no estimate to report.
+    pub(super) fn fail(&mut self, because: String) {
+        self.failed = Some(because);
+        self.estimate = None;
+        self.ci95 = None;
+        self.ci95_method = "Wald";
+        self.wald_ci95 = None;
+        self.profile_ci95 = None;
+        self.interval_quantile = None;
+        self.delta = None;
+        self.refit_lr = None;
+        self.refit_zeta = None;
+        self.refit_omega_n_hz = None;
+        self.other_start = None;
+        self.phase_deg = None;
+        self.phase_wald95_deg.clear();
+        self.phase_profile95_deg = None;
+    }
 }
 
 impl OtherStart {
@@ -1229,9 +1256,11 @@ fn back_contact_in(train: &[usize], f0: &[CurvePrediction], mask: &Mask) -> bool
 /// Each candidate before any refit: identifiable when its largest standardized probe `dict`
 /// moves the fitted curves by the noise, its score and dictionary LR (`observed`), the LR's
 /// bootstrap p-value against the replicates `reps`, Holm-adjusted across the identifiable
-/// candidates.
+/// candidates. A candidate whose probes failed (`failed`, by candidate) has no probes, no
+/// test and no identifiability.
 fn candidate_results(
     dict: &[Vec<DVector<f64>>],
+    failed: &[Option<String>],
     observed: &Statistics,
     reps: &[Statistics],
     back_contact: bool,
@@ -1241,7 +1270,9 @@ fn candidate_results(
         .enumerate()
         .map(|(c, &cand)| {
             let biggest = dict[c].iter().map(|d| d.norm_squared()).fold(0.0, f64::max);
-            let (identifiable, note) = if biggest >= 1.0 {
+            let (identifiable, note) = if failed[c].is_some() {
+                (false, None)
+            } else if biggest >= 1.0 {
                 (true, None)
             } else if cand == Candidate::Backlash && !back_contact {
                 (false, Some("not identifiable: no back-side contact (double-sided impact) in the training curves, at the stated b or at any probed b; in contact or with single-sided impacts the response in um does not depend on b".to_string()))
@@ -1255,6 +1286,7 @@ fn candidate_results(
                 candidate: cand,
                 identifiable,
                 note,
+                failed: failed[c].clone(),
                 score: observed.score[c],
                 score_p_approx: chi2_sf(observed.score[c], 1.0),
                 lr,
@@ -1348,8 +1380,12 @@ pub fn discover_setup(
     let spec = noise_spec(setup, opts)?;
     progress.start(4 + library_probes().len() as u64, "discovery steps");
 
-    let m0_fit = fit_m0(setup, &train, &held, &spec, progress)?;
-    let excluded = excluded_by_load(setup, &m0_fit, &train)?;
+    // Past M0 a failure belongs to a candidate (see `CandidateResult::failed`); M0's own ends
+    // the run, saying so.
+    let m0_fit = fit_m0(setup, &train, &held, &spec, progress)
+        .map_err(m0_failed("its fit to the training loads"))?;
+    let excluded = excluded_by_load(setup, &m0_fit, &train)
+        .map_err(m0_failed("its range at the points excluded from the tests"))?;
     let M0Fit {
         m0,
         mask,
@@ -1363,8 +1399,9 @@ pub fn discover_setup(
     let ws = lin.windows.clone();
 
     // 2. Probe dictionary at the M0 fit (training curves).
-    let probes = probe_dictionary(setup, &train, &m0, &mask, &f0, &scales, progress)?;
-    let (dict_delta, seen_at_design) = (probes.deltas, probes.seen_at_design);
+    let probes = probe_dictionary(setup, &train, &m0, &mask, &f0, &scales, progress);
+    let (dict_delta, seen_at_design, probes_failed) =
+        (probes.deltas, probes.seen_at_design, probes.failed);
     lin.probes = probes.raw;
     // The probes standardized by the data's noise and projected off the weighted M0 Jacobian.
     let dict = lin.weighted_probes(&scales);
@@ -1376,7 +1413,13 @@ pub fn discover_setup(
     let names = detection_names(&ws);
 
     // 4. Candidates: identifiability, score rank, bootstrap LR p-values, Holm.
-    let mut cands = candidate_results(&dict, &observed, &reps, back_contact_in(&train, &f0, &mask));
+    let mut cands = candidate_results(
+        &dict,
+        &probes_failed,
+        &observed,
+        &reps,
+        back_contact_in(&train, &f0, &mask),
+    );
     // Detection: Holm over every test of M0, the candidates' own included.
     let candidate_p: Vec<f64> = cands.iter().filter_map(|c| c.p_value).collect();
     let (detection, least_p) = detection_tests(&names, &observed, &reps, &candidate_p);
@@ -1406,7 +1449,7 @@ pub fn discover_setup(
         detected,
     };
     let mut refits: Vec<Refitted> = Vec::new();
-    let decision = rounds.settle(&refit, &mut cands, &mut refits)?;
+    let decision = rounds.settle(&refit, &mut cands, &mut refits);
     progress.advance(1);
     let tests = TestsOfM0 {
         detection,
@@ -1418,6 +1461,16 @@ pub fn discover_setup(
     progress.advance(1);
     progress.finish();
     Ok(found)
+}
+
+/// An error of the null model M0 itself, in `what`: it ends the run, since every test and
+/// candidate is taken against M0, and the message says it was M0's.
+fn m0_failed(what: &'static str) -> impl Fn(GearError) -> GearError {
+    move |e| {
+        GearError::Numerical(format!(
+            "the null model M0 failed in {what}, so nothing can be tested against it: {e}"
+        ))
+    }
 }
 
 /// What the tests of M0 found, beside [`Rounds::detected`].
