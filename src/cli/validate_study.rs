@@ -122,7 +122,10 @@ fn summary_text(s: &ValidateStudySummary) -> String {
         s.noise_floor_um,
         s.noise_relative,
         s.noise_quantum_um
-            .map_or(String::new(), |q| format!(", read to {q} um")),
+            .map_or(String::new(), |q| format!(", read to {q} um"))
+            + &s.noise_rho.map_or(String::new(), |r| {
+                format!(", correlated along speed: {r} between neighbours at the median step")
+            }),
         match s.grid {
             SpeedGrid::Uniform { .. } => "uniform",
             SpeedGrid::NonUniform { .. } => "non-uniform",
@@ -164,6 +167,16 @@ fn summary_text(s: &ValidateStudySummary) -> String {
     msg.push_str(&format!(
         "Student-t errors chosen on {}/{} seeds; {:.2} outlying points listed per seed\n",
         s.student_t_chosen, s.seeds, s.mean_outliers
+    ));
+    msg.push_str(&format!(
+        "errors correlated along speed kept on {}/{} seeds{}\n",
+        s.correlation_kept,
+        s.seeds,
+        if s.correlation_kept > 0 {
+            format!(" (median length {:.0} rpm)", s.median_correlation_rpm)
+        } else {
+            String::new()
+        }
     ));
     msg
 }

@@ -123,6 +123,8 @@ pub struct ValidateSeed {
     pub noise_relative: f64,
     pub student_t: bool,
     pub outliers: usize,
+    /// The errors' correlation length along speed the fit kept (rpm; 0: independent errors).
+    pub correlation_rpm: f64,
 }
 
 impl ValidateSeed {
@@ -139,6 +141,7 @@ impl ValidateSeed {
             noise_relative: f64::NAN,
             student_t: false,
             outliers: 0,
+            correlation_rpm: f64::NAN,
         }
     }
 }
@@ -171,6 +174,8 @@ pub struct ValidateStudySummary {
     pub noise_relative: f64,
     pub noise_distribution: Distribution,
     pub noise_quantum_um: Option<f64>,
+    /// Correlation of neighbouring errors at the median step (the correlated family).
+    pub noise_rho: Option<f64>,
     pub grid: SpeedGrid,
     pub grid_points: usize,
     pub data_dop853_rtol: Option<f64>,
@@ -179,6 +184,10 @@ pub struct ValidateStudySummary {
     /// Seeds on which the fit chose Student-t errors, and the mean count of outliers listed.
     pub student_t_chosen: usize,
     pub mean_outliers: f64,
+    /// Seeds on which the fit kept errors correlated along speed, and the median length it
+    /// kept there (rpm; NaN where none).
+    pub correlation_kept: usize,
+    pub median_correlation_rpm: f64,
 }
 
 fn covered(truth: f64, ci: (f64, f64)) -> bool {
@@ -265,6 +274,7 @@ pub fn run_validate_study(
             noise_relative: e.noise.model.relative,
             student_t: matches!(e.noise.model.distribution, Distribution::StudentT { .. }),
             outliers: e.noise.outliers.len(),
+            correlation_rpm: e.noise.correlation.as_ref().map_or(0.0, |c| c.length_rpm),
         };
         on_seed(&s)?;
         seeds.push(s);
@@ -301,6 +311,12 @@ pub fn run_validate_study(
             }
         })
         .collect();
+    let mut kept: Vec<f64> = seeds
+        .iter()
+        .map(|s| s.correlation_rpm)
+        .filter(|l| *l > 0.0)
+        .collect();
+    kept.sort_by(f64::total_cmp);
     Ok(ValidateStudySummary {
         seeds: n,
         refused,
@@ -309,6 +325,7 @@ pub fn run_validate_study(
         noise_relative: opts.noise.model.relative,
         noise_distribution: opts.noise.model.distribution,
         noise_quantum_um: opts.noise.quantum_um,
+        noise_rho: opts.noise.rho_on_grid,
         grid: opts.grid,
         grid_points,
         data_dop853_rtol: opts.dop853_rtol,
@@ -316,5 +333,7 @@ pub fn run_validate_study(
         coverage,
         student_t_chosen: seeds.iter().filter(|s| s.student_t).count(),
         mean_outliers: seeds.iter().map(|s| s.outliers as f64).sum::<f64>() / n as f64,
+        correlation_kept: kept.len(),
+        median_correlation_rpm: kept.get(kept.len() / 2).copied().unwrap_or(f64::NAN),
     })
 }
