@@ -67,6 +67,7 @@ const RIG_HEAD: &str = r##"# rig.toml of a geardyn data set: the test gear pair 
 # floor_um = 0.2           # um in (0, 1000), not below reading_um: standard deviation of a reading, independent of its level
 # relative = 0.02          # dimensionless in [0, 1): standard deviation as a fraction of the reading
 # reading_um = 0.1         # um in [0, 1000): how finely a digitized value can be read off its figure (lower bound of the fitted floor)
+# correlation_rpm = 100.0  # rpm in [0, 1e6): correlation length of the errors along speed within a curve (0: independent; else estimated when the data say so)
 
 # [geometry]               # OPTIONAL table, read by `geardyn mesh` and `validate munro --ste geometry` only; defaults: standard full-depth steel gears at the standard centre distance
 # pinion_profile_shift = 0.0     # dimensionless in [-1, 1.5]: profile shift coefficient x1 (default 0)

@@ -109,6 +109,11 @@ impl Axis {
         Some((least, span.max(least)))
     }
 
+    /// The widest curve's extent in speed (rpm).
+    pub fn span(&self) -> f64 {
+        self.length_range().map_or(0.0, |(_, span)| span)
+    }
+
     /// The points of each curve in increasing speed, curves in order of their labels.
     pub fn curves(&self) -> Vec<Vec<usize>> {
         let mut out: Vec<Vec<usize>> = Vec::new();

@@ -157,6 +157,30 @@ pub struct NoiseFit {
     pub correlation: Option<CorrelationFit>,
 }
 
+impl CorrelationFit {
+    /// Why an estimated correlation makes the fit unusable, if it does: its 95% interval
+    /// reaches beyond the widest curve's span (or is unbounded). The residuals are then one
+    /// smooth curve across the measured range, a misfit of the model or a drift that the data
+    /// cannot tell apart, and intervals that call it noise mean nothing (as an interval
+    /// unbounded above means the curve does not determine a parameter).
+    pub fn unbounded_length(&self) -> Option<String> {
+        let (_, upper) = self.length_ci95?;
+        if upper.is_some_and(|u| u <= self.span_rpm) {
+            return None;
+        }
+        Some(format!(
+            "the errors' correlation along speed is not bounded within the curves (length {:.0} \
+             rpm, its 95% interval reaching {} beyond the widest curve's {:.0} rpm): the \
+             residuals are one smooth curve across the speeds, a misfit of the model or a drift \
+             that the data cannot tell apart; state the noise's correlation (rig.toml [noise] \
+             correlation_rpm, or --correlation off) to fit anyway",
+            self.length_rpm,
+            upper.map_or("infinity".to_string(), |u| format!("{u:.0} rpm")),
+            self.span_rpm
+        ))
+    }
+}
+
 /// Where the correlation length came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -183,6 +207,8 @@ pub struct CorrelationFit {
     /// correlation exp(-gap / length) of the errors there.
     pub median_step_rpm: Option<f64>,
     pub rho_median_step: f64,
+    /// The widest curve's extent in speed (rpm).
+    pub span_rpm: f64,
     /// 2 (log L correlated - log L independent) at the two fits, where both were made; the
     /// test's 5% critical value is [`CORRELATION_LR_CRITICAL`].
     pub lr_vs_independent: Option<f64>,
@@ -415,7 +441,7 @@ fn restricted_nll(dist: Distribution, data: &NoiseData, scales: &[f64]) -> f64 {
     neg_log_likelihood(dist, data.residuals, scales, data.correlation)
         + data
             .jacobian
-            .map_or(0.0, |j| restricted_term(j, scales, data.correlation))
+            .map_or(0.0, |j| restricted_term(dist, j, scales, data.correlation))
 }
 
 /// The residuals `base` (their correlation not set) with the correlation of `axis` at
@@ -780,6 +806,7 @@ fn correlation_fit(
         },
         lr_vs_independent: lr,
         curves: curve_correlations(axis, &z, &e, usize::from(free)),
+        span_rpm: axis.span(),
     }
 }
 

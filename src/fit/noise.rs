@@ -151,6 +151,7 @@ pub fn neg_log_likelihood(
 }
 
 /// The restricted likelihood's term 1/2 log det(G'G), G the model's Jacobian `jacobian`
+/// (times the information factor of Student-t errors under `dist`)
 /// standardized by `scales` and decorrelated along speed like the residuals (columns the
 /// model does not see left out): added to -log L of the residuals at the fit, it is -log of the
 /// likelihood of the residuals' error contrasts (REML, Patterson & Thompson 1971; for a model
@@ -159,6 +160,7 @@ pub fn neg_log_likelihood(
 /// of the residuals (what the leverage correction removes), and a correlation length the more,
 /// since the fitted curve absorbs the slow part of correlated errors.
 pub fn restricted_term(
+    dist: Distribution,
     jacobian: &DMatrix<f64>,
     scales: &[f64],
     correlation: Option<Correlation>,
@@ -172,7 +174,13 @@ pub fn restricted_term(
     if let Some(c) = correlation.filter(|c| c.length > 0.0) {
         g = c.innovations_of_columns(&g);
     }
-    let info = g.transpose() * g;
+    // Student-t errors carry (dof + 1) / (dof + 3) of the Gaussian information per point (the
+    // Fisher information of the fit's intervals): without it the term would favour large dof.
+    let factor = match dist {
+        Distribution::Gaussian => 1.0,
+        Distribution::StudentT { dof } => (dof + 1.0) / (dof + 3.0),
+    };
+    let info = g.transpose() * g * factor;
     let eigen = info.symmetric_eigenvalues();
     let top = eigen.iter().fold(0.0f64, |a, b| a.max(*b));
     0.5 * eigen
@@ -265,7 +273,7 @@ impl NegLogLik<'_> {
                 None => d.correlation,
             };
             return neg_log_likelihood(self.dist, d.residuals, &scales, correlation)
-                + restricted_term(j, &scales, correlation);
+                + restricted_term(self.dist, j, &scales, correlation);
         }
         let adjust = |v: f64, h: &f64| v / (1.0 - h.clamp(0.0, 0.99)).sqrt();
         let correlation = match self.free_length {

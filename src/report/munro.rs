@@ -153,6 +153,7 @@ fn geometry_json(g: &GeometryValidation) -> serde_json::Value {
         "fit_points": e.n,
         "noise_floor_um": e.noise.model.floor,
         "noise_relative": e.noise.model.relative,
+        "noise_correlation": e.noise.correlation,
         "relief": g.relief,
         "design_load_in_contact": g.design_load_in_contact,
         "design_model": g.fit.design_model,

@@ -57,6 +57,11 @@ pub fn fit_failure(
             ));
         }
     }
+    if let Some(c) = est.noise.correlation.as_ref() {
+        if let Some(reason) = c.unbounded_length() {
+            return Some(reason);
+        }
+    }
     let zeta = est.params.first().copied().unwrap_or(f64::NAN);
     if !(zeta_range.0..=zeta_range.1).contains(&zeta) {
         return Some(format!(
