@@ -634,13 +634,19 @@ fn noise_and_measured_rig_errors_are_located() {
             "negative reading",
         ),
         (
-            r.replace("reading_um = 0.05", "reading_um = 0.05\ncorrelation_rpm = -50.0"),
+            r.replace(
+                "reading_um = 0.05",
+                "reading_um = 0.05\ncorrelation_rpm = -50.0",
+            ),
             15,
             "noise.correlation_rpm",
             "negative correlation length",
         ),
         (
-            r.replace("reading_um = 0.05", "reading_um = 0.05\ncorrelation_rpm = inf"),
+            r.replace(
+                "reading_um = 0.05",
+                "reading_um = 0.05\ncorrelation_rpm = inf",
+            ),
             15,
             "noise.correlation_rpm",
             "infinite correlation length",

@@ -599,17 +599,28 @@ fn cli_validate_reports_the_errors_correlation_along_speed() {
         (out, json, fits)
     };
     let (out, json, _) = run(&shipped, &[], "auto");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let c = &json.unwrap()["noise"]["correlation"];
     assert_eq!(c["source"], "independent_by_test", "{c}");
     assert_eq!(c["length_rpm"], 0.0);
     assert!(c["lr_vs_independent"].as_f64().unwrap() < 2.71);
     assert_eq!(c["curves"].as_array().unwrap().len(), 4);
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(stdout.contains("errors independent along speed"), "{stdout}");
+    assert!(
+        stdout.contains("errors independent along speed"),
+        "{stdout}"
+    );
 
     let (out, json, _) = run(&shipped, &["--correlation", "on"], "on");
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let c = &json.unwrap()["noise"]["correlation"];
     assert_eq!(c["source"], "estimated", "{c}");
     assert!(c["length_ci95"].is_array(), "{c}");
@@ -620,12 +631,18 @@ fn cli_validate_reports_the_errors_correlation_along_speed() {
     let rig = std::fs::read_to_string(format!("{shipped}/rig.toml")).unwrap();
     std::fs::write(
         data.join("rig.toml"),
-        rig.replace("[source]\n", "[noise]\ncorrelation_rpm = 80.0\n\n[source]\n"),
+        rig.replace(
+            "[source]\n",
+            "[noise]\ncorrelation_rpm = 80.0\n\n[source]\n",
+        ),
     )
     .unwrap();
     let (out, json, fits) = run(data.to_str().unwrap(), &["--correlation", "off"], "both");
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success());
-    assert!(err.contains("correlation_rpm") && err.contains("state it once"), "{err}");
+    assert!(
+        err.contains("correlation_rpm") && err.contains("state it once"),
+        "{err}"
+    );
     assert!(json.is_none() && !fits.exists());
 }
