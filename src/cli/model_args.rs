@@ -8,7 +8,7 @@ use anyhow::Context;
 use clap::Args as ClapArgs;
 use geardyn::data::{load_gear_pair, load_rig_with_geometry, MAX_DTE_UM, MAX_LOAD_N};
 use geardyn::model::{Dimensional, GearPair, OperatingPoint, Term};
-use geardyn::sim::to_significant;
+use geardyn::numeric::to_significant;
 use geardyn::validate::{GearMesh, GeometryOperatingPoint, GeometryOptions, StiffnessChoice};
 use std::path::PathBuf;
 

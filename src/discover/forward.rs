@@ -9,10 +9,11 @@ use super::memo::PredictionMemo;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair};
+use crate::numeric::min_max;
 use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, Branch, State, SteadyOptions};
 use crate::validate::{
-    flow_with_rtol, min_max, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
+    flow_with_rtol, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
 };
 use rayon::prelude::*;
 

@@ -8,6 +8,7 @@ use super::dimensional::Dimensional;
 use super::params::GearPair;
 use crate::data::{MAX_DTE_UM, MAX_LOAD_N};
 use crate::error::{GearError, Result};
+use crate::numeric::to_significant;
 use serde::Serialize;
 
 /// The operating point of a gear pair in the rig's units.
@@ -117,11 +118,11 @@ impl OperatingPoint {
     /// The conversion in words, one equation a line with its numbers (for the command line and
     /// reports), with the speed `example_rpm` converted as an example.
     pub fn conversion_lines(&self, example_rpm: f64) -> Vec<String> {
-        let b_um = crate::sim::to_significant(self.dim.half_backlash_m * 1e6, 6);
-        let k = crate::sim::to_significant(self.dim.mesh_stiffness_n_per_m * 1e-6, 6);
+        let b_um = to_significant(self.dim.half_backlash_m * 1e6, 6);
+        let k = to_significant(self.dim.mesh_stiffness_n_per_m * 1e-6, 6);
         let z = self.dim.pinion_teeth;
-        let ste_um = crate::sim::to_significant(self.ste_um, 6);
-        let f_n = crate::sim::to_significant(self.omega_n_hz, 8);
+        let ste_um = to_significant(self.ste_um, 6);
+        let f_n = to_significant(self.omega_n_hz, 8);
         vec![
             "Rig units to the dimensionless model (Kahraman & Singh 1990, Sec. 2.1):".to_string(),
             format!("  b    = backlash / 2 = {b_um} µm (half backlash)"),

@@ -9,11 +9,11 @@ use super::{
 };
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
+use crate::numeric::min_max;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
 use crate::sim::SetKind;
 use crate::validate::{
-    min_max, DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation,
-    LOW_SPEED_OMEGA,
+    DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation, LOW_SPEED_OMEGA,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};

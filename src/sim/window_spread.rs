@@ -68,7 +68,7 @@ mod tests {
         let (s, w) = steady_then_windows(4300.0);
         assert_eq!(s.period, None);
         assert_eq!(w[0], s.dte_pp);
-        let (lo, hi) = crate::validate::min_max(w.iter().copied()).unwrap();
+        let (lo, hi) = crate::numeric::min_max(w.iter().copied()).unwrap();
         assert!(hi - lo > 0.1 * hi, "windows {lo}..{hi}");
     }
 

@@ -525,7 +525,7 @@ fn ste_source(stated: Option<f64>, held: bool) -> String {
         // which the reports' source column would otherwise print as 17 digits.
         (Some(s), false) => format!(
             "fitted (rig.toml states {} um, the fit's start; --hold-ste holds it)",
-            crate::sim::to_significant(s, 6)
+            crate::numeric::to_significant(s, 6)
         ),
         (None, _) => "fitted".into(),
     }

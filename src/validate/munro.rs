@@ -9,7 +9,7 @@
 //! zeta, omega_n (and the relief depth when asked) fitted to the design-load curve alone. The
 //! geometry path is run beside the per-curve one, so that both are reported side by side.
 
-use super::curve_metrics::{jump_location, location_error, location_error_text, min_max, rms};
+use super::curve_metrics::{jump_location, location_error, location_error_text, rms};
 use super::design_fit::{
     curve_in_contact, curve_in_contact_harmonics, fit_design_geometry, fit_design_load,
     CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise, LOW_SPEED_OMEGA,
@@ -24,6 +24,7 @@ use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel, Robust};
 use crate::model::{Dimensional, GearPair};
+use crate::numeric::min_max;
 use crate::progress::Progress;
 use crate::sim::{
     find_attractors, sweep, Branch, EscapeBudget, IcGrid, SetKind, SteadyOptions, SweepPlan,

@@ -2,7 +2,6 @@
 //! stated truth parameters and adding seeded noise. They stand in for Munro's and Kubo's curves
 //! until digitized ones are added, and they are labelled `kind = "synthetic"` with their truth.
 
-use super::noise::Rng;
 use super::test_run::{up_sweep_start, TestRun};
 use crate::data::{
     write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DTE_UM, MAX_DYNAMIC_FACTOR,
@@ -10,6 +9,7 @@ use crate::data::{
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term};
+use crate::numeric::Rng;
 use crate::progress::Progress;
 use crate::sim::{Branch, ExactFlow, PeriodFlow, RkFlow, SteadyOptions, SweepPoint};
 use std::path::Path;
