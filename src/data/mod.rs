@@ -27,7 +27,6 @@ mod source;
 mod template;
 mod toml_doc;
 
-pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint, MAX_DYNAMIC_FACTOR};
 pub use munro::{load_munro, loads_text, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
