@@ -4,10 +4,10 @@
 
 use super::errors::{data_error, read_text};
 use super::geometry::GearGeometry;
-use super::munro::{MAX_DTE_UM, MAX_LOAD_N};
 use super::source::Source;
 use super::toml_doc::TomlDoc;
 use crate::error::{GearError, Result, WHOLE_FILE};
+use crate::model::{MAX_DTE_UM, MAX_LOAD_N};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

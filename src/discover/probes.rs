@@ -156,11 +156,11 @@ pub(super) fn probe_dictionary(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::data::munro_rig;
     use crate::discover::effects::Candidate;
     use crate::discover::forward::{Curve, Globals};
     use crate::fit::LmFit;
-    use crate::model::Dimensional;
-    use crate::validate::{munro_rig, MunroNoise};
+    use crate::validate::MunroNoise;
 
     /// The design load alone, in contact across the resonance (zeta 0.02, 1600 Hz, STE 0.3 um),
     /// with M0's fit at those values, its curve, every point kept and a noise scale of 0.05 um.
@@ -168,7 +168,7 @@ mod tests {
         let speeds = vec![1500.0, 2200.0, 2700.0, 2950.0, 3100.0, 3500.0, 4500.0];
         let n = speeds.len();
         let setup = Setup::new(
-            Dimensional::from_rig(&munro_rig()).unwrap(),
+            munro_rig().dimensional().unwrap(),
             3780.0,
             vec![Curve {
                 load_n: 3780.0,

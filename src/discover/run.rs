@@ -1542,7 +1542,7 @@ mod tests {
             sweep_model: None,
         };
         let setup = crate::discover::forward::Setup::new(
-            crate::model::Dimensional::from_rig(&crate::validate::munro_rig()).unwrap(),
+            crate::data::munro_rig().dimensional().unwrap(),
             3780.0,
             vec![crate::discover::forward::Curve {
                 load_n: 3780.0,

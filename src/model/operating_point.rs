@@ -6,10 +6,15 @@
 
 use super::dimensional::Dimensional;
 use super::params::GearPair;
-use crate::data::{MAX_DTE_UM, MAX_LOAD_N};
 use crate::error::{GearError, Result};
 use crate::numeric::to_significant;
 use serde::Serialize;
+
+/// Largest plausible load, N (a unit mistake beyond).
+pub const MAX_LOAD_N: f64 = 1e8;
+/// Largest plausible transmission error, um (a peak-to-peak DTE and its standard deviation, an
+/// STE amplitude): a millimetre of transmission error is a unit mistake, not a measurement.
+pub const MAX_DTE_UM: f64 = 1000.0;
 
 /// The operating point of a gear pair in the rig's units.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -161,16 +166,16 @@ impl OperatingPoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::Rig;
+    use crate::model::{munro_spec, GearSpec};
 
     /// Munro's rig with a given mesh stiffness of 250 N/um and 2b = 0.1 mm, so that every
     /// scale is a round number: b k_h = 50e-6 m x 250e6 N/m = 12500 N.
     fn munro_250() -> Dimensional {
-        let rig = Rig {
+        let gears = GearSpec {
             mesh_stiffness_n_per_um: Some(250.0),
-            ..crate::validate::munro_rig()
+            ..munro_spec()
         };
-        Dimensional::from_rig(&rig).unwrap()
+        Dimensional::new(&gears).unwrap()
     }
 
     #[test]

@@ -224,7 +224,7 @@ pub fn validate_kubo(
     progress: &dyn Progress,
 ) -> Result<KuboValidation> {
     let rig = &data.rig.rig;
-    let dim = Dimensional::from_rig(rig)?;
+    let dim = rig.dimensional()?;
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
     let ste_stated = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));

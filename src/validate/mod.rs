@@ -42,8 +42,8 @@ pub use study::{
 };
 pub(crate) use synth::flow_with_rtol;
 pub use synth::{
-    clean_munro_curves, munro_rig, simulate_dte_curve, synth_kubo, synth_munro, write_munro_set,
-    CleanCurves, HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
+    clean_munro_curves, simulate_dte_curve, synth_kubo, synth_munro, write_munro_set, CleanCurves,
+    HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
     FAMILY_RELATIVE, FAMILY_T_DOF,
 };
 pub use test_run::{up_sweep_neighbour_starts, TestRun};

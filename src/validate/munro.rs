@@ -276,7 +276,7 @@ fn design_curve(data: &MunroData) -> Result<(Dimensional, f64, Vec<&MunroPoint>)
             ));
         }
     }
-    let dim = Dimensional::from_rig(rig)?;
+    let dim = rig.dimensional()?;
     let design = rig.design_load_n;
     let curve = data.curve(design);
     check_design_levels(design, &curve)?;
@@ -389,7 +389,7 @@ pub fn validate_munro(
     progress: &dyn Progress,
 ) -> Result<MunroValidation> {
     let rig = &data.rig.rig;
-    let dim = Dimensional::from_rig(rig)?;
+    let dim = rig.dimensional()?;
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
     let (fit, ste_given) = fit_munro_design_load(data, (opts.robust, opts.correlation))?;
