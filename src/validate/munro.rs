@@ -129,6 +129,14 @@ pub struct ModelPoint {
     pub kind: Option<SetKind>,
 }
 
+impl ModelPoint {
+    /// On an attractor: a point of a carried sweep (no kind), or an all-attractor point whose
+    /// set is an attractor rather than a transient set still held at the search's horizon.
+    pub fn on_attractor(&self) -> bool {
+        matches!(self.kind, None | Some(SetKind::Attractor))
+    }
+}
+
 /// Prediction and errors at one load.
 #[derive(Clone, Debug, Serialize)]
 pub struct LoadResult {
