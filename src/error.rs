@@ -47,6 +47,10 @@ pub enum GearError {
     Plot { path: PathBuf, message: String },
 }
 
+/// The field of a [`GearError::Data`] whose problem concerns the whole file (unreadable, not
+/// text, missing).
+pub const WHOLE_FILE: &str = "(file)";
+
 /// Shorthand result type.
 pub type Result<T> = std::result::Result<T, GearError>;
 
@@ -71,7 +75,7 @@ impl GearError {
 
 /// "field 'F': ", or nothing when the problem is the file as a whole.
 fn field_part(field: &str) -> String {
-    if field == crate::data::WHOLE_FILE {
+    if field == WHOLE_FILE {
         String::new()
     } else {
         format!("field '{field}': ")

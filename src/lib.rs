@@ -15,6 +15,7 @@ pub mod fit;
 pub mod hb;
 pub mod mesh;
 pub mod model;
+pub mod numeric;
 pub mod plot;
 pub mod progress;
 pub mod report;

@@ -1,7 +1,8 @@
 //! Bad data sets give one located error (file, line, field); good ones load, with mesh
 //! frequencies converted to shaft speed. Uses only the public API, as the pipelines do.
 
-use geardyn::data::{load_kubo, load_munro, same_load, DataKind, StatedNoise, WHOLE_FILE};
+use geardyn::data::{load_kubo, load_munro, same_load, DataKind, StatedNoise};
+use geardyn::error::WHOLE_FILE;
 use geardyn::GearError;
 use std::path::Path;
 

@@ -6,7 +6,7 @@ mod common;
 use common::geardyn;
 use geardyn::data::{load_kubo, load_munro};
 use geardyn::fit::ProfileInterval;
-use geardyn::model::{Dimensional, GearPair};
+use geardyn::model::GearPair;
 use geardyn::progress::NoProgress;
 use geardyn::validate::{
     simulate_dte_curve, synth_kubo, synth_munro, validate_kubo, validate_munro, KuboFitPath,
@@ -61,7 +61,7 @@ fn fit_recovers_truth_and_predictions_match_truth_curves() {
         // the truth's noise-free curve to within the noise level (0.15 um) in RMS. At 1/4 load
         // the response is subharmonic/chaotic above ~4200 rpm, where no point-wise agreement can
         // be expected, so it is compared below that speed only.
-        let dim = Dimensional::from_rig(&data.rig.rig).unwrap();
+        let dim = data.rig.rig.dimensional().unwrap();
         for l in r.loads.iter().filter(|l| !l.fitted) {
             let ste = truth
                 .ste_um

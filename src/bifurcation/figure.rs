@@ -106,7 +106,7 @@ pub fn bifurcation_csv(b: &Bifurcation) -> (String, String) {
         // A simulation's mark is the midpoint of two grid values, an AFT mark where the
         // continuation located it: ten digits say where without the rounding noise of a
         // midpoint (1.2350000000000001).
-        let value = crate::sim::to_significant(m.value, 10);
+        let value = crate::numeric::to_significant(m.value, 10);
         marks.push_str(&format!("{name},{value},{},{}\n", m.what, m.source));
     }
     (points, marks)

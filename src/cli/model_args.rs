@@ -6,9 +6,9 @@ use super::geometry_excitation::ExcitationArgs;
 use super::limits::{check_range, real, FAH, FM, OMEGA, ZETA};
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::data::{load_gear_pair, load_rig_with_geometry, MAX_DTE_UM, MAX_LOAD_N};
-use geardyn::model::{Dimensional, GearPair, OperatingPoint, Term};
-use geardyn::sim::to_significant;
+use geardyn::data::{load_gear_pair, load_rig_with_geometry};
+use geardyn::model::{GearPair, OperatingPoint, Term, MAX_DTE_UM, MAX_LOAD_N};
+use geardyn::numeric::to_significant;
 use geardyn::validate::{GearMesh, GeometryOperatingPoint, GeometryOptions, StiffnessChoice};
 use std::path::PathBuf;
 
@@ -140,7 +140,7 @@ impl ModelArgs {
         };
         let (rig_table, ste_table) = load_gear_pair(path)?;
         let rig = &rig_table;
-        let dim = Dimensional::from_rig(rig)?;
+        let dim = rig.dimensional()?;
         let mut origins = Vec::new();
         let load = self.load_n.unwrap_or(rig.design_load_n);
         let ste = match (

@@ -51,7 +51,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let caption = format!(
                 "{}, Ω_h = {}, q(0) = {}, q'(0) = {}",
                 m.caption(),
-                geardyn::sim::to_significant(omega, 6),
+                geardyn::numeric::to_significant(omega, 6),
                 a.q0,
                 a.v0
             );

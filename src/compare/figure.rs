@@ -12,7 +12,7 @@ pub fn compare_panels(c: &Comparison, units: Option<&OperatingPoint>) -> Vec<XyP
     let s = &c.settings;
     let torque = crate::model::GearPair::torque_caption(s.fat);
     // Four digits: F_m and F_ah of a rig come from a division and print as 0.14166321519832273.
-    let short = |x: f64| crate::sim::to_significant(x, 4);
+    let short = |x: f64| crate::numeric::to_significant(x, 4);
     let caption = format!(
         "F_m = {}, F_ah = {} (F_hat = {}){torque}, ζ = {}, AFT H = {}, IC grid {}:{}:{}",
         short(s.fm),

@@ -8,10 +8,11 @@ use crate::hb::{
     DfMethod,
 };
 use crate::model::{GearPair, OperatingPoint};
+use crate::numeric::to_significant;
 use crate::progress::{NoProgress, Progress};
 use crate::sim::{
-    find_attractors, sweep, to_significant, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions,
-    SweepPlan, SweepPoint,
+    find_attractors, sweep, Branch, ExactFlow, IcGrid, PeriodFlow, SteadyOptions, SweepPlan,
+    SweepPoint,
 };
 use rayon::prelude::*;
 

@@ -8,8 +8,8 @@
 //! count, so a file is read in time and memory linear in its size (10^6 rows in well under a
 //! second in release builds); no row is kept after the caller has looked at it.
 
-use super::errors::{data_error, read_text, WHOLE_FILE};
-use crate::error::{GearError, Result};
+use super::errors::{data_error, read_text};
+use crate::error::{GearError, Result, WHOLE_FILE};
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 

@@ -4,11 +4,8 @@
 //! it in an editor (0 when no line applies) and the field (a column, a `table.key` path, or
 //! [`WHOLE_FILE`] for problems with the file as a whole).
 
-use crate::error::{GearError, Result};
+use crate::error::{GearError, Result, WHOLE_FILE};
 use std::path::Path;
-
-/// Field name used when the problem concerns the whole file (unreadable, not text, missing).
-pub const WHOLE_FILE: &str = "(file)";
 
 /// Build a located data error.
 pub(crate) fn data_error(

@@ -23,14 +23,14 @@ mod kubo;
 mod munro;
 mod profile_table;
 mod rig;
+mod rig_scales;
 mod source;
 mod template;
 mod toml_doc;
 
-pub use errors::WHOLE_FILE;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint, MAX_DYNAMIC_FACTOR};
-pub use munro::{load_munro, loads_text, same_load, MunroData, MunroPoint, MAX_DTE_UM, MAX_LOAD_N};
+pub use munro::{load_munro, loads_text, munro_rig, same_load, MunroData, MunroPoint};
 pub use profile_table::{load_profile_table, ProfilePoints, PROFILE_HEADER};
 pub use rig::{
     load_gear_pair, load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile,

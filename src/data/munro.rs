@@ -8,8 +8,9 @@
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::{CurveOrder, LoadGroups};
 use super::errors::{check_data_folder, data_error};
-use super::rig::{load_rig, rig_key_error, RigFile};
+use super::rig::{load_rig, rig_key_error, Rig, RigFile};
 use crate::error::Result;
+use crate::model::{MAX_DTE_UM, MAX_LOAD_N};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -96,11 +97,25 @@ impl MunroData {
     }
 }
 
-/// Largest plausible load, N (a unit mistake beyond).
-pub const MAX_LOAD_N: f64 = 1e8;
-/// Largest plausible peak-to-peak DTE and its standard deviation, um: a millimetre of
-/// transmission error is a unit mistake, not a measurement.
-pub const MAX_DTE_UM: f64 = 1000.0;
+/// Munro's rig as stated in Sec. 7: 32/32 teeth, diametral pitch 4 /in (module 6.35 mm), face
+/// 12.7 mm, design load 3780 N, assumed backlash 2b = 0.1 mm; 20 degree pressure angle assumed.
+pub fn munro_rig() -> Rig {
+    Rig {
+        name: "Munro four-square rig (geometry of Sec. 7)".into(),
+        pinion_teeth: 32,
+        gear_teeth: 32,
+        module_mm: 6.35,
+        pressure_angle_deg: 20.0,
+        face_width_mm: 12.7,
+        design_load_n: 3780.0,
+        backlash_mm: 0.1,
+        mesh_stiffness_n_per_um: None,
+        contact_ratio: None,
+        zeta: None,
+        omega_n_hz: None,
+        test_load_n: None,
+    }
+}
 
 /// Load a Munro data set: `dir/rig.toml` and every `dir/*.csv` (sorted by name). Every failure
 /// is one [`crate::GearError::Data`] naming the file, line and field.

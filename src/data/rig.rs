@@ -2,12 +2,12 @@
 //! the key names), an optional `[ste]` table, an optional `[noise]` table, an optional
 //! `[geometry]` table (read by [`load_rig_with_geometry`]) and the `[source]` provenance. docs/data-format.md documents every key.
 
-use super::errors::{data_error, read_text, WHOLE_FILE};
+use super::errors::{data_error, read_text};
 use super::geometry::GearGeometry;
-use super::munro::{MAX_DTE_UM, MAX_LOAD_N};
 use super::source::Source;
 use super::toml_doc::TomlDoc;
-use crate::error::{GearError, Result};
+use crate::error::{GearError, Result, WHOLE_FILE};
+use crate::model::{MAX_DTE_UM, MAX_LOAD_N};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 

@@ -1,7 +1,7 @@
 //! Unit tests of the data loaders: rig.toml and CSV parsing on good and nasty inputs.
 
 use super::*;
-use crate::error::GearError;
+use crate::error::{GearError, WHOLE_FILE};
 use std::path::{Path, PathBuf};
 
 /// A valid synthetic rig.toml (Munro-like).

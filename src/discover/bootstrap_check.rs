@@ -11,8 +11,9 @@ use super::linearized::{Linearized, Statistics};
 use super::noise::{NoiseSpec, TailChoice};
 use super::run::{fit_m0, model_jacobian, row_scales, split, M0Fit};
 use crate::fit::Stop;
+use crate::numeric::Rng;
 use crate::progress::NoProgress;
-use crate::validate::{synth_munro, MunroTruth, NoiseFamily, Rng};
+use crate::validate::{synth_munro, MunroTruth, NoiseFamily};
 use nalgebra::DVector;
 
 /// Statistics of replicate `y` after a full nonlinear refit of M0 from the fitted parameters

@@ -447,7 +447,7 @@ mod tests {
                 c.name()
             );
         }
-        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let dim = crate::data::munro_rig().dimensional().unwrap();
         let e = Effect::of(Candidate::Backlash, vec![0.0]);
         assert_eq!(e.dimensional(&dim).unwrap(), dim);
     }
@@ -497,7 +497,7 @@ mod tests {
     /// factor 5 of the stated one).
     #[test]
     fn probes_build_valid_models() {
-        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let dim = crate::data::munro_rig().dimensional().unwrap();
         for c in LIBRARY {
             for d in c.probes() {
                 assert_eq!(d.len(), c.dim());
@@ -512,7 +512,7 @@ mod tests {
     /// design-load fit once stepped to are refused, and so is a NaN.
     #[test]
     fn backlash_stays_within_a_factor_five_of_the_stated_one() {
-        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let dim = crate::data::munro_rig().dimensional().unwrap();
         let at = |factor: f64| Effect::of(Candidate::Backlash, vec![factor.ln()]).dimensional(&dim);
         let b = at(4.9).unwrap().half_backlash_m / dim.half_backlash_m;
         assert!((b - 4.9).abs() < 1e-12, "{b}");

@@ -9,10 +9,11 @@ use super::memo::PredictionMemo;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::model::{Dimensional, GearPair};
+use crate::numeric::min_max;
 use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, Branch, State, SteadyOptions};
 use crate::validate::{
-    flow_with_rtol, min_max, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
+    flow_with_rtol, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
 };
 use rayon::prelude::*;
 
@@ -108,7 +109,7 @@ impl Setup {
 
     /// From a loaded Munro-style set: at least 8 points per load on increasing speeds.
     pub fn from_munro(data: &MunroData) -> Result<Self> {
-        let dim = Dimensional::from_rig(&data.rig.rig)?;
+        let dim = data.rig.rig.dimensional()?;
         let mut curves = Vec::new();
         for load in data.loads() {
             let c = data.curve(load);
@@ -475,7 +476,7 @@ mod tests {
 
     fn setup(loads: &[f64]) -> Setup {
         Setup::new(
-            Dimensional::from_rig(&crate::validate::munro_rig()).unwrap(),
+            crate::data::munro_rig().dimensional().unwrap(),
             3780.0,
             loads
                 .iter()
@@ -507,7 +508,7 @@ mod tests {
             face_width_mm: 20.0,
             design_load_n: 2000.0,
             backlash_mm: 0.05,
-            ..crate::validate::munro_rig()
+            ..crate::data::munro_rig()
         };
         let coarse: Vec<f64> = (0..15).map(|k| 2000.0 + 500.0 * k as f64).collect();
         let curve = |load_n: f64| Curve {
@@ -517,7 +518,7 @@ mod tests {
             sd_um: None,
         };
         let s = Setup::new(
-            Dimensional::from_rig(&rig).unwrap(),
+            rig.dimensional().unwrap(),
             2000.0,
             vec![curve(2000.0), curve(1000.0)],
             MunroNoise::Estimate { floor_min: 0.0 },

@@ -11,7 +11,7 @@
 use super::noise::{DiscoveryNoise, PseudoInput, Scales};
 use super::stats::runs_z;
 use super::windows::Window;
-use crate::validate::Rng;
+use crate::numeric::Rng;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 

@@ -39,6 +39,6 @@ pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
     Gap, GapSet, OtherStart, ResidualCurve, TestResult, MAX_BOOTSTRAP,
 };
-pub use stats::{clopper_pearson_upper95, wilson95};
+pub use stats::clopper_pearson_upper95;
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 pub use windows::{windows, Window};

@@ -23,7 +23,7 @@ use crate::fit::{
     estimate_noise, held_variance_components, Distribution, NoiseData, NoiseFreedom, NoiseModel,
     VarianceComponents,
 };
-use crate::validate::Rng;
+use crate::numeric::Rng;
 use serde::Serialize;
 use std::borrow::Cow;
 

@@ -16,10 +16,10 @@ use super::fit::{fit_model, residuals_of, EffectInFit, Mask};
 use super::forward::{predict, Curve, Globals, Setup};
 use super::noise::Scales;
 use super::refit::matched_stes;
+use crate::data::munro_rig;
 use crate::error::Result;
 use crate::fit::{rss, Stop};
-use crate::model::Dimensional;
-use crate::validate::{munro_rig, MunroNoise};
+use crate::validate::MunroNoise;
 use statrs::function::gamma::ln_gamma;
 
 /// The truth of the studies (`MunroTruth::default_munro`): loads (N) and their STE (um).
@@ -70,7 +70,7 @@ fn noncentral_chi2_sf_even(k: usize, lambda: f64, c: f64) -> f64 {
 /// point, and the mask: period-1 points not beside a jump of more than 10 noise scales, as
 /// `discover` keeps.
 fn truth_set(speeds: &[f64], effect: &Effect) -> Result<(Setup, Scales, Mask)> {
-    let dim = Dimensional::from_rig(&munro_rig())?;
+    let dim = munro_rig().dimensional()?;
     let curves: Vec<Curve> = LOADS
         .iter()
         .map(|&(load_n, _)| Curve {

@@ -178,12 +178,12 @@ pub(super) fn probe_dictionary(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::data::munro_rig;
     use crate::discover::effects::Candidate;
     use crate::discover::forward::{Curve, Globals};
     use crate::fit::LmFit;
-    use crate::model::Dimensional;
     use crate::progress::NoProgress;
-    use crate::validate::{munro_rig, MunroNoise};
+    use crate::validate::MunroNoise;
 
     /// Munro's rig with a curve at each load of `loads` over `speeds` (measured values 1 um:
     /// the probes do not read them).
@@ -198,7 +198,7 @@ mod tests {
             })
             .collect();
         Setup::new(
-            Dimensional::from_rig(&munro_rig()).unwrap(),
+            munro_rig().dimensional().unwrap(),
             3780.0,
             curves,
             MunroNoise::Estimate { floor_min: 0.0 },

@@ -995,7 +995,7 @@ mod tests {
         use crate::discover::noise::{DiscoveryNoise, NoiseOrigin};
         use crate::fit::{LmFit, NoiseModel};
         use crate::validate::MunroNoise;
-        let dim = crate::model::Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let dim = crate::data::munro_rig().dimensional().unwrap();
         let curve = Curve {
             load_n: 3780.0,
             speeds_rpm: vec![1000.0, 2000.0, 3000.0],

@@ -10,9 +10,9 @@ use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
+use crate::numeric::min_max;
 use crate::plot::{write_xy, Series, XyPlot};
 use crate::report::{data_kind_banner, Page, Staged};
-use crate::validate::min_max;
 use serde_json::json;
 use std::path::{Path, PathBuf};
 

@@ -22,8 +22,9 @@ use super::windows::{windows, Window};
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::fit::{LmFit, Stop};
+use crate::numeric::min_max;
 use crate::progress::Progress;
-use crate::validate::{min_max, MunroNoise};
+use crate::validate::MunroNoise;
 use nalgebra::{DMatrix, DVector};
 use rayon::prelude::*;
 use serde::Serialize;
@@ -1594,7 +1595,7 @@ mod tests {
             sweep_model: None,
         };
         let setup = crate::discover::forward::Setup::new(
-            crate::model::Dimensional::from_rig(&crate::validate::munro_rig()).unwrap(),
+            crate::data::munro_rig().dimensional().unwrap(),
             3780.0,
             vec![crate::discover::forward::Curve {
                 load_n: 3780.0,

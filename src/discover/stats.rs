@@ -1,6 +1,7 @@
 //! Small statistical tools of the discovery workflow: the normal and chi-square tails, the
 //! Wald-Wolfowitz runs test, Holm's step-down correction, a difference-based noise estimate and
-//! the Wilson binomial interval. Closed forms, no dependencies.
+//! the one-sided Clopper-Pearson bound (the two-sided Wilson interval is
+//! [`crate::numeric::wilson95`]). Closed forms, no dependencies.
 
 /// Standard normal upper tail P(Z > z), from erfc by the Numerical Recipes Chebyshev fit
 /// (fractional error < 1.2e-7 everywhere), which is ample for p-values.
@@ -101,20 +102,6 @@ pub fn noise_from_differences(curves: &[Vec<f64>]) -> Option<f64> {
         0.5 * (d[d.len() / 2 - 1] + d[d.len() / 2])
     };
     Some(1.4826 * med / 6f64.sqrt())
-}
-
-/// Wilson score 95% interval of a binomial proportion k / n (Wilson 1927):
-/// (p + z^2/2n -+ z sqrt(p(1-p)/n + z^2/4n^2)) / (1 + z^2/n), z = 1.96.
-pub fn wilson95(k: usize, n: usize) -> (f64, f64) {
-    if n == 0 {
-        return (0.0, 1.0);
-    }
-    let (z, nf) = (1.959_963_985, n as f64);
-    let p = k as f64 / nf;
-    let den = 1.0 + z * z / nf;
-    let centre = (p + z * z / (2.0 * nf)) / den;
-    let half = z * (p * (1.0 - p) / nf + z * z / (4.0 * nf * nf)).sqrt() / den;
-    ((centre - half).max(0.0), (centre + half).min(1.0))
 }
 
 /// Monte Carlo p-value with the observed statistic counted among the replicates,
@@ -227,22 +214,12 @@ mod tests {
 
     #[test]
     fn difference_noise_estimate_recovers_sigma_on_a_smooth_curve() {
-        let mut rng = crate::validate::Rng::new(3);
+        let mut rng = crate::numeric::Rng::new(3);
         let c: Vec<f64> = (0..4000)
             .map(|i| (i as f64 * 0.01).sin() * 5.0 + 0.2 * rng.normal())
             .collect();
         let s = noise_from_differences(&[c]).unwrap();
         // MAD-based: standard error about 1.65 sigma / sqrt(n) ~ 0.005 here.
         assert!((s - 0.2).abs() < 0.02, "{s}");
-    }
-
-    #[test]
-    fn wilson_interval_brackets_the_proportion() {
-        let (lo, hi) = wilson95(5, 100);
-        assert!(
-            lo > 0.015 && lo < 0.03 && hi > 0.10 && hi < 0.12,
-            "{lo} {hi}"
-        );
-        assert_eq!(wilson95(0, 100).0, 0.0);
     }
 }

@@ -6,13 +6,12 @@
 use super::effects::Candidate;
 use super::interval::on_phase_arc;
 use super::run::{discover, DiscoverOptions, Discovery};
-use super::stats::{clopper_pearson_upper95, ks_from_uniform, wilson95};
+use super::stats::{clopper_pearson_upper95, ks_from_uniform};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
+use crate::numeric::{wilson95, Rng};
 use crate::progress::Progress;
-use crate::validate::{
-    synth_munro, HiddenEffects, MunroTruth, NoiseFamily, Rng, SpeedGrid, SynthNoise,
-};
+use crate::validate::{synth_munro, HiddenEffects, MunroTruth, NoiseFamily, SpeedGrid, SynthNoise};
 use serde::Serialize;
 use std::path::Path;
 

@@ -300,7 +300,7 @@ pub fn curve_correlations(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::validate::Rng;
+    use crate::numeric::Rng;
 
     /// Two curves on uneven grids, given out of order.
     fn axis() -> Axis {

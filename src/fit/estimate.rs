@@ -1132,7 +1132,7 @@ fn stated_noise_p(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::validate::Rng;
+    use crate::numeric::Rng;
 
     /// The Jacobian columns come from the near model, the trial steps from the model: a near
     /// model equal to the model gives the same fit and intervals (and is called), one whose

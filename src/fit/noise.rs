@@ -22,7 +22,7 @@
 
 use super::correlation::{length_bounds, Axis, Correlation};
 use crate::error::{GearError, Result};
-use crate::validate::Rng;
+use crate::numeric::Rng;
 use argmin::core::{CostFunction, Executor};
 use argmin::solver::neldermead::NelderMead;
 use nalgebra::DMatrix;

@@ -651,7 +651,7 @@ mod tests {
     #[test]
     fn student_t_profile_matches_the_fisher_interval() {
         let x: Vec<f64> = (0..400).map(|i| 0.01 * f64::from(i)).collect();
-        let mut rng = crate::validate::Rng::new(11);
+        let mut rng = crate::numeric::Rng::new(11);
         let y: Vec<f64> = x
             .iter()
             .map(|x| 1.0 + 2.0 * x + 0.1 * rng.student_t(3.0))

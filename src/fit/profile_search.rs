@@ -28,7 +28,7 @@
 //! what to put there.
 
 use crate::error::Result;
-use crate::hb::brent;
+use crate::numeric::brent;
 
 /// A profile that rises by more than q^2 within this many standard errors (or four times the
 /// root search's tolerance, if wider) has stepped, not risen: where smooth, its slope at the

@@ -22,7 +22,6 @@ mod df_solve;
 mod mean_balance;
 mod resample;
 mod response_ranges;
-mod roots;
 mod scan;
 mod subharmonic;
 mod transitions;
@@ -36,7 +35,6 @@ pub use describing::{g_exact, g_truncated, h_exact, h_truncated, mean_force, n_a
 pub use df_solve::{df_response, df_response_forced, df_solutions, DfForcing, DfSolution};
 pub use resample::{branch_at, branch_from_start, branches_covering};
 pub use response_ranges::{response_ranges, ResponseRanges};
-pub(crate) use roots::brent;
 pub use subharmonic::{subharmonic_branch, SeededBranch};
 pub use transitions::{
     forced_transition_frequencies, linear_peak, transition_frequencies, LinearPeak,

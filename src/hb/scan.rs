@@ -12,8 +12,8 @@
 use super::cases;
 use super::df_solve::DfSolution;
 use super::mean_balance::exact_qm;
-use super::roots::{brent, sign_changes};
 use crate::model::Impact;
+use crate::numeric::{brent, sign_changes};
 
 /// Grid points per e-fold of q_a.
 const PER_EFOLD: f64 = 600.0;

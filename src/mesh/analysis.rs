@@ -10,7 +10,6 @@ use super::iso6336::IsoStiffness;
 use super::ste::{MeshModel, ReliefShape, SteWaveform, TipRelief};
 use crate::data::{GearGeometry, ProfilePoints, Rig};
 use crate::error::{GearError, Result};
-use crate::model::Dimensional;
 use serde::Serialize;
 
 /// How the tip relief is chosen.
@@ -180,11 +179,12 @@ pub fn analyse(rig: &Rig, geometry: &GearGeometry, opts: &MeshOptions) -> Result
         .map(|&load_n| load_result(&model, &relief, load_n, opts, half_backlash_um))
         .collect::<Result<Vec<_>>>()?;
     let harris = harris_map(&model, &relief, &opts.harris_loads_n, opts.samples)?;
-    let iso = Dimensional::from_rig(&Rig {
+    let iso = Rig {
         mesh_stiffness_n_per_um: None,
         contact_ratio: Some(geo.contact_ratio()),
         ..rig.clone()
-    })?;
+    }
+    .dimensional()?;
     let mm = 1e3;
     let iso_b = geo.iso6336();
     Ok(MeshAnalysis {

@@ -9,7 +9,7 @@ use crate::data::GearGeometry;
 use crate::model::{Dimensional, StiffnessSource};
 
 fn munro() -> GearPairGeometry {
-    GearPairGeometry::from_rig(&crate::validate::munro_rig(), &GearGeometry::default()).unwrap()
+    GearPairGeometry::from_rig(&crate::data::munro_rig(), &GearGeometry::default()).unwrap()
 }
 
 /// Harris's long relief on both tips, `amount_um` deep.
@@ -121,7 +121,7 @@ fn hertz_term_is_yang_and_lins_line_contact() {
 /// below: within the 10% issue 24 asks. It was 23% below while the fillet-foundation term took
 /// the tooth's root as the base-circle thickness, without the fillets the rack cuts
 /// ([`crate::mesh::GearBody::root_half_angle`]). ISO's typical c' = 14 (the model's default k_h
-/// when the rig gives none, [`Dimensional::from_rig`]) gives 266.8 N/um, 10.0% above. Also the
+/// when the rig gives none, [`Dimensional::new`]) gives 266.8 N/um, 10.0% above. Also the
 /// shape ISO assumes: mean over the largest pair stiffness near 0.75 eps_alpha + 0.25.
 #[test]
 fn mean_mesh_stiffness_against_iso_6336_c_gamma() {
@@ -139,7 +139,7 @@ fn mean_mesh_stiffness_against_iso_6336_c_gamma() {
         (ratio - 1.0).abs() < 0.10,
         "PE mean {mean} N/um vs ISO method B {iso_b}: {ratio}"
     );
-    let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+    let dim = crate::data::munro_rig().dimensional().unwrap();
     let StiffnessSource::Iso6336Estimate { contact_ratio, .. } = dim.stiffness_source else {
         panic!("Munro's rig gives no stiffness: ISO estimate expected");
     };
@@ -204,13 +204,13 @@ fn root_half_angle_includes_the_fillets() {
         root_fillet_coefficient: Some(0.5),
         ..GearGeometry::default()
     };
-    let e = GearPairGeometry::from_rig(&crate::validate::munro_rig(), &too_round).unwrap_err();
+    let e = GearPairGeometry::from_rig(&crate::data::munro_rig(), &too_round).unwrap_err();
     assert!(e.to_string().contains("root_fillet_coefficient"), "{e}");
     let fits = GearGeometry {
         root_fillet_coefficient: Some(0.47),
         ..GearGeometry::default()
     };
-    assert!(GearPairGeometry::from_rig(&crate::validate::munro_rig(), &fits).is_ok());
+    assert!(GearPairGeometry::from_rig(&crate::data::munro_rig(), &fits).is_ok());
 }
 
 #[test]
@@ -338,7 +338,7 @@ fn harmonics_rebuild_the_waveform() {
 
 #[test]
 fn bad_geometry_and_relief_are_named_errors() {
-    let rig = crate::validate::munro_rig();
+    let rig = crate::data::munro_rig();
     let too_close = GearGeometry {
         centre_distance_mm: Some(150.0),
         ..GearGeometry::default()
@@ -391,7 +391,7 @@ fn profile_shift_moves_the_centre_distance_and_path() {
         gear_profile_shift: Some(0.2),
         ..GearGeometry::default()
     };
-    let geo = GearPairGeometry::from_rig(&crate::validate::munro_rig(), &g).unwrap();
+    let geo = GearPairGeometry::from_rig(&crate::data::munro_rig(), &g).unwrap();
     assert!((geo.working_pressure_angle.to_degrees() - 21.7872).abs() < 1e-3);
     assert!((geo.centre_distance_m * 1e3 - 205.6).abs() < 0.1);
     assert!(geo.contact_ratio() > 1.0 && geo.contact_ratio() < munro().contact_ratio());

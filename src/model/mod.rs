@@ -7,8 +7,10 @@ mod mesh;
 mod operating_point;
 mod params;
 
-pub use dimensional::{Dimensional, StiffnessSource, ISO6336_C_PRIME};
+#[cfg(test)]
+pub(crate) use dimensional::munro_spec;
+pub use dimensional::{Dimensional, GearSpec, StiffnessSource, ISO6336_C_PRIME};
 pub use excitation::Harmonic;
 pub use mesh::{dead_zone, Impact, Region};
-pub use operating_point::OperatingPoint;
+pub use operating_point::{OperatingPoint, MAX_DTE_UM, MAX_LOAD_N};
 pub use params::{GearPair, Term};

@@ -6,9 +6,15 @@
 
 use super::dimensional::Dimensional;
 use super::params::GearPair;
-use crate::data::{MAX_DTE_UM, MAX_LOAD_N};
 use crate::error::{GearError, Result};
+use crate::numeric::to_significant;
 use serde::Serialize;
+
+/// Largest plausible load, N (a unit mistake beyond).
+pub const MAX_LOAD_N: f64 = 1e8;
+/// Largest plausible transmission error, um (a peak-to-peak DTE and its standard deviation, an
+/// STE amplitude): a millimetre of transmission error is a unit mistake, not a measurement.
+pub const MAX_DTE_UM: f64 = 1000.0;
 
 /// The operating point of a gear pair in the rig's units.
 #[derive(Clone, Debug, PartialEq, Serialize)]
@@ -117,11 +123,11 @@ impl OperatingPoint {
     /// The conversion in words, one equation a line with its numbers (for the command line and
     /// reports), with the speed `example_rpm` converted as an example.
     pub fn conversion_lines(&self, example_rpm: f64) -> Vec<String> {
-        let b_um = crate::sim::to_significant(self.dim.half_backlash_m * 1e6, 6);
-        let k = crate::sim::to_significant(self.dim.mesh_stiffness_n_per_m * 1e-6, 6);
+        let b_um = to_significant(self.dim.half_backlash_m * 1e6, 6);
+        let k = to_significant(self.dim.mesh_stiffness_n_per_m * 1e-6, 6);
         let z = self.dim.pinion_teeth;
-        let ste_um = crate::sim::to_significant(self.ste_um, 6);
-        let f_n = crate::sim::to_significant(self.omega_n_hz, 8);
+        let ste_um = to_significant(self.ste_um, 6);
+        let f_n = to_significant(self.omega_n_hz, 8);
         vec![
             "Rig units to the dimensionless model (Kahraman & Singh 1990, Sec. 2.1):".to_string(),
             format!("  b    = backlash / 2 = {b_um} µm (half backlash)"),
@@ -160,16 +166,16 @@ impl OperatingPoint {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::data::Rig;
+    use crate::model::{munro_spec, GearSpec};
 
     /// Munro's rig with a given mesh stiffness of 250 N/um and 2b = 0.1 mm, so that every
     /// scale is a round number: b k_h = 50e-6 m x 250e6 N/m = 12500 N.
     fn munro_250() -> Dimensional {
-        let rig = Rig {
+        let gears = GearSpec {
             mesh_stiffness_n_per_um: Some(250.0),
-            ..crate::validate::munro_rig()
+            ..munro_spec()
         };
-        Dimensional::from_rig(&rig).unwrap()
+        Dimensional::new(&gears).unwrap()
     }
 
     #[test]

@@ -9,11 +9,10 @@ use super::{
 };
 use crate::data::{DataKind, MunroData};
 use crate::error::Result;
+use crate::numeric::min_max;
 use crate::plot::{write_xy, Marker, Series, XyPlot};
-use crate::sim::SetKind;
 use crate::validate::{
-    min_max, DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation,
-    LOW_SPEED_OMEGA,
+    DesignModel, GeometryValidation, LoadResult, ModelPoint, MunroValidation, LOW_SPEED_OMEGA,
 };
 use serde_json::json;
 use std::path::{Path, PathBuf};
@@ -554,10 +553,8 @@ fn load_series(
             .with_color(5),
         );
     }
-    let (attractors, transients): (Vec<&ModelPoint>, Vec<&ModelPoint>) = l
-        .all
-        .iter()
-        .partition(|p| matches!(p.kind, None | Some(SetKind::Attractor)));
+    let (attractors, transients): (Vec<&ModelPoint>, Vec<&ModelPoint>) =
+        l.all.iter().partition(|p| p.on_attractor());
     for (label, points, marker) in [
         ("model, all attractors", attractors, Marker::Cross),
         (

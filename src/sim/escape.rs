@@ -157,7 +157,7 @@ pub fn escape_rate(escapes: usize, exposure: f64) -> (f64, (f64, f64)) {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::validate::Rng;
+    use crate::numeric::Rng;
 
     /// Garwood's interval for 10 Poisson events is [4.795, 18.39] (tables, e.g. Ulm 1990); for
     /// none the upper end is chi2_{0.975}(2) / 2 = -ln(0.025) = 3.689 events.

@@ -43,8 +43,8 @@ pub use steady::{
     SETTLED_DECAY,
 };
 pub use sweep::{
-    carry, frequency_range, from_starts, neighbour_starts, sweep, to_significant, Branch,
-    FlowFactory, SweepPlan, SweepPoint,
+    carry, frequency_range, from_starts, neighbour_starts, sweep, Branch, FlowFactory, SweepPlan,
+    SweepPoint,
 };
 pub use trajectory::{sample_trajectory, Sample};
 pub use window_spread::dte_pp_over_windows;

@@ -8,6 +8,7 @@ use super::ic_grid::IcGrid;
 use super::steady::{steady_state, SteadyOptions, SteadyState};
 use crate::error::{GearError, Result};
 use crate::model::GearPair;
+use crate::numeric::to_significant;
 use crate::progress::Progress;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -110,17 +111,6 @@ pub fn frequency_range(start: f64, stop: f64, step: f64) -> Result<Vec<f64>> {
 /// asked for, not 1.2000000000000002 (the change, below 1e-12 relative, is far below any
 /// tolerance of the solvers).
 const GRID_DIGITS: usize = 12;
-
-/// `x` rounded to `digits` significant decimal digits (through its decimal text, which is
-/// exact: Rust prints and parses floats correctly rounded).
-pub fn to_significant(x: f64, digits: usize) -> f64 {
-    if !x.is_finite() || x == 0.0 {
-        return x;
-    }
-    format!("{:.*e}", digits.saturating_sub(1), x)
-        .parse()
-        .unwrap_or(x)
-}
 
 /// What a sweep covers and how each frequency is started.
 #[derive(Clone, Debug)]
@@ -333,7 +323,5 @@ mod tests {
         assert_eq!(format!("{}", r[15]), "1.6");
         let rpm = frequency_range(1000.0, 5000.0, 50.0).unwrap();
         assert_eq!((rpm.len(), rpm[80]), (81, 5000.0));
-        assert_eq!(to_significant(1.0 / 3.0, 3), 0.333);
-        assert_eq!(to_significant(-2.6e-7, 1), -3e-7);
     }
 }

@@ -37,13 +37,13 @@ pub fn dte_pp_over_windows(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Dimensional, GearPair};
+    use crate::model::{munro_spec, Dimensional, GearPair};
     use crate::sim::{steady_state, ExactFlow, SteadyOptions};
 
     /// Munro's rig at a quarter of the design load with 3.5 um of STE (the stand-in data's
     /// 945 N curve), zeta 0.0175, omega_n 1600 Hz, at a pinion speed in rpm.
     fn munro_quarter_load(rpm: f64) -> ExactFlow {
-        let dim = Dimensional::from_rig(&crate::validate::munro_rig()).unwrap();
+        let dim = Dimensional::new(&munro_spec()).unwrap();
         let m = GearPair::paper(dim.mean_force(945.0), dim.ste_amplitude(3.5), 0.0175, 1.0)
             .unwrap()
             .at_omega(dim.omega(rpm, 1600.0))
@@ -68,7 +68,7 @@ mod tests {
         let (s, w) = steady_then_windows(4300.0);
         assert_eq!(s.period, None);
         assert_eq!(w[0], s.dte_pp);
-        let (lo, hi) = crate::validate::min_max(w.iter().copied()).unwrap();
+        let (lo, hi) = crate::numeric::min_max(w.iter().copied()).unwrap();
         assert!(hi - lo > 0.1 * hi, "windows {lo}..{hi}");
     }
 

@@ -77,7 +77,7 @@ impl StudyOutput {
                 "{},\"{}\",{},{:.10},{},{},{},{}\n",
                 self.name,
                 r.series.replace('"', "'"),
-                crate::sim::to_significant(r.omega, 10),
+                crate::numeric::to_significant(r.omega, 10),
                 r.qa,
                 r.qm.map_or(String::new(), |v| format!("{v:.10}")),
                 r.case.map_or(String::new(), |c| c.case().to_string()),

@@ -8,13 +8,6 @@ pub fn rms(diffs: &[f64]) -> f64 {
     (diffs.iter().map(|d| d * d).sum::<f64>() / diffs.len() as f64).sqrt()
 }
 
-/// Smallest and largest of the values (None when there are none).
-pub fn min_max(values: impl IntoIterator<Item = f64>) -> Option<(f64, f64)> {
-    values.into_iter().fold(None, |r, x| {
-        Some(r.map_or((x, x), |(lo, hi): (f64, f64)| (lo.min(x), hi.max(x))))
-    })
-}
-
 /// Speed of the steepest transition of a curve (sorted by speed): the first step between
 /// consecutive points that exceeds `factor` times the median step and a quarter of the largest
 /// step; the midpoint speed is returned. A jump, or the steep flank of a resonance, alike: the
@@ -135,13 +128,6 @@ pub fn location_error_text(error: f64, resolution: Option<f64>, unit: &str) -> S
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn min_max_of_values_and_of_nothing() {
-        assert_eq!(min_max([3.0, -1.5, 2.0]), Some((-1.5, 3.0)));
-        assert_eq!(min_max([4.0]), Some((4.0, 4.0)));
-        assert_eq!(min_max(std::iter::empty()), None);
-    }
 
     #[test]
     fn finds_a_jump_and_ignores_smooth_curves() {

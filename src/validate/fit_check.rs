@@ -4,7 +4,7 @@
 
 use crate::error::GearError;
 use crate::fit::{Estimate, ProfileInterval, Transform};
-use crate::sim::to_significant;
+use crate::numeric::to_significant;
 use std::path::Path;
 
 /// Damping ratios a fit may end at: the range the simulation accepts (below 1e-3 the transient

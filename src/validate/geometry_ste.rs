@@ -430,7 +430,7 @@ impl GearMesh {
         zeta: f64,
         omega_n_design_hz: f64,
     ) -> Result<GeometryOperatingPoint> {
-        let dim = Dimensional::from_rig(rig)?;
+        let dim = rig.dimensional()?;
         let excitation = self.excitation(load_n, relief_um)?;
         let k_design = self
             .excitation(rig.design_load_n, relief_um)?
@@ -489,7 +489,7 @@ pub struct GeometryFit {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::validate::munro_rig;
+    use crate::data::munro_rig;
 
     fn munro_mesh() -> GearMesh {
         GearMesh::new(

@@ -224,7 +224,7 @@ pub fn validate_kubo(
     progress: &dyn Progress,
 ) -> Result<KuboValidation> {
     let rig = &data.rig.rig;
-    let dim = Dimensional::from_rig(rig)?;
+    let dim = rig.dimensional()?;
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
     let ste_stated = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
@@ -525,7 +525,7 @@ fn ste_source(stated: Option<f64>, held: bool) -> String {
         // which the reports' source column would otherwise print as 17 digits.
         (Some(s), false) => format!(
             "fitted (rig.toml states {} um, the fit's start; --hold-ste holds it)",
-            crate::sim::to_significant(s, 6)
+            crate::numeric::to_significant(s, 6)
         ),
         (None, _) => "fitted".into(),
     }

@@ -10,12 +10,11 @@ mod kubo_midline;
 mod kubo_swept;
 mod linear;
 mod munro;
-mod noise;
 mod study;
 mod synth;
 mod test_run;
 
-pub use curve_metrics::{jump_location, min_max, rms, transition_location};
+pub use curve_metrics::{jump_location, rms, transition_location};
 pub use design_fit::{
     fit_design_load, CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise,
     LOW_SPEED_OMEGA,
@@ -37,15 +36,14 @@ pub use munro::{
     fit_munro_design_load, noise_setting, validate_munro, GeometryValidation, LoadResult,
     ModelPoint, MunroOptions, MunroValidation, SteMode, SteSource, MIN_DESIGN_POINTS,
 };
-pub use noise::Rng;
 pub use study::{
     run_validate_study, Covered, ParameterCoverage, SpeedGrid, ValidateSeed, ValidateStudyOptions,
     ValidateStudySummary,
 };
 pub(crate) use synth::flow_with_rtol;
 pub use synth::{
-    clean_munro_curves, munro_rig, simulate_dte_curve, synth_kubo, synth_munro, write_munro_set,
-    CleanCurves, HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
+    clean_munro_curves, simulate_dte_curve, synth_kubo, synth_munro, write_munro_set, CleanCurves,
+    HiddenEffects, KuboTruth, MunroTruth, NoiseFamily, SynthNoise, FAMILY_QUANTUM_UM,
     FAMILY_RELATIVE, FAMILY_T_DOF,
 };
 pub use test_run::{up_sweep_neighbour_starts, TestRun};

@@ -9,7 +9,7 @@
 //! zeta, omega_n (and the relief depth when asked) fitted to the design-load curve alone. The
 //! geometry path is run beside the per-curve one, so that both are reported side by side.
 
-use super::curve_metrics::{jump_location, location_error, location_error_text, min_max, rms};
+use super::curve_metrics::{jump_location, location_error, location_error_text, rms};
 use super::design_fit::{
     curve_in_contact, curve_in_contact_harmonics, fit_design_geometry, fit_design_load,
     CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise, LOW_SPEED_OMEGA,
@@ -24,6 +24,7 @@ use crate::data::{rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel, Robust};
 use crate::model::{Dimensional, GearPair};
+use crate::numeric::min_max;
 use crate::progress::Progress;
 use crate::sim::{
     find_attractors, sweep, Branch, EscapeBudget, IcGrid, SetKind, SteadyOptions, SweepPlan,
@@ -126,6 +127,14 @@ pub struct ModelPoint {
     /// For all-attractor points: an attractor, or a transient set that still held
     /// trajectories of the grid at the search's horizon.
     pub kind: Option<SetKind>,
+}
+
+impl ModelPoint {
+    /// On an attractor: a point of a carried sweep (no kind), or an all-attractor point whose
+    /// set is an attractor rather than a transient set still held at the search's horizon.
+    pub fn on_attractor(&self) -> bool {
+        matches!(self.kind, None | Some(SetKind::Attractor))
+    }
 }
 
 /// Prediction and errors at one load.
@@ -275,7 +284,7 @@ fn design_curve(data: &MunroData) -> Result<(Dimensional, f64, Vec<&MunroPoint>)
             ));
         }
     }
-    let dim = Dimensional::from_rig(rig)?;
+    let dim = rig.dimensional()?;
     let design = rig.design_load_n;
     let curve = data.curve(design);
     check_design_levels(design, &curve)?;
@@ -388,7 +397,7 @@ pub fn validate_munro(
     progress: &dyn Progress,
 ) -> Result<MunroValidation> {
     let rig = &data.rig.rig;
-    let dim = Dimensional::from_rig(rig)?;
+    let dim = rig.dimensional()?;
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
     let (fit, ste_given) = fit_munro_design_load(data, (opts.robust, opts.correlation))?;

@@ -7,12 +7,11 @@
 //! is simulated once and shared by the seeds.
 
 use super::munro::{fit_munro_design_load, usable_design_fit};
-use super::noise::Rng;
 use super::synth::{clean_munro_curves, write_munro_set, MunroTruth, SynthNoise};
 use crate::data::load_munro;
-use crate::discover::wilson95;
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, Robust};
+use crate::numeric::{wilson95, Rng};
 use crate::progress::Progress;
 use serde::Serialize;
 use std::path::Path;

@@ -2,14 +2,14 @@
 //! stated truth parameters and adding seeded noise. They stand in for Munro's and Kubo's curves
 //! until digitized ones are added, and they are labelled `kind = "synthetic"` with their truth.
 
-use super::noise::Rng;
 use super::test_run::{up_sweep_start, TestRun};
 use crate::data::{
-    write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DTE_UM, MAX_DYNAMIC_FACTOR,
+    munro_rig, write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DYNAMIC_FACTOR,
 };
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
-use crate::model::{Dimensional, GearPair, Term};
+use crate::model::{Dimensional, GearPair, Term, MAX_DTE_UM};
+use crate::numeric::Rng;
 use crate::progress::Progress;
 use crate::sim::{Branch, ExactFlow, PeriodFlow, RkFlow, SteadyOptions, SweepPoint};
 use std::path::Path;
@@ -369,26 +369,6 @@ fn check_noise(n: &SynthNoise) -> Result<()> {
     Ok(())
 }
 
-/// Munro's rig as stated in Sec. 7: 32/32 teeth, diametral pitch 4 /in (module 6.35 mm), face
-/// 12.7 mm, design load 3780 N, assumed backlash 2b = 0.1 mm; 20 degree pressure angle assumed.
-pub fn munro_rig() -> Rig {
-    Rig {
-        name: "Munro four-square rig (geometry of Sec. 7)".into(),
-        pinion_teeth: 32,
-        gear_teeth: 32,
-        module_mm: 6.35,
-        pressure_angle_deg: 20.0,
-        face_width_mm: 12.7,
-        design_load_n: 3780.0,
-        backlash_mm: 0.1,
-        mesh_stiffness_n_per_um: None,
-        contact_ratio: None,
-        zeta: None,
-        omega_n_hz: None,
-        test_load_n: None,
-    }
-}
-
 impl MunroTruth {
     /// The default stand-in for Munro's Figs 19-22: the paper's zeta = 0.0175, a resonance inside
     /// the speed range, an STE that is smallest at the design load (profile modification) so the
@@ -548,7 +528,7 @@ fn speeds_of(truth: &MunroTruth) -> Result<Vec<f64>> {
 /// Simulate the noise-free curves of `truth` (the expensive part of [`synth_munro`], shared by
 /// studies that draw many noise seeds on one truth).
 pub fn clean_munro_curves(truth: &MunroTruth, progress: &dyn Progress) -> Result<CleanCurves> {
-    let dim = Dimensional::from_rig(&truth.rig)?;
+    let dim = truth.rig.dimensional()?;
     let speeds = speeds_of(truth)?;
     check_loads(&truth.ste_um)?;
     // Hidden backlash: the data come from the true b; rig.toml states the nominal one.
@@ -594,7 +574,7 @@ pub fn synth_munro(truth: &MunroTruth, dir: &Path, progress: &dyn Progress) -> R
 /// plausible range ([`MAX_DTE_UM`]): `load_munro` would refuse the set.
 pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> Result<()> {
     check_noise(&truth.noise)?;
-    let dim = Dimensional::from_rig(&truth.rig)?;
+    let dim = truth.rig.dimensional()?;
     let mut rng = Rng::new(truth.seed);
     let mut rows = String::from("load_n,speed_rpm,dte_pp_um\n");
     for (load, speeds, ys) in &clean.curves {
@@ -774,7 +754,7 @@ impl KuboTruth {
 
 /// Write a synthetic Kubo-style set (rig.toml with its truth, dynamic_factor.csv) into `dir`.
 pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Result<()> {
-    let dim = Dimensional::from_rig(&truth.rig)?;
+    let dim = truth.rig.dimensional()?;
     let load = truth.rig.test_load_n.unwrap_or(truth.rig.design_load_n);
     let speeds = speed_grid(truth.speeds_rpm)?;
     let model = GearPair::paper(

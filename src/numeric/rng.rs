@@ -1,5 +1,6 @@
-//! A small seeded random number generator for synthetic data (SplitMix64 with Box-Muller), so
-//! that a data set is reproducible from its recorded seed without extra dependencies.
+//! A small seeded random number generator for synthetic data and bootstrap replicates
+//! (SplitMix64 with Box-Muller), so that a data set or a bootstrap is reproducible from its
+//! recorded seed without extra dependencies.
 
 /// SplitMix64 (Steele, Lea & Flood 2014) with Gaussian deviates by Box-Muller.
 #[derive(Clone, Debug)]
