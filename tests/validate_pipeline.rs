@@ -611,7 +611,7 @@ fn cli_validate_reports_the_errors_correlation_along_speed() {
     assert_eq!(c["curves"].as_array().unwrap().len(), 4);
     let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
-        stdout.contains("errors independent along speed"),
+        stdout.contains("Errors independent along speed"),
         "{stdout}"
     );
 

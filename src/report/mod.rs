@@ -261,18 +261,18 @@ pub fn correlation_summary(e: &crate::fit::Estimate, names: &[String]) -> Option
                 format!(", likelihood ratio {lr:.1} against independent errors")
             });
             format!(
-                "errors correlated along speed: length {:.0} rpm{ci}{step}{test}; the intervals allow for it",
+                "Errors correlated along speed: length {:.0} rpm{ci}{step}{test}. Neighbouring readings err alike (as a drawn line's reading or a rig's slow drift does), so the curves hold fewer independent readings than points; the intervals allow for it",
                 c.length_rpm
             )
         }
         CorrelationSource::IndependentByTest => format!(
-            "errors independent along speed (likelihood ratio of a correlation {:.2}, below {CORRELATION_LR_CRITICAL:.2})",
+            "Errors independent along speed: neighbouring residuals move together no more than chance allows (likelihood ratio of a correlation {:.2}, below {CORRELATION_LR_CRITICAL:.2})",
             c.lr_vs_independent.unwrap_or(0.0)
         ),
         CorrelationSource::Stated if c.length_rpm > 0.0 => {
-            format!("errors correlated along speed, length stated {:.0} rpm{step}", c.length_rpm)
+            format!("Errors correlated along speed, length stated {:.0} rpm{step}", c.length_rpm)
         }
-        CorrelationSource::Stated => "errors taken as independent along speed (as stated)".into(),
+        CorrelationSource::Stated => "Errors taken as independent along speed (as stated)".into(),
     };
     let name = |k: usize| {
         names
