@@ -136,7 +136,7 @@ fn summary_text(s: &ValidateStudySummary) -> String {
     );
     if s.refused > 0 {
         msg.push_str(&format!(
-            "{} more {} refused, as validate munro refuses it (zeta not determined by the curve; the per-seed records say why); the coverage is over the {} fitted\n",
+            "{} more {} refused, as validate munro refuses it (a parameter or the errors' correlation not determined by the curves; the per-seed records say why); the coverage is over the {} fitted\n",
             s.refused,
             if s.refused == 1 { "seed's fit was" } else { "seeds' fits were" },
             s.seeds
