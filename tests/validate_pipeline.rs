@@ -173,7 +173,9 @@ fn a_design_load_that_separates_is_fitted_through_simulated_sweeps() {
 /// leave within the horizon (chaotic transients): those are not drawn as steady states, so
 /// every all-attractor point holds part of the grid. And the measurement-scale horizon (10,000
 /// periods) finds the same attractors as `geardyn attractors`' 40,000 (the chaotic sets at
-/// 4670-5000 rpm keep every trajectory for both).
+/// 4670-5000 rpm keep every trajectory for both); a chaotic set that still holds a few
+/// trajectories at 10,000 periods is shown labelled as a transient (at 4333 rpm, whether it
+/// does turns on the fit's last digits).
 #[test]
 #[ignore = "about 18 s, too slow for the default run: .ci/run runs it (cargo test --release --test validate_pipeline -- --ignored)"]
 fn munro_predictions_show_only_sets_that_hold_trajectories() {
@@ -185,7 +187,7 @@ fn munro_predictions_show_only_sets_that_hold_trajectories() {
     };
     assert_eq!(long_opts.escape.horizon, 40_000);
     let long = validate_munro(&data, &long_opts, &NoProgress).unwrap();
-    let mut chaotic = 0;
+    let (mut chaotic, mut transients) = (0, 0);
     for (s, l) in short.loads.iter().zip(&long.loads) {
         assert!(!s.all.is_empty(), "{} N: no attractor", s.load_n);
         for p in &s.all {
@@ -195,19 +197,34 @@ fn munro_predictions_show_only_sets_that_hold_trajectories() {
                 s.load_n,
                 p.speed_rpm
             );
-            assert_eq!(p.kind, Some(geardyn::sim::SetKind::Attractor));
+            // A set that still held trajectories at the short horizon is shown as such (a
+            // chaotic transient, labelled), never as an attractor the long search would drop.
+            assert!(
+                matches!(
+                    p.kind,
+                    Some(geardyn::sim::SetKind::Attractor)
+                        | Some(geardyn::sim::SetKind::ChaoticTransient)
+                ),
+                "{:?}",
+                p.kind
+            );
+            transients += usize::from(!p.on_attractor());
             chaotic += usize::from(p.period.is_none());
         }
         let key = |l: &geardyn::validate::LoadResult| {
             l.all
                 .iter()
+                .filter(|p| p.on_attractor())
                 .map(|p| (p.speed_rpm, p.dte_pp_um, p.period))
                 .collect::<Vec<_>>()
         };
         assert_eq!(key(s), key(l), "{} N", s.load_n);
     }
-    // The chaotic attractors at 945 N: the test is about them.
+    // The chaotic attractors at 945 N: the test is about them. A chaotic set near its
+    // boundary may empty between the two horizons (at 945 N, 4333 rpm, 2 of 49 trajectories
+    // held at 10,000 periods and none at 40,000): at most one, labelled a transient.
     assert!(chaotic >= 3, "{chaotic} chaotic attractors");
+    assert!(transients <= 1, "{transients} transients shown");
 }
 
 /// Kubo: zeta and omega_n fitted to the contact part of a synthetic envelope (8 tooth pairs, 4%

@@ -65,6 +65,11 @@ struct KuboArgs {
     /// starts it: a nominal STE held as exact biases zeta and narrows its interval.
     #[arg(long)]
     hold_ste: bool,
+    /// Errors correlated along speed (docs/correlated-errors.md). off (the default here, until
+    /// a coverage study of the Kubo fits with it): independent errors; auto: estimated, and kept
+    /// when the data reject independent errors; on: always estimated.
+    #[arg(long, value_enum, default_value_t = CorrelationArg::Off)]
+    correlation: CorrelationArg,
 }
 
 #[derive(ValueEnum, Debug, Clone, Copy, PartialEq, Eq)]
@@ -305,6 +310,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             let opts = KuboOptions {
                 fit_path: k.fit.path(),
                 hold_ste: k.hold_ste,
+                correlation: k.correlation.choice(),
                 ..KuboOptions::default()
             };
             let r = validate_kubo(&data, &opts, &Bar::new())?;

@@ -131,13 +131,17 @@ impl Axis {
         self.curve[point]
     }
 
-    /// Lag-one correlation of point k's error with its predecessor's at length `length`, 0
-    /// for a curve's first point and for independent errors.
-    fn phi(&self, k: usize, length: f64) -> Option<(usize, f64)> {
+    /// Point k's predecessor j, the lag-one correlation phi = exp(-gap / length) of their
+    /// errors and 1 - phi^2 (as -expm1(-2 gap / length), exact where phi is near 1); None for a
+    /// curve's first point and for independent errors.
+    fn phi(&self, k: usize, length: f64) -> Option<(usize, f64, f64)> {
         if length <= 0.0 {
             return None;
         }
-        self.previous[k].map(|(j, gap)| (j, (-gap / length).exp()))
+        self.previous[k].map(|(j, gap)| {
+            let x = gap / length;
+            (j, (-x).exp(), -(-2.0 * x).exp_m1())
+        })
     }
 }
 
@@ -155,7 +159,7 @@ impl Correlation<'_> {
     pub fn innovations(&self, z: &[f64]) -> Vec<f64> {
         (0..z.len())
             .map(|k| match self.axis.phi(k, self.length) {
-                Some((j, phi)) => (z[k] - phi * z[j]) / (1.0 - phi * phi).sqrt(),
+                Some((j, phi, q)) => (z[k] - phi * z[j]) / q.sqrt(),
                 None => z[k],
             })
             .collect()
@@ -167,7 +171,7 @@ impl Correlation<'_> {
         let mut z = vec![0.0; e.len()];
         for &k in &self.axis.order {
             z[k] = match self.axis.phi(k, self.length) {
-                Some((j, phi)) => phi * z[j] + (1.0 - phi * phi).sqrt() * e[k],
+                Some((j, phi, q)) => phi * z[j] + q.sqrt() * e[k],
                 None => e[k],
             };
         }
@@ -178,7 +182,7 @@ impl Correlation<'_> {
     pub fn half_log_det(&self) -> f64 {
         (0..self.axis.len())
             .filter_map(|k| self.axis.phi(k, self.length))
-            .map(|(_, phi)| 0.5 * (-phi * phi).ln_1p())
+            .map(|(_, _, q)| 0.5 * q.ln())
             .sum()
     }
 
@@ -187,8 +191,8 @@ impl Correlation<'_> {
     pub fn innovations_of_columns(&self, m: &DMatrix<f64>) -> DMatrix<f64> {
         let mut out = m.clone();
         for k in 0..m.nrows() {
-            if let Some((j, phi)) = self.axis.phi(k, self.length) {
-                let c = 1.0 / (1.0 - phi * phi).sqrt();
+            if let Some((j, phi, q)) = self.axis.phi(k, self.length) {
+                let c = 1.0 / q.sqrt();
                 for col in 0..m.ncols() {
                     out[(k, col)] = (m[(k, col)] - phi * m[(j, col)]) * c;
                 }
@@ -201,8 +205,8 @@ impl Correlation<'_> {
     pub fn correlate_columns(&self, m: &DMatrix<f64>) -> DMatrix<f64> {
         let mut out = m.clone();
         for &k in &self.axis.order {
-            if let Some((j, phi)) = self.axis.phi(k, self.length) {
-                let c = (1.0 - phi * phi).sqrt();
+            if let Some((j, phi, q)) = self.axis.phi(k, self.length) {
+                let c = q.sqrt();
                 for col in 0..m.ncols() {
                     out[(k, col)] = phi * out[(j, col)] + c * m[(k, col)];
                 }
@@ -229,7 +233,7 @@ pub struct CurveCorrelation {
     pub lag1: f64,
     /// Ljung-Box statistic of the innovations under the fitted noise model, its lags, its
     /// degrees of freedom and p-value (None with fewer than 6 points).
-    pub ljung_box: Option<(f64, usize, usize, f64)>,
+    pub ljung_box: Option<(f64, usize, f64, f64)>,
 }
 
 /// Sample autocorrelations r_1..r_m of a series about its mean.
@@ -249,8 +253,9 @@ fn autocorrelations(x: &[f64], m: usize) -> Vec<f64> {
 }
 
 /// Ljung-Box Q on m = min(10, n / 5) lags (Ljung & Box 1978), referred to chi^2 with m - fitted
-/// degrees of freedom (at least 1): (Q, m, dof, p).
-pub fn ljung_box(x: &[f64], fitted: usize) -> Option<(f64, usize, usize, f64)> {
+/// degrees of freedom (at least 1; `fitted` may be a fraction, a curve's share of a correlation
+/// estimated on several): (Q, m, dof, p).
+pub fn ljung_box(x: &[f64], fitted: f64) -> Option<(f64, usize, f64, f64)> {
     let n = x.len();
     let m = (n / 5).min(10);
     if m < 1 || n < 6 {
@@ -264,23 +269,30 @@ pub fn ljung_box(x: &[f64], fitted: usize) -> Option<(f64, usize, usize, f64)> {
             .enumerate()
             .map(|(k, rk)| rk * rk / (nf - (k + 1) as f64))
             .sum::<f64>();
-    let dof = m.saturating_sub(fitted).max(1);
-    let p = ChiSquared::new(dof as f64).ok()?.sf(q);
+    let dof = (m as f64 - fitted).max(1.0);
+    let p = ChiSquared::new(dof).ok()?.sf(q);
     Some((q, m, dof, p))
 }
 
 /// The diagnostic of every curve of `axis`: lag-one correlations of the standardized
-/// residuals `z`, Ljung-Box tests of the innovations `e` (`fitted`: 1 where the correlation
-/// length was estimated).
+/// residuals `z`, Ljung-Box tests of the innovations `e` (`estimated`: the correlation length
+/// was estimated, on all curves together, so each curve's test loses its share of a degree of
+/// freedom, its points over all points).
 pub fn curve_correlations(
     axis: &Axis,
     z: &[f64],
     e: &[f64],
-    fitted: usize,
+    estimated: bool,
 ) -> Vec<CurveCorrelation> {
+    let total = axis.len().max(1) as f64;
     axis.curves()
         .iter()
         .map(|c| {
+            let fitted = if estimated {
+                c.len() as f64 / total
+            } else {
+                0.0
+            };
             let zc: Vec<f64> = c.iter().map(|&i| z[i]).collect();
             let ec: Vec<f64> = c.iter().map(|&i| e[i]).collect();
             CurveCorrelation {
@@ -374,7 +386,7 @@ mod tests {
         let mut below = 0;
         for _ in 0..400 {
             let x: Vec<f64> = (0..100).map(|_| rng.normal()).collect();
-            if ljung_box(&x, 0).unwrap().3 < 0.05 {
+            if ljung_box(&x, 0.0).unwrap().3 < 0.05 {
                 below += 1;
             }
         }
@@ -388,8 +400,8 @@ mod tests {
         for _ in 0..20 {
             let e: Vec<f64> = (0..100).map(|_| rng.normal()).collect();
             let z = c.correlate(&e);
-            assert!(ljung_box(&z, 0).unwrap().3 < 1e-3);
-            let d = &curve_correlations(&a, &z, &e, 1)[0];
+            assert!(ljung_box(&z, 0.0).unwrap().3 < 1e-3);
+            let d = &curve_correlations(&a, &z, &e, true)[0];
             assert!((d.lag1 - 0.6).abs() < 0.25, "{}", d.lag1);
         }
     }

@@ -172,8 +172,8 @@ impl CorrelationFit {
             "the errors' correlation along speed is not bounded within the curves (length {:.0} \
              rpm, its 95% interval reaching {} beyond the widest curve's {:.0} rpm): the \
              residuals are one smooth curve across the speeds, a misfit of the model or a drift \
-             that the data cannot tell apart; state the noise's correlation (rig.toml [noise] \
-             correlation_rpm, or --correlation off) to fit anyway",
+             that the data cannot tell apart; state the noise's correlation (--correlation off; \
+             with validate munro also rig.toml [noise] correlation_rpm) to fit anyway",
             self.length_rpm,
             upper.map_or("infinity".to_string(), |u| format!("{u:.0} rpm")),
             self.span_rpm
@@ -245,8 +245,10 @@ pub struct Estimate {
     /// Residual degrees of freedom: points minus parameters minus noise parameters.
     pub residual_dof: usize,
     pub n: usize,
-    /// Sum of squared standardized residuals (r_i / sigma_i)^2.
+    /// Sum of the squared innovations: the standardized residuals r_i / sigma_i decorrelated
+    /// along speed (the residuals themselves with independent errors).
     pub chi_square: f64,
+    /// The restricted log-likelihood of the noise at the fit ([`super::restricted_term`]).
     pub log_likelihood: f64,
     /// Data minus model at each point, and the model's value there.
     pub residuals: Vec<f64>,
@@ -285,22 +287,6 @@ pub const ROBUST_LR_CRITICAL: f64 = 2.705_543_454_095_404;
 /// independence (length 0) is the boundary of the length's range, so the statistic is the
 /// same 50:50 mixture of chi^2_0 and chi^2_1 (Self & Liang 1987).
 pub const CORRELATION_LR_CRITICAL: f64 = ROBUST_LR_CRITICAL;
-
-/// Hat-matrix diagonal of the weighted fit: H = J (J'J)^+ J' for the weighted Jacobian J
-/// (its zero columns, parameters held still, dropped).
-fn leverages(jw: &DMatrix<f64>) -> Vec<f64> {
-    let svd = jw.clone().svd(true, false);
-    let Some(u) = svd.u else {
-        return vec![0.0; jw.nrows()];
-    };
-    let smax = svd.singular_values.iter().fold(0.0f64, |a, b| a.max(*b));
-    let keep: Vec<usize> = (0..svd.singular_values.len())
-        .filter(|&k| svd.singular_values[k] > 1e-10 * smax)
-        .collect();
-    (0..jw.nrows())
-        .map(|i| keep.iter().map(|&k| u[(i, k)] * u[(i, k)]).sum())
-        .collect()
-}
 
 /// Pseudo-inverse of a symmetric positive semi-definite matrix (zero rows and columns, the
 /// parameters held still, give zero variance).
@@ -577,7 +563,8 @@ where
     for it in 0..MAX_REWEIGHTS {
         let levels = (w.model)(&lm.params)?;
         let residuals: Vec<f64> = w.y.iter().zip(&levels).map(|(y, f)| y - f).collect();
-        let leverages = leverages(&lm.jacobian);
+        // The engine's noise is restricted by the Jacobian, not corrected by leverages.
+        let leverages = vec![0.0; residuals.len()];
         let jacobian = whitener.unapply_columns(&(-&lm.jacobian));
         let data = NoiseData {
             residuals: &residuals,
@@ -672,6 +659,12 @@ where
     if n <= p + noise_params + 1 {
         return Err(GearError::Numerical(format!(
             "{n} data points cannot determine {p} parameters and {noise_params} noise parameters"
+        )));
+    }
+    if let Some(a) = opts.correlation.axis().filter(|a| a.len() != n) {
+        return Err(GearError::Numerical(format!(
+            "the speed axis of the errors' correlation has {} points, the data {n}",
+            a.len()
         )));
     }
     let w = Weighted { model, near, y };
@@ -772,7 +765,8 @@ fn correlation_fit(
         .map(|(r, s)| r / s)
         .collect();
     let e = unit.innovations(&c.residuals);
-    let free = matches!(length, Length::Free(_));
+    // A free length that came out at 0 (the search kept independent errors) is no estimate.
+    let free = matches!(length, Length::Free(_)) && fitted > 0.0;
     let data = NoiseData {
         residuals: &c.residuals,
         levels: &c.levels,
@@ -805,7 +799,7 @@ fn correlation_fit(
             _ => 0.0,
         },
         lr_vs_independent: lr,
-        curves: curve_correlations(axis, &z, &e, usize::from(free)),
+        curves: curve_correlations(axis, &z, &e, free),
         span_rpm: axis.span(),
     }
 }
@@ -952,7 +946,13 @@ fn summarise(
                 .into(),
         )
     })?;
-    let residual_dof = n.saturating_sub(p + noise_params).max(1);
+    // An estimated correlation length is one more noise parameter.
+    let length_param = usize::from(
+        correlation
+            .as_ref()
+            .is_some_and(|c| c.source == CorrelationSource::Estimated),
+    );
+    let residual_dof = n.saturating_sub(p + noise_params + length_param).max(1);
     let g = unit(&c.noise).innovations_of_columns(&jf);
     let sandwich = sandwich_covariance(c.noise.distribution, &g, &z, &cov, residual_dof);
     let dof = satterthwaite_dof((setting, axis), &c, &cov, &inverse_fisher, residual_dof);
@@ -1079,10 +1079,14 @@ fn noise_fit(
     let bonferroni = Normal::new(0.0, 1.0)
         .map(|d| d.inverse_cdf(1.0 - 0.025 / z.len() as f64))
         .unwrap_or(4.0);
-    let outliers: Vec<usize> = z
+    // On the standardized residuals r_i / sigma_i, each N(0, 1) whatever the correlation: one
+    // bad reading moves two innovations, its own and its successor's.
+    let outliers: Vec<usize> = c
+        .residuals
         .iter()
+        .zip(&c.scales)
         .enumerate()
-        .filter(|(_, z)| z.abs() > bonferroni)
+        .filter(|(_, (r, s))| (*r / *s).abs() > bonferroni)
         .map(|(i, _)| i)
         .collect();
     let (floor_ci95, relative_ci95, floor_held) = match setting {

@@ -12,9 +12,11 @@
 //! at the point (Carroll & Ruppert 1988, ch. 2: the variance function of the mean, not of the
 //! observation, whose own error would bias the weights).
 //!
-//! Its parameters are estimated from the residuals of a fit by maximum likelihood with the
-//! mean held (pseudo-likelihood, Carroll & Ruppert 1988, Sec. 3.2), the squared residuals
-//! divided by 1 - h_ii so that the p fitted parameters do not bias the scale low.
+//! Its parameters are estimated from the residuals of a fit with the mean held
+//! (pseudo-likelihood, Carroll & Ruppert 1988, Sec. 3.2) by the restricted likelihood, whose
+//! term 1/2 log det of the fit's information keeps the p fitted parameters from biasing the
+//! noise low ([`restricted_term`]); residuals that are no fit's (discover's pseudo-residuals)
+//! are divided by sqrt(1 - h_ii) instead.
 //!
 //! The errors of one curve may be correlated along speed (docs/correlated-errors.md,
 //! [`super::correlation`]): the model's `correlation_length`, estimated by profiling the
@@ -174,6 +176,15 @@ pub fn restricted_term(
     if let Some(c) = correlation.filter(|c| c.length > 0.0) {
         g = c.innovations_of_columns(&g);
     }
+    // Columns scaled to unit norm, so that the rank cut below does not depend on the
+    // parameters' units; their norms return as 2 sum log |g_c|.
+    let norms: Vec<f64> = g.column_iter().map(|c| c.norm()).collect();
+    for (c, n) in norms.iter().enumerate() {
+        if *n > 0.0 {
+            g.column_mut(c).scale_mut(1.0 / n);
+        }
+    }
+    let log_norms: f64 = norms.iter().filter(|n| **n > 0.0).map(|n| n.ln()).sum();
     // Student-t errors carry (dof + 1) / (dof + 3) of the Gaussian information per point (the
     // Fisher information of the fit's intervals): without it the term would favour large dof.
     let factor = match dist {
@@ -188,6 +199,7 @@ pub fn restricted_term(
         .filter(|v| **v > 1e-12 * top)
         .map(|v| v.ln())
         .sum::<f64>()
+        + log_norms
 }
 
 /// Weight of a point in the iteratively reweighted fit under `dist`, relative to 1 / sigma^2:
@@ -253,7 +265,10 @@ impl NegLogLik<'_> {
             relative,
             distribution: self.dist,
             correlation_length: match (self.free_length, x.last()) {
-                (Some(_), Some(u)) => u.exp(),
+                (Some(axis), Some(u)) => {
+                    let (lo, hi) = length_bounds(axis).unwrap_or((0.0, f64::INFINITY));
+                    u.exp().clamp(0.5 * lo, hi)
+                }
                 _ => self.data.length(),
             },
         }
@@ -264,18 +279,6 @@ impl NegLogLik<'_> {
     fn value(&self, m: &NoiseModel) -> f64 {
         let d = self.data;
         let scales: Vec<f64> = d.levels.iter().map(|l| m.scale(*l)).collect();
-        if let Some(j) = d.jacobian {
-            let correlation = match self.free_length {
-                Some(axis) => Some(Correlation {
-                    axis,
-                    length: m.correlation_length,
-                }),
-                None => d.correlation,
-            };
-            return neg_log_likelihood(self.dist, d.residuals, &scales, correlation)
-                + restricted_term(self.dist, j, &scales, correlation);
-        }
-        let adjust = |v: f64, h: &f64| v / (1.0 - h.clamp(0.0, 0.99)).sqrt();
         let correlation = match self.free_length {
             Some(axis) => Some(Correlation {
                 axis,
@@ -283,35 +286,19 @@ impl NegLogLik<'_> {
             }),
             None => d.correlation,
         };
-        match correlation.filter(|c| c.length > 0.0) {
-            None => {
-                let adjusted: Vec<f64> = d
-                    .residuals
-                    .iter()
-                    .zip(d.leverages)
-                    .map(|(r, h)| adjust(*r, h))
-                    .collect();
-                -log_likelihood(self.dist, &adjusted, &scales)
-            }
-            Some(c) => {
-                let z: Vec<f64> = d
-                    .residuals
-                    .iter()
-                    .zip(&scales)
-                    .map(|(r, s)| r / s)
-                    .collect();
-                let e: Vec<f64> = c
-                    .innovations(&z)
-                    .iter()
-                    .zip(d.leverages)
-                    .map(|(e, h)| adjust(*e, h))
-                    .collect();
-                let ones = vec![1.0; e.len()];
-                -log_likelihood(self.dist, &e, &ones)
-                    + scales.iter().map(|s| s.ln()).sum::<f64>()
-                    + c.half_log_det()
-            }
+        if let Some(j) = d.jacobian {
+            return neg_log_likelihood(self.dist, d.residuals, &scales, correlation)
+                + restricted_term(self.dist, j, &scales, correlation);
         }
+        // Residuals that are no fit's (discover's pseudo-residuals), independent: each divided
+        // by sqrt(1 - h).
+        let adjusted: Vec<f64> = d
+            .residuals
+            .iter()
+            .zip(d.leverages)
+            .map(|(r, h)| r / (1.0 - h.clamp(0.0, 0.99)).sqrt())
+            .collect();
+        -log_likelihood(self.dist, &adjusted, &scales)
     }
 }
 
@@ -354,11 +341,13 @@ pub fn estimate_noise_and_length(
         ..*data
     };
     let independent = estimate_noise(&held, freedom, dist)?;
-    if length_bounds(axis).is_none() {
+    let Some((lo, _)) = length_bounds(axis) else {
         return Ok(independent);
-    }
+    };
+    // A length below the bounds' least (neighbours correlated by under e^-10) is independent
+    // errors: kept, it would flip with rounding between reweighting steps.
     match estimate_noise_on(data, freedom, dist, Some(axis)) {
-        Ok(c) if c.1 < independent.1 => Ok(c),
+        Ok(c) if c.1 < independent.1 && c.0.correlation_length > lo => Ok(c),
         _ => Ok(independent),
     }
 }
@@ -466,7 +455,13 @@ pub fn estimate_length(axis: &Axis, at_length: AtLength) -> Result<(NoiseModel, 
     };
     let (a, b) = (lo.ln(), hi.ln());
     let u_of = |k: usize| a + (b - a) * k as f64 / (LENGTH_GRID - 1) as f64;
-    let nll = |u: f64| at_length(u.exp()).map_or(f64::INFINITY, |f| f.1);
+    let nll = |u: f64| {
+        at_length(u.exp())
+            .map(|f| f.1)
+            .ok()
+            .filter(|v| !v.is_nan())
+            .unwrap_or(f64::INFINITY)
+    };
     let values: Vec<f64> = (0..LENGTH_GRID).map(|k| nll(u_of(k))).collect();
     let k = (0..LENGTH_GRID)
         .min_by(|&i, &j| values[i].total_cmp(&values[j]))

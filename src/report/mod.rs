@@ -272,7 +272,7 @@ pub fn correlation_summary(e: &crate::fit::Estimate, names: &[String]) -> Option
         CorrelationSource::Stated if c.length_rpm > 0.0 => {
             format!("Errors correlated along speed, length stated {:.0} rpm{step}", c.length_rpm)
         }
-        CorrelationSource::Stated => "Errors taken as independent along speed (as stated)".into(),
+        CorrelationSource::Stated => "Errors taken as independent along speed (not estimated: --correlation off or a stated length of 0)".into(),
     };
     let name = |k: usize| {
         names

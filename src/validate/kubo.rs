@@ -12,6 +12,7 @@
 //! state; refit until the selection repeats.
 
 use super::curve_metrics::{location_error, location_error_text, rms, transition_location};
+use super::design_fit::CorrelationChoice;
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::kubo_swept::fit_whole_curve;
@@ -40,13 +41,15 @@ pub(super) fn ste_of(held: Option<f64>, params: &[f64]) -> f64 {
     held.unwrap_or_else(|| params.get(2).copied().unwrap_or(f64::NAN))
 }
 
-/// The STE amplitude in a fit: held at a value, or fitted from a start.
+/// What a midline fit holds: the STE amplitude held at a value or fitted from a start, and
+/// how the errors' correlation along speed is treated.
 #[derive(Clone, Copy, Debug)]
-pub(super) struct SteSetting {
+pub(super) struct MidlineSetting {
     /// The value it is held at (None: fitted).
     pub held: Option<f64>,
     /// Where the fit starts it, um (the stated value when rig.toml states one).
     pub start: f64,
+    pub correlation: CorrelationChoice,
 }
 
 /// The points where the model with (zeta, omega_n) keeps the teeth in contact: linear D_L below
@@ -103,6 +106,12 @@ pub struct KuboOptions {
     /// STE is a nominal value: on independently made envelopes (each tooth pair with its own
     /// STE) holding it made zeta's intervals cover 74% instead of 94% (docs/validation.md).
     pub hold_ste: bool,
+    /// The errors' correlation along speed (`--correlation`, docs/correlated-errors.md).
+    /// Independent by default: estimated on a whole-curve fit through simulated sweeps (a
+    /// synthetic envelope of independent errors whose teeth separate at nearly every speed),
+    /// the correlation took the misfit at the jump for drift and zeta ended thousands of
+    /// standard errors from the truth; the Kubo fits' correlation awaits its coverage study.
+    pub correlation: CorrelationChoice,
 }
 
 impl Default for KuboOptions {
@@ -111,6 +120,7 @@ impl Default for KuboOptions {
             dense_points: 161,
             fit_path: KuboFitPath::Auto,
             hold_ste: false,
+            correlation: CorrelationChoice::Off,
         }
     }
 }
@@ -163,6 +173,7 @@ struct ContactFit<'a> {
     fm: f64,
     points: Vec<&'a KuboPoint>,
     ste_um: Option<f64>,
+    correlation: CorrelationChoice,
 }
 
 impl ContactFit<'_> {
@@ -188,8 +199,8 @@ impl ContactFit<'_> {
             // In contact D_L - 1 is proportional to the STE amplitude, so the mean of two
             // pairs' D_L is one pair's at their mean STE: the spread does not enter.
             None,
-            stop,
-            stop,
+            (stop, stop),
+            self.correlation,
         )
     }
 
@@ -233,9 +244,10 @@ pub fn validate_kubo(
             "--hold-ste: rig.toml's [ste] table gives no STE amplitude at the test load {load} N to hold; add it there, or leave --hold-ste out to fit it"
         )));
     }
-    let ste = SteSetting {
+    let ste = MidlineSetting {
         held: ste_stated.filter(|_| opts.hold_ste),
         start: ste_stated.unwrap_or(1.0),
+        correlation: opts.correlation,
     };
     let par = match (rig.zeta, rig.omega_n_hz) {
         (Some(z), Some(w)) => given_parameters(data, z, w, ste_stated)?,
@@ -363,7 +375,7 @@ fn fit_parameters(
     data: &KuboData,
     dim: &Dimensional,
     fm: f64,
-    ste: SteSetting,
+    ste: MidlineSetting,
     path: KuboFitPath,
     progress: &dyn Progress,
 ) -> Result<ModelParameters> {
@@ -414,7 +426,7 @@ fn fit_contact_part(
     data: &KuboData,
     dim: &Dimensional,
     fm: f64,
-    ste: SteSetting,
+    ste: MidlineSetting,
 ) -> Result<ContactOutcome> {
     let contact: Vec<&KuboPoint> = data
         .points
@@ -446,6 +458,7 @@ fn fit_contact_part(
         fm,
         points,
         ste_um: ste.held,
+        correlation: ste.correlation,
     };
     let mut r = match problem_on(below.clone()).fit(&starts) {
         Ok(r) => r,
@@ -551,7 +564,7 @@ fn whole_curve_failed(data: &KuboData, contact: String, whole: GearError) -> Gea
 
 /// Starts of the first contact fit: zeta over a decade, omega_n about the mesh frequency of
 /// the measured peak (the resonance), the STE amplitude at its start when it is fitted.
-fn first_starts(peak_mesh_hz: f64, ste: SteSetting) -> Vec<Vec<f64>> {
+fn first_starts(peak_mesh_hz: f64, ste: MidlineSetting) -> Vec<Vec<f64>> {
     let mut starts = Vec::new();
     for z in [0.03, 0.1, 0.2] {
         for f in [0.8, 1.0, 1.2] {

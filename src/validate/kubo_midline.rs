@@ -3,11 +3,12 @@
 //! point's noise proportional to the model's level. The contact-part fit ([`super::kubo`]) and
 //! the whole-curve fit ([`super::kubo_swept`]) differ only in the curve.
 
+use super::design_fit::CorrelationChoice;
 use crate::data::KuboPoint;
 use crate::error::Result;
 use crate::fit::{
-    estimate_warm, profile_interval_or_better, Axis, CorrelationSetting, Estimate, EstimateOptions,
-    NearModel, NoiseSetting, Param, ProfileInterval, Profiled, Robust, Stop,
+    estimate_warm, profile_interval_or_better, Axis, Estimate, EstimateOptions, NearModel,
+    NoiseSetting, Param, ProfileInterval, Profiled, Robust, Stop,
 };
 
 /// The midline of the envelope at each of `points`: the data both fits take.
@@ -45,6 +46,8 @@ pub fn spread_interval((lo, hi): (f64, f64)) -> (f64, f64) {
 pub(super) struct MidlineFit {
     /// The measured speeds (rpm) and the envelope's midline there.
     speeds: Vec<f64>,
+    /// How the errors' correlation along speed is treated.
+    correlation: CorrelationChoice,
     y: Vec<f64>,
     params: Vec<Param>,
     /// Parameters whose profile intervals are wanted (the pair spread is a nuisance).
@@ -64,8 +67,8 @@ impl MidlineFit {
         (speeds, midline): (Vec<f64>, Vec<f64>),
         ste_held: Option<f64>,
         pair_spread: Option<f64>,
-        stop: Stop,
-        profile_stop: Stop,
+        (stop, profile_stop): (Stop, Stop),
+        correlation: CorrelationChoice,
     ) -> Self {
         let mut params = vec![
             Param::positive("zeta", 0.1),
@@ -82,6 +85,7 @@ impl MidlineFit {
         }
         MidlineFit {
             speeds,
+            correlation,
             y: midline,
             params,
             profiled,
@@ -128,10 +132,9 @@ impl MidlineFit {
                 noise: NoiseSetting::ProportionalToLevel,
                 // The midline's errors may drift along speed as a measured curve's do
                 // (docs/correlated-errors.md).
-                correlation: CorrelationSetting::Auto(Axis::new(
-                    vec![0; self.speeds.len()],
-                    self.speeds.clone(),
-                )?),
+                correlation: self
+                    .correlation
+                    .setting(Axis::new(vec![0; self.speeds.len()], self.speeds.clone())?),
                 robust: Robust::Off,
                 stop: self.stop,
                 starts: starts.to_vec(),

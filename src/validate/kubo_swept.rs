@@ -10,8 +10,9 @@
 //! 0.06, 2200 Hz, 114 of 200 seeded sets were refused). The peak is where the damping shows,
 //! so this fit takes the whole curve through the nonlinear model.
 
+use super::design_fit::CorrelationChoice;
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo::{ste_of, ModelParameters, SteSetting, UNUSED_RK_RTOL};
+use super::kubo::{ste_of, MidlineSetting, ModelParameters, UNUSED_RK_RTOL};
 use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
 use super::test_run::{up_sweep_neighbour_starts, TestRun};
 use crate::data::KuboData;
@@ -72,7 +73,7 @@ pub(super) fn fit_whole_curve(
     data: &KuboData,
     dim: &Dimensional,
     fm: f64,
-    ste: SteSetting,
+    ste: MidlineSetting,
     near: &[f64],
     source: &'static str,
     progress: &dyn Progress,
@@ -111,7 +112,7 @@ fn fit_with(
     data: &KuboData,
     dim: &Dimensional,
     fm: f64,
-    ste: SteSetting,
+    ste: MidlineSetting,
     near: &[f64],
     pairs: bool,
     progress: &dyn Progress,
@@ -122,6 +123,7 @@ fn fit_with(
         speeds: data.points.iter().map(|k| k.speed_rpm).collect(),
         midline: midline(&data.points),
         ste_um: ste.held,
+        correlation: ste.correlation,
         pair_spread: pairs.then_some(PAIR_SPREAD_START),
         sweeps: Cache::new(REMEMBERED_SWEEPS),
     };
@@ -194,7 +196,7 @@ fn starts(
     data: &KuboData,
     dim: &Dimensional,
     near: &[f64],
-    ste: SteSetting,
+    ste: MidlineSetting,
     pair_spread: Option<f64>,
 ) -> Vec<Vec<f64>> {
     let peak_hz = measured_peak_rpm(&data.points).map(|rpm| dim.mesh_frequency_hz(rpm));
@@ -230,6 +232,7 @@ struct SweptFit<'a> {
     /// The envelope's midline at each of them: what is fitted.
     midline: Vec<f64>,
     ste_um: Option<f64>,
+    correlation: CorrelationChoice,
     /// Where the pairs' STE half-spread h starts; None: one pair (h = 0, not fitted).
     pair_spread: Option<f64>,
     /// Where each speed of a tooth pair's up-sweep starts at nearby parameters
@@ -391,7 +394,7 @@ impl SweptFit<'_> {
     /// 8 um at 2000 N) the separated branch grows to 8700 rpm (3625 Hz), and every start
     /// about it ended at 1100-1300 Hz, a fit the model's curve lay outside the envelope at 80%
     /// of the speeds.
-    fn screened(&self, ste: SteSetting) -> Vec<Vec<f64>> {
+    fn screened(&self, ste: MidlineSetting) -> Vec<Vec<f64>> {
         let (lo, hi) = self
             .speeds
             .iter()
@@ -440,8 +443,8 @@ impl SweptFit<'_> {
             (self.speeds.clone(), self.midline.clone()),
             self.ste_um,
             self.pair_spread,
-            stop.or_stalled(FIT_STALL),
-            stop.or_stalled(PROFILE_STALL),
+            (stop.or_stalled(FIT_STALL), stop.or_stalled(PROFILE_STALL)),
+            self.correlation,
         )
         .with_zeta_floor(SWEPT_ZETA_FLOOR)
     }

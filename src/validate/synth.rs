@@ -7,7 +7,7 @@ use crate::data::{
     munro_rig, write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DYNAMIC_FACTOR,
 };
 use crate::error::{GearError, Result};
-use crate::fit::{Distribution, NoiseModel};
+use crate::fit::{Axis, Correlation, Distribution, NoiseModel};
 use crate::model::{Dimensional, GearPair, Term, MAX_DTE_UM};
 use crate::numeric::Rng;
 use crate::progress::Progress;
@@ -187,22 +187,25 @@ impl SynthNoise {
         let Some(rho) = self.rho_on_grid else {
             return ys.iter().map(|y| self.read(*y, rng)).collect();
         };
-        let mut steps: Vec<f64> = speeds.windows(2).map(|w| w[1] - w[0]).collect();
-        steps.sort_by(f64::total_cmp);
-        let median = steps.get(steps.len() / 2).copied().unwrap_or(1.0);
-        let mut z = 0.0;
+        let e: Vec<f64> = ys.iter().map(|_| rng.normal()).collect();
+        let z = match Axis::new(vec![0; speeds.len()], speeds.to_vec()) {
+            Ok(axis) => {
+                let length = axis
+                    .median_step()
+                    .filter(|_| rho > 0.0)
+                    .map_or(0.0, |h| -h / rho.ln());
+                Correlation {
+                    axis: &axis,
+                    length,
+                }
+                .correlate(&e)
+            }
+            // A curve's speeds are distinct (checked when its grid is made).
+            Err(_) => e,
+        };
         ys.iter()
-            .enumerate()
-            .map(|(k, y)| {
-                let e = rng.normal();
-                z = if k == 0 {
-                    e
-                } else {
-                    let phi = rho.powf((speeds[k] - speeds[k - 1]) / median);
-                    phi * z + (1.0 - phi * phi).sqrt() * e
-                };
-                self.quantized((y + self.model.scale(*y) * z).max(0.0))
-            })
+            .zip(&z)
+            .map(|(y, z)| self.quantized((y + self.model.scale(*y) * z).max(0.0)))
             .collect()
     }
 
