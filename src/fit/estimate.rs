@@ -604,8 +604,7 @@ fn noise_whitener(
     residuals: &[f64],
     axis: Option<&Axis>,
 ) -> Whitener {
-    let n = scales.len();
-    let unit = Whitener::new(scales.clone(), vec![1.0; n], axis, noise.correlation_length);
+    let unit = Whitener::unit(scales.clone(), axis, noise.correlation_length);
     let robust = unit
         .innovations(residuals)
         .iter()
@@ -752,12 +751,7 @@ fn correlation_fit(
     lr: Option<f64>,
 ) -> CorrelationFit {
     let fitted = c.noise.correlation_length;
-    let unit = Whitener::new(
-        c.scales.clone(),
-        vec![1.0; c.scales.len()],
-        Some(axis),
-        fitted,
-    );
+    let unit = Whitener::unit(c.scales.clone(), Some(axis), fitted);
     let z: Vec<f64> = c
         .residuals
         .iter()
@@ -767,13 +761,8 @@ fn correlation_fit(
     let e = unit.innovations(&c.residuals);
     // A free length that came out at 0 (the search kept independent errors) is no estimate.
     let free = matches!(length, Length::Free(_)) && fitted > 0.0;
-    let data = NoiseData {
-        residuals: &c.residuals,
-        levels: &c.levels,
-        leverages: &c.leverages,
-        correlation: None,
-        jacobian: Some(&c.jacobian),
-    };
+    // The residuals with no correlation set: `at_length` sets each trial length.
+    let data = c.noise_data(None);
     let length_ci95 = free.then(|| {
         length_interval(axis, (fitted, c.nll), &|l| {
             noise_with_length(
@@ -925,8 +914,7 @@ fn summarise(
     let jf = c.jacobian.clone();
     // The least-squares map of the fitted noise model at unit robust weights.
     let unit = |m: &NoiseModel| {
-        let scales = scales_of(setting, m, &c.levels);
-        Whitener::new(scales, vec![1.0; n], axis, m.correlation_length)
+        Whitener::unit(scales_of(setting, m, &c.levels), axis, m.correlation_length)
     };
     let whitener = noise_whitener(&c.noise, c.scales.clone(), &c.residuals, axis);
     // The innovations: the standardized residuals, decorrelated along speed.

@@ -32,8 +32,14 @@ impl Whitener {
 
     /// Independent errors of scales `scales`, unit robust weights.
     pub fn independent(scales: Vec<f64>) -> Whitener {
+        Whitener::unit(scales, None, 0.0)
+    }
+
+    /// Unit robust weights (Gaussian errors): the map whose innovations the likelihood, the
+    /// Fisher information and the diagnostics read.
+    pub fn unit(scales: Vec<f64>, axis: Option<&Axis>, length: f64) -> Whitener {
         let n = scales.len();
-        Whitener::new(scales, vec![1.0; n], None, 0.0)
+        Whitener::new(scales, vec![1.0; n], axis, length)
     }
 
     fn correlation(&self) -> Option<Correlation<'_>> {

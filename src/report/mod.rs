@@ -148,11 +148,7 @@ pub fn stated_noise_verdict(e: &crate::fit::Estimate) -> Option<(bool, String)> 
         "smaller than (or the model falls short of)"
     };
     Some(if p < 0.01 {
-        let p = if p < 0.001 {
-            "< 0.001".to_string()
-        } else {
-            format!("{p:.3}")
-        };
+        let p = p_text(p);
         (
             true,
             format!("two-sided p {p}: the stated noise is {side} the scatter about the fit"),
