@@ -2,7 +2,7 @@
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
 use super::common::{check_out_file, parse_grid, parse_load_ste, print_study, NoiseArgs, SeedLog};
-use super::discover::parse_tails;
+use super::discover::{parse_tails, ProcedureArgs};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
@@ -63,6 +63,8 @@ pub struct Args {
     keep_sets: Option<PathBuf>,
     #[command(flatten)]
     noise: NoiseArgs,
+    #[command(flatten)]
+    procedure: ProcedureArgs,
     /// Bootstrap replicates per discovery run, in [520, 99999] (as `discover --bootstrap`).
     #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(1..=MAX_BOOTSTRAP))]
     bootstrap: usize,
@@ -118,6 +120,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
 }
 
 fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
+    let (procedure, correlation) = a.procedure.parse()?;
     Ok(StudyOptions {
         first_seed: a.first_seed,
         seeds: a.seeds,
@@ -129,6 +132,8 @@ fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
         keep_sets: a.keep_sets.clone(),
         noise: a.noise.noise()?,
         discover: DiscoverOptions {
+            procedure,
+            correlation,
             bootstrap: a.bootstrap,
             tails: parse_tails(&a.tails)?,
             phase_profile: a.phase_profile,

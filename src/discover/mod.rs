@@ -12,6 +12,7 @@
 mod ambiguity;
 #[cfg(test)]
 mod bootstrap_check;
+mod calibration;
 mod decide;
 mod effects;
 mod fit;
@@ -23,12 +24,14 @@ mod noise;
 #[cfg(test)]
 mod power;
 mod probes;
+mod procedure;
 mod profile;
 mod refit;
 mod report;
 mod run;
 pub mod stats;
 mod study;
+mod training;
 mod windows;
 
 pub use effects::{Candidate, Effect, LIBRARY};
@@ -37,8 +40,9 @@ pub use noise::{DiscoveryNoise, NoiseOrigin, TailChoice};
 pub use report::{discovery_json, summary_text, write_discovery};
 pub use run::{
     discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
-    Gap, GapSet, OtherStart, ResidualCurve, TestResult, MAX_BOOTSTRAP,
+    Gap, GapSet, OtherStart, PredictionCheck, Procedure, ResidualCurve, TestResult, MAX_BOOTSTRAP,
 };
 pub use stats::clopper_pearson_upper95;
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
+pub use training::Correlation;
 pub use windows::{windows, Window};

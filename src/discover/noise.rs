@@ -55,6 +55,9 @@ pub enum NoiseOrigin {
     PerPoint,
     /// Estimated from the pseudo-residuals, the floor at least `floor_min`.
     Estimated { floor_min: f64 },
+    /// Estimated with M0's fit by restricted maximum likelihood, the floor at least
+    /// `floor_min` (the likelihood procedure).
+    Fitted { floor_min: f64 },
 }
 
 impl NoiseOrigin {
@@ -69,6 +72,12 @@ impl NoiseOrigin {
             ),
             NoiseOrigin::Estimated { .. } => {
                 "estimated from the pseudo-residuals about M0 (Gasser et al. 1986)".into()
+            }
+            NoiseOrigin::Fitted { floor_min } if *floor_min > 0.0 => format!(
+                "estimated with M0's fit by restricted maximum likelihood (floor at least the stated reading uncertainty {floor_min} µm)"
+            ),
+            NoiseOrigin::Fitted { .. } => {
+                "estimated with M0's fit by restricted maximum likelihood".into()
             }
         }
     }

@@ -57,6 +57,21 @@ pub struct DiscoverOptions {
     /// (`super::profile::ProfileProblem::phase_arc`: up to twelve more all-load fits, tens
     /// of seconds with a stiffness variation); off, its phase has the Wald arc only.
     pub phase_profile: bool,
+    /// Which procedure decides.
+    pub procedure: Procedure,
+    /// The errors' correlation along speed (the likelihood procedure only).
+    pub correlation: super::training::Correlation,
+}
+
+/// The procedure of a discovery run.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Procedure {
+    /// Score-ranked probes with bootstrap-calibrated detection tests (the current default).
+    Tests,
+    /// One likelihood: every fit by the estimation engine, likelihood ratios calibrated by a
+    /// parametric bootstrap, a name only if it predicts the held-out loads
+    /// (`super::procedure`).
+    Likelihood,
 }
 
 impl Default for DiscoverOptions {
@@ -71,6 +86,8 @@ impl Default for DiscoverOptions {
             refit_iterations: 12,
             collinear_cos: 0.95,
             phase_profile: false,
+            procedure: Procedure::Tests,
+            correlation: super::training::Correlation::Auto,
         }
     }
 }
@@ -162,6 +179,37 @@ pub struct OtherStart {
 }
 
 impl CandidateResult {
+    /// A candidate with nothing found yet.
+    pub(super) fn untested(candidate: Candidate, identifiable: bool) -> Self {
+        CandidateResult {
+            name: candidate.name(),
+            candidate,
+            identifiable,
+            note: None,
+            failed: None,
+            score: f64::NAN,
+            score_p_approx: f64::NAN,
+            lr: f64::NAN,
+            p_value: None,
+            p_holm: None,
+            estimate_name: candidate.estimate_name(),
+            estimate: None,
+            ci95: None,
+            ci95_method: "Wald",
+            wald_ci95: None,
+            profile_ci95: None,
+            interval_quantile: None,
+            delta: None,
+            refit_lr: None,
+            refit_zeta: None,
+            refit_omega_n_hz: None,
+            other_start: None,
+            phase_deg: None,
+            phase_wald95_deg: Vec::new(),
+            phase_profile95_deg: None,
+        }
+    }
+
     /// Record that the candidate failed `because` (a clause: "its refit failed: ..."), and
     /// drop what a refit of it had found: a failed candidate has no estimate to report.
     pub(super) fn fail(&mut self, because: String) {
@@ -411,7 +459,7 @@ fn model_range(
 
 /// Of the points `dropped` of curve `i`, those whose measured pp lies outside the model range
 /// `range` (um) by more than 3 noise scales (at its largest pp) plus 10% of that pp.
-fn far_from(
+pub(super) fn far_from(
     setup: &Setup,
     noise: &DiscoveryNoise,
     i: usize,
@@ -565,6 +613,27 @@ pub struct Discovery {
     /// Residuals with the leading significant candidate refitted (M0's when there is none).
     pub residuals_after: Vec<ResidualCurve>,
     pub bootstrap: usize,
+    /// The errors' correlation along speed of M0's fit (likelihood procedure).
+    pub noise_correlation: Option<crate::fit::CorrelationFit>,
+    /// Whether the best candidate predicts the held-out loads better than M0 (likelihood
+    /// procedure, with held-out loads).
+    pub prediction_check: Option<PredictionCheck>,
+}
+
+/// The held-out loads' log-likelihood under M0 and under the best candidate (each with the
+/// loads' STE fitted alone, under the training loads' noise): a name must predict.
+#[derive(Clone, Debug, Serialize)]
+pub struct PredictionCheck {
+    pub candidate: &'static str,
+    pub held_out_log_likelihood_m0: f64,
+    pub held_out_log_likelihood_candidate: f64,
+}
+
+impl PredictionCheck {
+    /// Whether the candidate predicts the held-out loads better than M0.
+    pub fn candidate_predicts(&self) -> bool {
+        self.held_out_log_likelihood_candidate > self.held_out_log_likelihood_m0
+    }
 }
 
 /// The candidate an answer rests on: the named one, else the closest, else the first of the
@@ -763,7 +832,7 @@ pub(super) fn make_mask(
         .collect()
 }
 
-fn gap(
+pub(super) fn gap(
     setup: &Setup,
     idx: &[usize],
     preds: &[CurvePrediction],
@@ -810,7 +879,7 @@ fn gap(
     }
 }
 
-fn residual_curves(
+pub(super) fn residual_curves(
     setup: &Setup,
     train: &[usize],
     preds: &[CurvePrediction],
@@ -1183,6 +1252,9 @@ pub fn least_bootstrap(alpha: f64) -> usize {
 /// a p-value can pass Holm's correction ([`least_bootstrap`]); at most [`MAX_BOOTSTRAP`]; a
 /// stated noise positive and finite.
 pub(crate) fn check_options(opts: &DiscoverOptions) -> Result<()> {
+    if opts.procedure == Procedure::Likelihood {
+        return check_likelihood_options(opts);
+    }
     if !(opts.alpha > 0.0 && opts.alpha <= 0.5) {
         return Err(GearError::param(
             "alpha",
@@ -1209,6 +1281,26 @@ pub(crate) fn check_options(opts: &DiscoverOptions) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The likelihood procedure's options: alpha in (0, 0.5]; enough replicates that the least
+/// p-value, 1 / (B + 1), times the candidates Holm's correction runs over is below alpha; a
+/// stated noise positive and finite.
+fn check_likelihood_options(opts: &DiscoverOptions) -> Result<()> {
+    let least = (LIBRARY.len() as f64 / opts.alpha).ceil() as usize;
+    if opts.bootstrap < least || opts.bootstrap > MAX_BOOTSTRAP {
+        return Err(GearError::Unsupported(format!(
+            "--bootstrap {}: the bootstrap needs {least} to {MAX_BOOTSTRAP} replicates at alpha {} (the least p-value 1 / (B + 1), times the {} candidates Holm's correction runs over, must be below alpha)",
+            opts.bootstrap,
+            opts.alpha,
+            LIBRARY.len()
+        )));
+    }
+    check_options(&DiscoverOptions {
+        bootstrap: least_bootstrap(opts.alpha),
+        procedure: Procedure::Tests,
+        ..opts.clone()
+    })
 }
 
 /// What the run knows of the noise: `--noise-um`, else what the data set states (per-point
@@ -1375,6 +1467,9 @@ pub fn discover_setup(
     progress: &dyn Progress,
 ) -> Result<Discovery> {
     check_options(opts)?;
+    if opts.procedure == Procedure::Likelihood {
+        return super::procedure::discover_by_likelihood(setup, opts, progress);
+    }
     let n_curves = setup.curves.len();
     let (train, held) = split(n_curves);
     let measured: Vec<Vec<f64>> = setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
@@ -1570,6 +1665,8 @@ fn discovery_of(
         candidates: cands,
         effect,
         bootstrap: r.opts.bootstrap,
+        noise_correlation: None,
+        prediction_check: None,
     }
 }
 

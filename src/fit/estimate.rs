@@ -41,9 +41,12 @@ pub enum NoiseSetting {
 }
 
 /// Whether the Student-t likelihood is used.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Robust {
+    /// Student-t errors with these degrees of freedom, held: a parametric bootstrap's
+    /// replicate refitted with the shape its data's fit found (`discover`'s calibration).
+    StudentT(f64),
     /// Gaussian errors.
     Off,
     /// Student-t errors, degrees of freedom estimated.
@@ -448,7 +451,7 @@ fn at_length<'a>(base: &NoiseData<'a>, axis: Option<&'a Axis>, length: f64) -> N
 fn noise_at(
     setting: &NoiseSetting,
     data: &NoiseData,
-    dist: Distribution,
+    (dist, dof_free): (Distribution, bool),
     length: Length,
 ) -> Result<(NoiseModel, Vec<f64>, f64)> {
     let pick = |dist: Distribution| -> Result<(NoiseModel, f64)> {
@@ -467,8 +470,7 @@ fn noise_at(
         }
     };
     let (m, nll) = match dist {
-        Distribution::Gaussian => pick(dist)?,
-        Distribution::StudentT { .. } => {
+        Distribution::StudentT { .. } if dof_free => {
             let mut best: Option<(NoiseModel, f64)> = None;
             for dof in T_DOF_GRID {
                 let c = pick(Distribution::StudentT { dof })?;
@@ -478,6 +480,7 @@ fn noise_at(
             }
             best.ok_or_else(|| GearError::Numerical("no Student-t noise model".into()))?
         }
+        _ => pick(dist)?,
     };
     let scales = scales_of(setting, &m, data.levels);
     Ok((m, scales, nll))
@@ -553,6 +556,7 @@ fn converge<M>(
     start: &[f64],
     (setting, stop): (&NoiseSetting, Stop),
     (dist, length): (Distribution, Length),
+    dof_free: bool,
 ) -> Result<Converged>
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
@@ -573,7 +577,7 @@ where
             correlation: None,
             jacobian: Some(&jacobian),
         };
-        let (noise, scales, nll) = noise_at(setting, &data, dist, length)?;
+        let (noise, scales, nll) = noise_at(setting, &data, (dist, dof_free), length)?;
         if settled(&previous, &lm.params, &noise) || it + 1 == MAX_REWEIGHTS {
             return Ok(Converged {
                 lm,
@@ -689,7 +693,14 @@ where
     }
     let first = best.ok_or_else(|| GearError::Numerical("no start of the fit converged".into()))?;
     let run = |start: &[f64], dist: Distribution, length: Length| {
-        converge(&w, params, start, (&opts.noise, opts.stop), (dist, length))
+        converge(
+            &w,
+            params,
+            start,
+            (&opts.noise, opts.stop),
+            (dist, length),
+            !matches!(opts.robust, Robust::StudentT(_)),
+        )
     };
     let axis = opts.correlation.axis();
     // Independent errors first (or the stated length); then, where the length is to be
@@ -726,9 +737,14 @@ where
     let (c, robust_lr) = if gaussian_only {
         (g, None)
     } else {
-        let t = run(&first.params, Distribution::StudentT { dof: 4.0 }, length)?;
+        let dof = match opts.robust {
+            Robust::StudentT(dof) => dof,
+            _ => 4.0,
+        };
+        let t = run(&first.params, Distribution::StudentT { dof }, length)?;
         let lr = 2.0 * (g.nll - t.nll);
-        let keep_t = opts.robust == Robust::On || lr > ROBUST_LR_CRITICAL;
+        let keep_t =
+            matches!(opts.robust, Robust::On | Robust::StudentT(_)) || lr > ROBUST_LR_CRITICAL;
         (if keep_t { t } else { g }, Some(lr))
     };
     let correlation = axis.map(|a| correlation_fit(&c, &opts.noise, (a, length), correlation_lr));

@@ -1,0 +1,1029 @@
+//! Discovery on one likelihood (docs/discover-method.md): M0 and every candidate fitted to the
+//! training loads by the estimation engine under one error family, each candidate tested by
+//! its likelihood ratio against M0 calibrated by a parametric bootstrap from the fitted M0 and
+//! its fitted errors ([`super::calibration`]), Holm's correction over the candidates, the best
+//! passing one named only if it predicts the held-out loads better than M0, its size with a
+//! profile-likelihood interval.
+
+use super::calibration::{self, Columns, ErrorModel, NullModel, Replicate};
+use super::effects::{Candidate, Effect, LIBRARY};
+use super::fit::{fit_ste, linear_start, ste_from_low_speed, Mask};
+use super::forward::{aperiodic_pp_range, predict, CurvePrediction, Globals, Setup};
+use super::noise::{DiscoveryNoise, NoiseOrigin, Scales};
+use super::run::{
+    far_from, gap, make_mask, residual_curves, split, CandidateResult, DiscoverOptions, Discovery,
+    ExcludedPoints, GapSet, PredictionCheck, TestResult,
+};
+use super::stats::{bootstrap_p, holm};
+use super::training::{Correlation, Curves, EffectParams, Family, Scale};
+use super::windows::windows;
+use crate::error::{GearError, Result};
+use crate::fit::{
+    neg_log_likelihood, profile_interval_or_better, Distribution, Estimate, EstimateOptions,
+    NoiseModel, NoiseSetting, Profiled, Robust, Stop,
+};
+use crate::numeric::min_max;
+use crate::progress::Progress;
+use crate::validate::MunroNoise;
+use nalgebra::DMatrix;
+use rayon::prelude::*;
+
+/// Jacobians at most, and the gain (sigma^2 over three Jacobians) below which a fit through
+/// simulated sweeps stops: as `validate munro`'s swept fits.
+fn fit_stop() -> Stop {
+    Stop::converged(40).or_stalled(1e-3)
+}
+
+/// The run's error family before M0's fit: the scale as the options or the set state it, the
+/// tails and the correlation as the options say.
+fn family_of(setup: &Setup, opts: &DiscoverOptions) -> Family {
+    let scale = match (opts.noise_um, &setup.noise) {
+        (Some(s), _) => Scale::Stated(NoiseModel::constant(s)),
+        (None, MunroNoise::Stated(m)) => Scale::Stated(*m),
+        (None, MunroNoise::PerPoint) => Scale::PerPoint,
+        (None, MunroNoise::Estimate { floor_min }) => Scale::Estimated {
+            floor_min: *floor_min,
+        },
+    };
+    // A length stated in rig.toml [noise] is the set's statement, as in validate munro.
+    let correlation = match (&scale, opts.correlation) {
+        (Scale::Stated(m), Correlation::Auto) if m.correlation_length > 0.0 => {
+            Correlation::Stated(m.correlation_length)
+        }
+        (_, c) => c,
+    };
+    Family {
+        scale,
+        robust: match opts.tails {
+            super::noise::TailChoice::Gaussian => Robust::Off,
+            super::noise::TailChoice::Auto => Robust::Auto,
+        },
+        correlation,
+    }
+}
+
+/// The report's words for where the noise came from.
+fn noise_origin(setup: &Setup, opts: &DiscoverOptions) -> NoiseOrigin {
+    match (opts.noise_um, &setup.noise) {
+        (Some(_), _) => NoiseOrigin::StatedOption,
+        (None, MunroNoise::Stated(_)) => NoiseOrigin::StatedRig,
+        (None, MunroNoise::PerPoint) => NoiseOrigin::PerPoint,
+        (None, MunroNoise::Estimate { floor_min }) => NoiseOrigin::Fitted {
+            floor_min: *floor_min,
+        },
+    }
+}
+
+/// M0 on the training loads, with what every later step is measured against.
+struct NullFit<'a> {
+    curves: Curves<'a>,
+    est: Estimate,
+    /// The run's family, its automatic choices made by this fit.
+    family: Family,
+    /// Every curve's prediction (held-out ones with their STE fitted alone) and STE (um).
+    preds: Vec<CurvePrediction>,
+    ste: Vec<f64>,
+    globals: Globals,
+    /// The noise at every point at M0's levels.
+    noise: DiscoveryNoise,
+    scales: Scales,
+    /// Held-out loads' log-likelihood under M0 (their STE fitted alone).
+    held_log_likelihood: f64,
+}
+
+/// Every point kept.
+fn all_points(setup: &Setup) -> Mask {
+    setup
+        .curves
+        .iter()
+        .map(|c| vec![true; c.speeds_rpm.len()])
+        .collect()
+}
+
+/// Zeta, omega_n and each training STE to start M0 from: eq. 13's closed form at the design
+/// load, the quasi-static end of every other curve.
+fn null_start(setup: &Setup, train: &[usize]) -> Result<Vec<f64>> {
+    let (g, e0) = linear_start(setup, train[0])?;
+    let mut start = vec![g.zeta, g.omega_n_hz, e0];
+    start.extend(train[1..].iter().map(|&i| ste_from_low_speed(setup, i, g)));
+    Ok(start)
+}
+
+/// The first fit's weights: the stated noise, or a constant from the curves' second
+/// differences (Gasser et al. 1986), which a jump hardly moves.
+fn first_family(setup: &Setup, family: &Family) -> Result<Family> {
+    let scale = match &family.scale {
+        Scale::Estimated { floor_min } => {
+            let measured: Vec<Vec<f64>> =
+                setup.curves.iter().map(|c| c.dte_pp_um.clone()).collect();
+            let s = super::stats::noise_from_differences(&measured)
+                .filter(|s| *s > 0.0)
+                .ok_or_else(|| {
+                    GearError::Numerical("cannot estimate the noise from the curves".into())
+                })?;
+            Scale::Stated(NoiseModel::constant(s.max(*floor_min)))
+        }
+        s => s.clone(),
+    };
+    Ok(Family {
+        scale,
+        robust: Robust::Off,
+        correlation: Correlation::Stated(0.0),
+    })
+}
+
+/// The noise of a fit as the mask and the held-out loads' STE scans weigh the points: its
+/// scale at each level (for Student-t errors the scale, not the standard deviation, which
+/// 2 degrees of freedom or fewer do not have), or the stated scales.
+fn discovery_noise(setup: &Setup, origin: NoiseOrigin, model: NoiseModel) -> DiscoveryNoise {
+    let model = NoiseModel {
+        distribution: Distribution::Gaussian,
+        ..model
+    };
+    match origin {
+        NoiseOrigin::PerPoint => DiscoveryNoise::per_point(
+            setup
+                .curves
+                .iter()
+                .map(|c| {
+                    c.sd_um
+                        .clone()
+                        .unwrap_or_else(|| vec![1.0; c.speeds_rpm.len()])
+                })
+                .collect(),
+        ),
+        o => DiscoveryNoise::stated(o, model),
+    }
+}
+
+/// Every curve predicted at M0's globals: training ones with their fitted STE, held-out ones
+/// from their quasi-static end.
+fn rough_predictions(
+    setup: &Setup,
+    train: &[usize],
+    g: Globals,
+    ste: &[f64],
+) -> Result<Vec<CurvePrediction>> {
+    (0..setup.curves.len())
+        .into_par_iter()
+        .map(|i| {
+            let e = train
+                .iter()
+                .position(|&t| t == i)
+                .map_or_else(|| ste_from_low_speed(setup, i, g), |k| ste[k].abs());
+            predict(setup, i, g, e, &Effect::none())
+        })
+        .collect()
+}
+
+/// Fit M0: on every point under the first weights; the mask from that fit (points not
+/// period-1, jumps); again on the kept points under the run's family; the mask once more from
+/// that fit's noise, and a last fit if it moved.
+fn fit_null<'a>(
+    setup: &'a Setup,
+    (train, held): (&[usize], &[usize]),
+    family: &Family,
+    origin: &NoiseOrigin,
+    masks: &'a mut [Mask; 2],
+) -> Result<NullFit<'a>> {
+    let every: Vec<usize> = (0..setup.curves.len()).collect();
+    let all = all_points(setup);
+    let first = first_family(setup, family)?;
+    let pass1 = Curves::new(setup, train, &all, EffectParams::None).fit(
+        vec![null_start(setup, train)?],
+        &first,
+        fit_stop(),
+    )?;
+    let rough_noise = |est: &Estimate| discovery_noise(setup, origin.clone(), est.noise.model);
+    let (g1, ste1, _) = Curves::new(setup, train, &all, EffectParams::None).unpack(&pass1.params);
+    let pre = rough_predictions(setup, train, g1, &ste1)?;
+    masks[0] = make_mask(setup, &pre, &every, &rough_noise(&pass1))?;
+    let est = Curves::new(setup, train, &masks[0], EffectParams::None).fit(
+        vec![pass1.params.clone()],
+        family,
+        fit_stop(),
+    )?;
+    let (g2, ste2, _) =
+        Curves::new(setup, train, &masks[0], EffectParams::None).unpack(&est.params);
+    let pre = rough_predictions(setup, train, g2, &ste2)?;
+    masks[1] = make_mask(setup, &pre, &every, &rough_noise(&est))?;
+    let [m0_mask, m1_mask] = masks;
+    let (mask, est): (&'a Mask, Estimate) = if *m1_mask == *m0_mask {
+        (&*m1_mask, est)
+    } else {
+        let refit = Curves::new(setup, train, m1_mask, EffectParams::None).fit(
+            vec![est.params.clone()],
+            family,
+            fit_stop(),
+        )?;
+        (&*m1_mask, refit)
+    };
+    let curves = Curves::new(setup, train, mask, EffectParams::None);
+    let (globals, ste, _) = curves.unpack(&est.params);
+    let family = family.chosen_by(&est);
+    let noise = discovery_noise(setup, origin.clone(), est.noise.model);
+    let levels: Vec<Vec<f64>> = pre.iter().map(|p| p.dte_pp_um.clone()).collect();
+    let scales = noise.scales(&levels);
+    let mut preds = pre;
+    for (k, p) in curves.predictions(&est.params)?.into_iter().enumerate() {
+        preds[train[k]] = p;
+    }
+    let held_fits = held_out(
+        setup,
+        (held, mask, &scales),
+        (globals, &Effect::none()),
+        (&family.held_at(&est), est.noise.model.distribution),
+    )?;
+    let mut ste_all: Vec<f64> = vec![0.0; setup.curves.len()];
+    for (k, &i) in train.iter().enumerate() {
+        ste_all[i] = ste[k].abs();
+    }
+    let mut held_log_likelihood = 0.0;
+    for h in held_fits {
+        ste_all[h.curve] = h.ste_um;
+        preds[h.curve] = h.prediction;
+        held_log_likelihood += h.log_likelihood;
+    }
+    Ok(NullFit {
+        curves,
+        est,
+        family,
+        preds,
+        ste: ste_all,
+        globals,
+        noise,
+        scales,
+        held_log_likelihood,
+    })
+}
+
+/// A held-out load predicted by a fitted model: its STE fitted alone.
+struct HeldOut {
+    curve: usize,
+    ste_um: f64,
+    prediction: CurvePrediction,
+    /// Log-likelihood of its kept points under the training loads' noise.
+    log_likelihood: f64,
+}
+
+/// Each held-out curve's STE fitted alone with zeta, omega_n and the effect held (`g`,
+/// `effect`), under `family` (the training fit's noise, held, Gaussian), its log-likelihood
+/// under `distribution` (the training fit's): a held-out load's STE is a property of that
+/// load, not something the training loads predict. The start is
+/// [`fit_ste`]'s scan over amplitudes under the diagonal scales `scales` (the response is not
+/// smooth in the STE: a jump moves by a grid step).
+fn held_out(
+    setup: &Setup,
+    (held, mask, scales): (&[usize], &Mask, &Scales),
+    (g, effect): (Globals, &Effect),
+    (family, distribution): (&Family, Distribution),
+) -> Result<Vec<HeldOut>> {
+    held.par_iter()
+        .map(|&i| {
+            let start = ste_from_low_speed(setup, i, g);
+            let (e, _) = fit_ste(setup, i, mask, scales, g, effect, start)?;
+            let curves = Curves::ste_of(setup, i, mask, g, effect.clone());
+            let est = curves.fit(vec![vec![e]], family, Stop::converged(8))?;
+            let ste_um = est.params[0].abs();
+            let axis = curves.axis()?;
+            Ok(HeldOut {
+                curve: i,
+                ste_um,
+                prediction: predict(setup, i, g, ste_um, effect)?,
+                log_likelihood: -neg_log_likelihood(
+                    distribution,
+                    &est.residuals,
+                    &est.noise.scales,
+                    Some(crate::fit::Correlation {
+                        axis: &axis,
+                        length: est.noise.model.correlation_length,
+                    }),
+                ),
+            })
+        })
+        .collect()
+}
+
+/// One candidate fitted to the training loads.
+struct CandidateFit {
+    candidate: Candidate,
+    /// Its fit, or why it failed.
+    est: std::result::Result<Estimate, String>,
+    /// 2 (log L_c - log L_0).
+    lr: f64,
+    /// Whether its largest probe moves the training curves, off M0's own directions, by the
+    /// noise (else it cannot be seen in these data and is not tested).
+    identifiable: bool,
+    note: Option<String>,
+    /// Its derivative columns at delta = 0 on the kept points (um per unit of delta).
+    columns: Option<DMatrix<f64>>,
+}
+
+/// The whitened vector `v` (M0's innovations of a change of the curves) with its projection on
+/// M0's whitened Jacobian removed: what no change of M0's own parameters can do.
+fn off_m0(null: &NullFit, v: &[f64]) -> Vec<f64> {
+    let w = &null.est.whitener;
+    let g = w.innovations_of_columns(&null.est.model_jacobian);
+    let x = nalgebra::DVector::from_vec(w.innovations(v));
+    let svd = g.clone().svd(true, true);
+    let proj = svd
+        .solve(&x, 1e-10)
+        .map(|beta| &g * beta)
+        .unwrap_or_else(|_| nalgebra::DVector::zeros(x.len()));
+    (x - proj).iter().copied().collect()
+}
+
+/// A probe of a candidate at M0's other parameters: how far it moves the training curves off
+/// M0's own directions, and its sum of squared innovations under M0's noise (the probes that
+/// failed are left out).
+struct Probe {
+    delta: Vec<f64>,
+    moved: f64,
+    rss: f64,
+}
+
+fn probe_all(
+    null: &NullFit,
+    curves: &Curves,
+    at: &(dyn Fn(Vec<f64>) -> Vec<f64> + Sync),
+    c: Candidate,
+) -> Vec<Probe> {
+    let y = curves.data();
+    let f0 = null.curves.model(&null.est.params).unwrap_or_default();
+    let squares = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+    c.probes()
+        .into_par_iter()
+        .filter_map(|delta| {
+            let f = curves.model(&at(delta.clone())).ok()?;
+            let off: Vec<f64> = f.iter().zip(&f0).map(|(a, b)| a - b).collect();
+            let r: Vec<f64> = y.iter().zip(&f).map(|(y, f)| y - f).collect();
+            Some(Probe {
+                delta,
+                moved: squares(&off_m0(null, &off)).sqrt(),
+                rss: squares(&null.est.whitener.innovations(&r)),
+            })
+        })
+        .collect()
+}
+
+/// Candidate `c` fitted from M0 (delta 0) or its best probe (the one of
+/// [`Candidate::probes`] that fits the training curves best at M0's other parameters).
+fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis) -> CandidateFit {
+    let curves = Curves::new(
+        null.curves.setup,
+        &null.curves.idx,
+        null.curves.mask,
+        EffectParams::Delta(c),
+    );
+    let (_, ste, _) = null.curves.unpack(&null.est.params);
+    let at = |delta: Vec<f64>| curves.pack(null.globals, &ste, &Effect::of(c, delta));
+    let probes = probe_all(null, &curves, &at, c);
+    let moved = probes.iter().map(|p| p.moved).fold(0.0, f64::max);
+    // One start: the best probe where it fits better than M0 under M0's noise, else M0. The
+    // engine's first fit of several starts compares them under equal weights, which an
+    // estimated noise does not have yet; a start from a worse probe ended below M0's
+    // likelihood, a nested fit that did not find its null.
+    let m0_rss: f64 = null
+        .est
+        .whitener
+        .innovations(&null.est.residuals)
+        .iter()
+        .map(|x| x * x)
+        .sum();
+    let start = probes
+        .iter()
+        .filter(|p| p.rss < m0_rss)
+        .min_by(|a, b| a.rss.total_cmp(&b.rss))
+        .map_or_else(|| vec![0.0; c.dim()], |p| p.delta.clone());
+    // A candidate that no probe lets change the curves by a tenth of the noise beyond M0's own
+    // parameters cannot reach a likelihood ratio of 0.01: it is reported, not tested.
+    let identifiable = moved >= 0.1;
+    let note = (!identifiable).then(|| {
+        format!(
+            "not identifiable: its largest probe changes the training curves by {moved:.2} \
+             noise standard deviations beyond what M0's own parameters can do{}",
+            if c == Candidate::Backlash {
+                "; in contact or with single-sided impacts the response in um does not depend on b"
+            } else {
+                ""
+            }
+        )
+    });
+    let starts = vec![at(start)];
+    let est = curves
+        .fit(starts, &null.family, fit_stop())
+        .map_err(|e| e.to_string());
+    let lr = est.as_ref().map_or(f64::NAN, |e| {
+        2.0 * (calibration::log_likelihood(e, axis) - l0)
+    });
+    let columns = identifiable
+        .then(|| candidate_columns(&curves, &at, c).ok())
+        .flatten();
+    CandidateFit {
+        candidate: c,
+        est,
+        lr,
+        identifiable,
+        note,
+        columns,
+    }
+}
+
+/// The candidate's derivative columns at delta = 0 (central differences over its typical
+/// size, each side continuing M0's sweep).
+fn candidate_columns(
+    curves: &Curves,
+    at: &(dyn Fn(Vec<f64>) -> Vec<f64> + Sync),
+    c: Candidate,
+) -> Result<DMatrix<f64>> {
+    let base = at(vec![0.0; c.dim()]);
+    curves.model(&base)?;
+    let h = c.scale();
+    let cols: Vec<Vec<f64>> = (0..c.dim())
+        .into_par_iter()
+        .map(|k| {
+            let side = |s: f64| {
+                let mut d = vec![0.0; c.dim()];
+                d[k] = s * h;
+                curves.near(&at(d), &base)
+            };
+            let (plus, minus) = (side(1.0)?, side(-1.0)?);
+            Ok(plus
+                .iter()
+                .zip(&minus)
+                .map(|(a, b)| (a - b) / (2.0 * h))
+                .collect())
+        })
+        .collect::<Result<_>>()?;
+    let n = cols.first().map_or(0, Vec::len);
+    Ok(DMatrix::from_fn(n, c.dim(), |i, k| cols[k][i]))
+}
+
+/// The named effect's size and its 95% profile-likelihood interval (Wald where the profile
+/// fails), with the phase's Wald arc (degrees) for a phase-carrying candidate.
+struct Size {
+    estimate: f64,
+    ci95: Option<(f64, f64)>,
+    method: &'static str,
+    wald: Option<(f64, f64)>,
+    profile: Option<(Option<f64>, Option<f64>)>,
+    phase_deg: Option<f64>,
+    phase_wald95_deg: Vec<(f64, f64)>,
+}
+
+fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
+    let delta_curves = Curves::new(
+        null.curves.setup,
+        &null.curves.idx,
+        null.curves.mask,
+        EffectParams::Delta(c),
+    );
+    let (g, ste, effect) = delta_curves.unpack(&est.params);
+    let curves = Curves::new(
+        null.curves.setup,
+        &null.curves.idx,
+        null.curves.mask,
+        EffectParams::Profiled(c),
+    );
+    let polar = curves.fit(
+        vec![curves.pack(g, &ste, &effect)],
+        &null.family,
+        fit_stop(),
+    )?;
+    let k = 2 + curves.idx.len();
+    let u = polar.params[k];
+    let to_estimate = |(a, b): (f64, f64)| {
+        let (x, y) = (c.estimate_of_profiled(a), c.estimate_of_profiled(b));
+        (x.min(y), x.max(y))
+    };
+    let wald = to_estimate(polar.ci95[k]);
+    let model = |p: &[f64]| curves.model(p);
+    let near = |p: &[f64], base: &[f64]| curves.near(p, base);
+    let profile = match profile_interval_or_better(
+        &model,
+        Some(&near),
+        &curves.data(),
+        &polar,
+        k,
+        fit_stop(),
+        None,
+    ) {
+        Ok(Profiled::Interval(p)) => Some(p.ends()),
+        _ => None,
+    };
+    let profile_mapped = profile.map(|(lo, hi)| {
+        (
+            lo.map(|v| c.estimate_of_profiled(v)),
+            hi.map(|v| c.estimate_of_profiled(v)),
+        )
+    });
+    let (ci95, method) = match profile_mapped {
+        Some((lo, hi)) => (
+            Some((
+                lo.unwrap_or(if c.profiled_is_amplitude() {
+                    0.0
+                } else {
+                    f64::NEG_INFINITY
+                }),
+                hi.unwrap_or(f64::INFINITY),
+            )),
+            "profile likelihood",
+        ),
+        None => (Some(wald), "Wald"),
+    };
+    let phase = c.has_phase().then(|| {
+        let (lo, hi) = polar.ci95[k + 1];
+        (
+            polar.params[k + 1].to_degrees(),
+            (lo.to_degrees(), hi.to_degrees()),
+        )
+    });
+    Ok(Size {
+        estimate: c.estimate_of_profiled(u),
+        ci95,
+        method,
+        wald: Some(wald),
+        profile: profile_mapped,
+        phase_deg: phase.map(|p| p.0),
+        phase_wald95_deg: phase.map(|p| vec![p.1]).unwrap_or_default(),
+    })
+}
+
+/// Whether the effects of two fits move the training curves alike: |cos| of the angle between
+/// their changes from M0, whitened by M0's noise, above `collinear_cos`.
+fn collinear(null: &NullFit, a: &Estimate, b: &Estimate, collinear_cos: f64) -> bool {
+    let change = |e: &Estimate| -> Vec<f64> {
+        let r: Vec<f64> = e
+            .residuals
+            .iter()
+            .zip(&null.est.residuals)
+            .map(|(rc, r0)| r0 - rc)
+            .collect();
+        null.est.whitener.innovations(&r)
+    };
+    let (u, v) = (change(a), change(b));
+    let dot: f64 = u.iter().zip(&v).map(|(x, y)| x * y).sum();
+    let norm = |w: &[f64]| w.iter().map(|x| x * x).sum::<f64>().sqrt();
+    (dot / (norm(&u) * norm(&v))).abs() > collinear_cos
+}
+
+/// Discovery on one likelihood: see the module's notes and docs/discover-method.md.
+pub fn discover_by_likelihood(
+    setup: &Setup,
+    opts: &DiscoverOptions,
+    progress: &dyn Progress,
+) -> Result<Discovery> {
+    let n_curves = setup.curves.len();
+    let (train, held) = split(n_curves);
+    progress.start(4 + LIBRARY.len() as u64, "discovery steps");
+    let origin = noise_origin(setup, opts);
+    let mut masks: [Mask; 2] = [Vec::new(), Vec::new()];
+    let null = fit_null(
+        setup,
+        (&train, &held),
+        &family_of(setup, opts),
+        &origin,
+        &mut masks,
+    )
+    .map_err(|e| {
+        GearError::Numerical(format!(
+            "the null model M0 failed in its fit to the training loads, so nothing can be \
+             tested against it: {e}"
+        ))
+    })?;
+    progress.advance(1);
+    let axis = null.curves.axis()?;
+    let l0 = calibration::log_likelihood(&null.est, &axis);
+    let fits: Vec<CandidateFit> = LIBRARY
+        .iter()
+        .map(|&c| {
+            let f = fit_candidate(&null, c, l0, &axis);
+            progress.advance(1);
+            f
+        })
+        .collect();
+    let reps = bootstrap(&null, &fits, &axis, opts)?;
+    progress.advance(1);
+    let mut cands: Vec<CandidateResult> = fits
+        .iter()
+        .enumerate()
+        .map(|(k, f)| candidate_result(f, k, &reps))
+        .collect();
+    let tested: Vec<usize> = (0..cands.len())
+        .filter(|&k| cands[k].p_value.is_some())
+        .collect();
+    let adj = holm(
+        &tested
+            .iter()
+            .filter_map(|&k| cands[k].p_value)
+            .collect::<Vec<_>>(),
+    );
+    for (&k, p) in tested.iter().zip(adj) {
+        cands[k].p_holm = Some(p);
+    }
+    let gof = goodness_of_fit(&null, &reps);
+    let passing: Vec<usize> = tested
+        .iter()
+        .copied()
+        .filter(|&k| cands[k].p_holm.is_some_and(|p| p < opts.alpha))
+        .collect();
+    // Across dimensions the least AIC, -2 log L + 2 parameters (Akaike 1974).
+    let best = passing.iter().copied().max_by(|&a, &b| {
+        let score = |k: usize| fits[k].lr - 2.0 * fits[k].candidate.dim() as f64;
+        score(a).total_cmp(&score(b))
+    });
+    let ambiguous_with: Vec<String> = best
+        .map(|b| {
+            passing
+                .iter()
+                .filter(|&&k| k != b)
+                .filter(|&&k| match (&fits[b].est, &fits[k].est) {
+                    (Ok(x), Ok(y)) => collinear(&null, x, y, opts.collinear_cos),
+                    _ => false,
+                })
+                .map(|&k| cands[k].name.to_string())
+                .collect()
+        })
+        .unwrap_or_default();
+    // The best candidate's predictions, and whether they beat M0's on the held-out loads.
+    let after = match best {
+        Some(b) => Some(candidate_predictions(&null, &fits[b], &held)?),
+        None => None,
+    };
+    progress.advance(1);
+    let check = after
+        .as_ref()
+        .filter(|_| !held.is_empty())
+        .map(|a| PredictionCheck {
+            candidate: fits[best.unwrap_or(0)].candidate.name(),
+            held_out_log_likelihood_m0: null.held_log_likelihood,
+            held_out_log_likelihood_candidate: a.held_log_likelihood,
+        });
+    let predicts = check
+        .as_ref()
+        .is_none_or(PredictionCheck::candidate_predicts);
+    if let (Some(b), true) = (best, predicts) {
+        if let Ok(est) = &fits[b].est {
+            match named_size(&null, fits[b].candidate, est) {
+                Ok(size) => fill_size(&mut cands[b], size),
+                Err(e) => cands[b].note = Some(format!("its interval failed: {e}")),
+            }
+        }
+    }
+    let misfit = gof.p_value.is_some_and(|p| p < opts.alpha)
+        || null
+            .est
+            .noise
+            .correlation
+            .as_ref()
+            .and_then(|c| c.unbounded_length())
+            .is_some();
+    let (effect, closest) = match (best, predicts) {
+        (Some(b), true) if ambiguous_with.is_empty() => (cands[b].name.to_string(), None),
+        (Some(b), true) => ("ambiguous".to_string(), Some(cands[b].name.to_string())),
+        (Some(b), false) => ("unexplained".to_string(), Some(cands[b].name.to_string())),
+        (None, _) if misfit => (
+            "unexplained".to_string(),
+            largest_lr(&cands).map(str::to_string),
+        ),
+        (None, _) => ("none".to_string(), None),
+    };
+    let excluded = excluded_points(setup, &null)?;
+    progress.advance(1);
+    progress.finish();
+    Ok(assemble(Assembly {
+        setup,
+        opts,
+        null: &null,
+        train: &train,
+        held: &held,
+        effect,
+        closest,
+        ambiguous_with,
+        cands,
+        gof,
+        check,
+        after,
+        excluded,
+        origin,
+    }))
+}
+
+/// The candidate with the largest likelihood ratio, if any was fitted.
+fn largest_lr(cands: &[CandidateResult]) -> Option<&'static str> {
+    cands
+        .iter()
+        .filter(|c| c.lr.is_finite())
+        .max_by(|a, b| a.lr.total_cmp(&b.lr))
+        .map(|c| c.name)
+}
+
+/// The bootstrap replicates of M0 and every identifiable, fitted candidate.
+fn bootstrap(
+    null: &NullFit,
+    fits: &[CandidateFit],
+    axis: &crate::fit::Axis,
+    opts: &DiscoverOptions,
+) -> Result<Vec<Replicate>> {
+    let columns: Vec<Columns> = fits
+        .iter()
+        .filter(|f| f.est.is_ok())
+        .filter_map(|f| {
+            let est = f.est.as_ref().ok()?;
+            f.columns.clone().map(|d| Columns {
+                candidate: f.candidate,
+                d,
+                options: replicate_options(&null.family, est, axis),
+            })
+        })
+        .collect();
+    let f0 = null.curves.model(&null.est.params)?;
+    let errors = ErrorModel {
+        scales: &null.est.noise.scales,
+        distribution: null.est.noise.model.distribution,
+        length: null.est.noise.model.correlation_length,
+        axis,
+    };
+    let reps = calibration::replicates(
+        &NullModel {
+            f0: &f0,
+            p0: &null.est.params,
+            params: &null.est.param_defs,
+            j0: &null.est.model_jacobian,
+            options: replicate_options(&null.family, &null.est, axis),
+        },
+        &columns,
+        &errors,
+        (opts.bootstrap, opts.seed),
+    );
+    // Each replicate's ratios in the order of the fits, None where the candidate is not tested.
+    Ok(reps
+        .into_iter()
+        .map(|r| {
+            let mut it = r.lr.into_iter();
+            Replicate {
+                chi_square: r.chi_square,
+                lr: fits
+                    .iter()
+                    .map(|f| {
+                        if f.est.is_ok() && f.columns.is_some() {
+                            it.next().flatten()
+                        } else {
+                            None
+                        }
+                    })
+                    .collect(),
+            }
+        })
+        .collect())
+}
+
+/// How a replicate is fitted by a model whose data fit is `fit`: the noise's scale
+/// re-estimated as the run's family says, its shape (the tails' degrees of freedom, the
+/// correlation length) held at the data fit's. Estimating the shape again in every replicate
+/// would cost a search over lengths and degrees of freedom per fit (minutes a run); held, the
+/// replicates' ratios miss only the shape's own share of the observed one, which is of second
+/// order under M0, where the two fits' shapes agree.
+fn replicate_options(family: &Family, fit: &Estimate, axis: &crate::fit::Axis) -> EstimateOptions {
+    let model = fit.noise.model;
+    EstimateOptions {
+        noise: match &family.scale {
+            Scale::PerPoint => NoiseSetting::PerPoint(fit.noise.scales.clone()),
+            Scale::Stated(m) => NoiseSetting::Stated(*m),
+            Scale::Estimated { floor_min } => NoiseSetting::Estimate(crate::fit::NoiseFreedom {
+                floor_min: *floor_min,
+                relative: true,
+            }),
+        },
+        correlation: crate::fit::CorrelationSetting::Stated(axis.clone(), model.correlation_length),
+        robust: match model.distribution {
+            Distribution::Gaussian => Robust::Off,
+            Distribution::StudentT { dof } => Robust::StudentT(dof),
+        },
+        stop: Stop::converged(20),
+        starts: Vec::new(),
+    }
+}
+
+/// A candidate's line of the report: its fit, its likelihood ratio and the ratio's bootstrap
+/// p-value (identifiable, fitted candidates only).
+fn candidate_result(f: &CandidateFit, k: usize, reps: &[Replicate]) -> CandidateResult {
+    let null: Vec<f64> = reps.iter().filter_map(|r| r.lr[k]).collect();
+    let tested = f.identifiable && f.est.is_ok() && f.columns.is_some() && !null.is_empty();
+    let delta = f.est.as_ref().ok().map(|e| {
+        let lead = e.params.len() - f.candidate.dim();
+        e.params[lead..].to_vec()
+    });
+    CandidateResult {
+        lr: f.lr,
+        p_value: tested.then(|| bootstrap_p(f.lr, &null)),
+        failed: f.est.as_ref().err().cloned(),
+        refit_lr: tested.then_some(f.lr),
+        refit_zeta: f.est.as_ref().ok().map(|e| e.params[0]),
+        refit_omega_n_hz: f.est.as_ref().ok().map(|e| e.params[1]),
+        delta,
+        note: f.note.clone(),
+        ..CandidateResult::untested(f.candidate, f.identifiable)
+    }
+}
+
+fn fill_size(c: &mut CandidateResult, s: Size) {
+    c.estimate = Some(s.estimate);
+    c.ci95 = s.ci95;
+    c.ci95_method = s.method;
+    c.wald_ci95 = s.wald;
+    c.profile_ci95 = s.profile;
+    c.phase_deg = s.phase_deg;
+    c.phase_wald95_deg = s.phase_wald95_deg;
+}
+
+/// M0's goodness of fit: the chi-square of its innovations against the replicates'. With an
+/// estimated noise it is near its degrees of freedom by construction and tells little; with a
+/// stated one it says whether the stated noise and M0 explain the scatter.
+fn goodness_of_fit(null: &NullFit, reps: &[Replicate]) -> TestResult {
+    let chi: Vec<f64> = reps.iter().map(|r| r.chi_square).collect();
+    TestResult {
+        name: "m0_goodness_of_fit".to_string(),
+        statistic: null.est.chi_square,
+        p_value: (!chi.is_empty()).then(|| bootstrap_p(null.est.chi_square, &chi)),
+        p_holm: None,
+    }
+}
+
+/// A fitted model's predictions of every curve.
+struct After {
+    preds: Vec<CurvePrediction>,
+    held_ste: Vec<(usize, f64)>,
+    held_log_likelihood: f64,
+}
+
+fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Result<After> {
+    let est = f
+        .est
+        .as_ref()
+        .map_err(|e| GearError::Numerical(e.clone()))?;
+    let curves = Curves::new(
+        null.curves.setup,
+        &null.curves.idx,
+        null.curves.mask,
+        EffectParams::Delta(f.candidate),
+    );
+    let (g, _, effect) = curves.unpack(&est.params);
+    let mut preds = null.preds.clone();
+    for (k, p) in curves.predictions(&est.params)?.into_iter().enumerate() {
+        preds[curves.idx[k]] = p;
+    }
+    let fits = held_out(
+        null.curves.setup,
+        (held, null.curves.mask, &null.scales),
+        (g, &effect),
+        (
+            &null.family.held_at(&null.est),
+            null.est.noise.model.distribution,
+        ),
+    )?;
+    let mut held_ste = Vec::new();
+    let mut held_log_likelihood = 0.0;
+    for h in fits {
+        held_ste.push((h.curve, h.ste_um));
+        preds[h.curve] = h.prediction;
+        held_log_likelihood += h.log_likelihood;
+    }
+    Ok(After {
+        preds,
+        held_ste,
+        held_log_likelihood,
+    })
+}
+
+/// The points M0's mask left out, per load, with M0's range there (its pp, and at a
+/// non-periodic point every observation window's) and how many measured points lie far
+/// outside it: reported, not tested.
+fn excluded_points(setup: &Setup, null: &NullFit) -> Result<Vec<ExcludedPoints>> {
+    let mask = null.curves.mask;
+    mask.iter()
+        .enumerate()
+        .map(|(i, m)| (i, (0..m.len()).filter(|&j| !m[j]).collect::<Vec<_>>()))
+        .filter(|(_, d)| !d.is_empty())
+        .map(|(i, d)| {
+            let c = &setup.curves[i];
+            let p = &null.preds[i];
+            let windows =
+                aperiodic_pp_range(setup, i, null.globals, null.ste[i], &Effect::none(), p)?;
+            let predicted = min_max(d.iter().map(|&j| p.dte_pp_um[j])).unwrap_or((0.0, 0.0));
+            let range = d
+                .iter()
+                .filter_map(|&j| windows[j])
+                .fold(predicted, |(lo, hi), (a, b)| (lo.min(a), hi.max(b)));
+            Ok(ExcludedPoints {
+                load_n: c.load_n,
+                points: d.len(),
+                non_period1: d.iter().filter(|&&j| !p.period1[j]).count(),
+                measured_range_um: min_max(d.iter().map(|&j| c.dte_pp_um[j]))
+                    .unwrap_or((f64::NAN, f64::NAN)),
+                predicted_range_um: predicted,
+                model_range_um: range,
+                region_range_um: None,
+                region_clamped: Vec::new(),
+                outside_model_range: far_from(setup, &null.noise, i, &d, range),
+            })
+        })
+        .collect()
+}
+
+/// What [`assemble`] puts together.
+struct Assembly<'a> {
+    setup: &'a Setup,
+    opts: &'a DiscoverOptions,
+    null: &'a NullFit<'a>,
+    train: &'a [usize],
+    held: &'a [usize],
+    effect: String,
+    closest: Option<String>,
+    ambiguous_with: Vec<String>,
+    cands: Vec<CandidateResult>,
+    gof: TestResult,
+    check: Option<PredictionCheck>,
+    after: Option<After>,
+    excluded: Vec<ExcludedPoints>,
+    origin: NoiseOrigin,
+}
+
+fn assemble(a: Assembly) -> Discovery {
+    let (setup, null, train, held) = (a.setup, a.null, a.train, a.held);
+    let mask = null.curves.mask;
+    let ws = windows();
+    let omega: Vec<Vec<f64>> = setup
+        .curves
+        .iter()
+        .map(|c| {
+            c.speeds_rpm
+                .iter()
+                .map(|s| setup.dim.omega(*s, null.globals.omega_n_hz))
+                .collect()
+        })
+        .collect();
+    let gap_set = |preds: &[CurvePrediction]| GapSet {
+        training: gap(setup, train, preds, mask, &omega, &ws),
+        held_out: (!held.is_empty()).then(|| gap(setup, held, preds, mask, &omega, &ws)),
+    };
+    let named = a.effect != "none" && a.effect != "unexplained";
+    let (after_preds, gap_after_model) = match (&a.after, named || a.closest.is_some()) {
+        (Some(after), true) => (
+            after.preds.clone(),
+            format!("M0 + {}", a.closest.as_deref().unwrap_or(&a.effect)),
+        ),
+        _ => (null.preds.clone(), "M0, no candidate refitted".to_string()),
+    };
+    let kept_scales = null
+        .scales
+        .iter()
+        .zip(mask)
+        .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
+    let detected = a.effect != "none";
+    Discovery {
+        effect: a.effect,
+        ambiguous_with: a.ambiguous_with,
+        closest_candidate: a.closest,
+        detected,
+        detected_by_tests: detected,
+        significant_undetected: Vec::new(),
+        held_out_prefers: None,
+        detection: vec![a.gof],
+        post_fit: Vec::new(),
+        candidates: a.cands,
+        noise: DiscoveryNoise {
+            origin: a.origin,
+            model: null.est.noise.model,
+            ..null.noise.clone()
+        },
+        noise_range_um: min_max(kept_scales).unwrap_or((0.0, 0.0)),
+        zeta_m0: null.globals.zeta,
+        omega_n_hz_m0: null.globals.omega_n_hz,
+        design_load_n: setup.design_load_n,
+        training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
+        held_out_loads_n: held.iter().map(|&i| setup.curves[i].load_n).collect(),
+        held_out_ste_um: held
+            .iter()
+            .map(|&i| {
+                let after = a
+                    .after
+                    .as_ref()
+                    .and_then(|x| x.held_ste.iter().find(|h| h.0 == i))
+                    .map_or(null.ste[i], |h| h.1);
+                (setup.curves[i].load_n, null.ste[i], after)
+            })
+            .collect(),
+        excluded_points: mask.iter().flatten().filter(|m| !**m).count(),
+        excluded_by_load: a.excluded,
+        gap_before: gap_set(&null.preds),
+        gap_after: gap_set(&after_preds),
+        gap_after_model,
+        residuals_before: residual_curves(setup, train, &null.preds, mask, &omega),
+        residuals_after: residual_curves(setup, train, &after_preds, mask, &omega),
+        windows: ws,
+        bootstrap: a.opts.bootstrap,
+        noise_correlation: null.est.noise.correlation.clone(),
+        prediction_check: a.check,
+    }
+}
