@@ -20,7 +20,8 @@ pub struct Args {
     #[arg(long, default_value_t = 21, allow_hyphen_values = true,
           value_parser = super::limits::whole(1..=1000))]
     repeat: usize,
-    /// Also time `discover` on two synthetic four-load sets that need refits (about two minutes).
+    /// Also time `discover` on two synthetic four-load sets with an effect to name (several
+    /// minutes).
     #[arg(long)]
     discover_refit: bool,
 }
@@ -132,8 +133,8 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.elapsed().as_secs_f64(),
             rayon::current_num_threads()
         ));
-        // Discrepancy discovery (issue 5) on the same four-load set: M0 fit, tests, 1999
-        // bootstrap replicates, candidate dictionary and refits of the significant candidates.
+        // Discrepancy discovery (issue 5) on the same four-load set: M0 and the five
+        // candidates fitted, the bootstrap of their likelihood ratios (default replicates).
         text.push_str(&timed_discover(&data, "data/munro")?);
     }
     if a.discover_refit {
@@ -156,10 +157,10 @@ pub fn run(a: Args) -> anyhow::Result<()> {
 }
 
 /// `discover` on the slow cases: SYNTHETIC four-load Munro-style sets on Munro's 50 rpm grid,
-/// where the candidates are refitted with the full nonlinear model. A second STE harmonic at 40%
+/// where an effect is named and its profile interval taken. A second STE harmonic at 40%
 /// of the first (seed 1, constant noise 0.15 um, made by the fit's own solvers), and the
 /// slowest case the studies meet: a mesh stiffness variation eps 0.2 at 115 degrees (seed 3,
-/// noise 3% of the level on a 0.15 um floor, made by DOP853 at rtol 1e-9), whose refits
+/// noise 3% of the level on a 0.15 um floor, made by DOP853 at rtol 1e-9), whose fits
 /// integrate k(t) by DOP853. Each set is written to a temporary folder and removed.
 fn discover_refit_timing() -> anyhow::Result<String> {
     let mut r2 = geardyn::validate::MunroTruth::default_munro();

@@ -6,9 +6,7 @@ use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use clap::Args as ClapArgs;
 use geardyn::data::load_munro;
-use geardyn::discover::{
-    discover, Correlation, DiscoverOptions, Procedure, TailChoice, MAX_BOOTSTRAP,
-};
+use geardyn::discover::{discover, Correlation, DiscoverOptions, TailChoice, MAX_BOOTSTRAP};
 use geardyn::report::data_kind_banner;
 use std::path::PathBuf;
 
@@ -20,9 +18,10 @@ pub struct Args {
     /// Output folder (discovery.json, report.md, index.html, residual plots).
     #[arg(long, default_value = "reports/discover")]
     out: PathBuf,
-    /// Parametric bootstrap replicates under M0, in [520, 99999] (520 is the least at which
-    /// a p-value can pass Holm's correction over the 13 tests at alpha 0.05; the run checks).
-    #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(1..=MAX_BOOTSTRAP))]
+    /// Parametric bootstrap replicates under M0, in [100, 99999] (100 is the least at which
+    /// a p-value can pass Holm's correction over the 5 candidates at alpha 0.05; the run
+    /// checks).
+    #[arg(long, default_value_t = 399, allow_hyphen_values = true, value_parser = whole(1..=MAX_BOOTSTRAP))]
     bootstrap: usize,
     /// Seed of the bootstrap.
     #[arg(long, default_value_t = 12345)]
@@ -35,54 +34,25 @@ pub struct Args {
     /// Tails of the estimated noise: auto (Student-t errors when the data say so) or gaussian.
     #[arg(long, default_value = "auto")]
     tails: String,
-    /// Profile the phase of a named stiffness variation, 2nd STE harmonic or torque ripple
-    /// too, for a 95% phase arc from the likelihood (up to twelve more all-load fits: tens of
-    /// seconds with a stiffness variation); without it the phase has its Wald arc only.
-    #[arg(long)]
-    phase_profile: bool,
-    #[command(flatten)]
-    procedure: ProcedureArgs,
-}
-
-/// The procedure of a discovery run and its errors' correlation along speed.
-#[derive(ClapArgs, Debug)]
-pub struct ProcedureArgs {
-    /// tests (score-ranked probes and bootstrap-calibrated detection tests, the default) or
-    /// likelihood (every fit by the estimation engine with errors correlated along speed,
-    /// candidates by bootstrap-calibrated likelihood ratios; docs/discover-on-the-engine.md).
-    #[arg(long, default_value = "tests")]
-    procedure: String,
-    /// The errors' correlation along speed within a curve (likelihood procedure): auto
-    /// (estimated, kept when the data reject independent errors), off, on (always estimated)
-    /// or a stated length in rpm.
+    /// The errors' correlation along speed within a curve: auto (estimated, kept when the
+    /// data reject independent errors), off, on (always estimated) or a stated length in rpm.
     #[arg(long, default_value = "auto")]
     correlation: String,
 }
 
-impl ProcedureArgs {
-    /// The options' procedure and correlation.
-    pub fn parse(&self) -> anyhow::Result<(Procedure, Correlation)> {
-        let procedure = match self.procedure.as_str() {
-            "tests" => Procedure::Tests,
-            "likelihood" => Procedure::Likelihood,
-            s => anyhow::bail!("unknown --procedure '{s}': tests or likelihood"),
-        };
-        let correlation = match self.correlation.as_str() {
-            "auto" => Correlation::Auto,
-            "off" => Correlation::Stated(0.0),
-            "on" => Correlation::Estimated,
-            s => match s.parse::<f64>() {
-                Ok(l) if l.is_finite() && (0.0..1e6).contains(&l) => Correlation::Stated(l),
-                _ => anyhow::bail!(
-                    "invalid --correlation '{s}': auto, off, on or a length in rpm in [0, 1e6)"
-                ),
-            },
-        };
-        if procedure == Procedure::Tests && correlation != Correlation::Auto {
-            anyhow::bail!("--correlation applies to --procedure likelihood only");
-        }
-        Ok((procedure, correlation))
-    }
+/// The correlation setting of a command-line word.
+pub fn parse_correlation(s: &str) -> anyhow::Result<Correlation> {
+    Ok(match s {
+        "auto" => Correlation::Auto,
+        "off" => Correlation::Stated(0.0),
+        "on" => Correlation::Estimated,
+        s => match s.parse::<f64>() {
+            Ok(l) if l.is_finite() && (0.0..1e6).contains(&l) => Correlation::Stated(l),
+            _ => anyhow::bail!(
+                "invalid --correlation '{s}': auto, off, on or a length in rpm in [0, 1e6)"
+            ),
+        },
+    })
 }
 
 /// The tails setting of a command-line word.
@@ -97,15 +67,12 @@ pub fn parse_tails(s: &str) -> anyhow::Result<TailChoice> {
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_replaced("--out", &a.out)?;
     let data = load_munro(&a.data)?;
-    let (procedure, correlation) = a.procedure.parse()?;
     let opts = DiscoverOptions {
-        procedure,
-        correlation,
+        correlation: parse_correlation(&a.correlation)?,
         bootstrap: a.bootstrap,
         seed: a.seed,
         noise_um: a.noise_um,
         tails: parse_tails(&a.tails)?,
-        phase_profile: a.phase_profile,
         ..DiscoverOptions::default()
     };
     let d = discover(&data, &opts, &Bar::new())?;

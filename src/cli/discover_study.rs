@@ -2,7 +2,7 @@
 //! recovery studies of `geardyn discover` (seeded synthetic sets, Wilson 95% intervals).
 
 use super::common::{check_out_file, parse_grid, parse_load_ste, print_study, NoiseArgs, SeedLog};
-use super::discover::{parse_tails, ProcedureArgs};
+use super::discover::{parse_correlation, parse_tails};
 use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
@@ -38,11 +38,6 @@ pub struct Args {
     /// Tails of the estimated noise: auto (Student-t when the data say so) or gaussian.
     #[arg(long, default_value = "auto")]
     tails: String,
-    /// Profile the phase of a named stiffness variation, 2nd STE harmonic or torque ripple
-    /// too, for a 95% phase arc from the likelihood (up to twelve more all-load fits: tens of
-    /// seconds with a stiffness variation); without it the phase has its Wald arc only.
-    #[arg(long)]
-    phase_profile: bool,
     /// Strength of the hidden effect in the units of its estimate (eps, r2, gamma,
     /// b / b_stated, F_aT / F_m(design); sensor peak: relative height) [default: the study's
     /// moderate strength: 0.2, 0.4, 1, 1.5, 0.03; 0.5].
@@ -63,10 +58,11 @@ pub struct Args {
     keep_sets: Option<PathBuf>,
     #[command(flatten)]
     noise: NoiseArgs,
-    #[command(flatten)]
-    procedure: ProcedureArgs,
-    /// Bootstrap replicates per discovery run, in [520, 99999] (as `discover --bootstrap`).
-    #[arg(long, default_value_t = 1999, allow_hyphen_values = true, value_parser = whole(1..=MAX_BOOTSTRAP))]
+    /// The errors' correlation along speed within a curve, as `discover --correlation`.
+    #[arg(long, default_value = "auto")]
+    correlation: String,
+    /// Bootstrap replicates per discovery run, in [100, 99999] (as `discover --bootstrap`).
+    #[arg(long, default_value_t = 399, allow_hyphen_values = true, value_parser = whole(1..=MAX_BOOTSTRAP))]
     bootstrap: usize,
     /// Summary JSON (the scratch data sets go next to it, in a folder removed at the end; each
     /// seed's outcome is appended to SUMMARY.seeds.jsonl as soon as it is known).
@@ -120,7 +116,6 @@ pub fn run(a: Args) -> anyhow::Result<()> {
 }
 
 fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
-    let (procedure, correlation) = a.procedure.parse()?;
     Ok(StudyOptions {
         first_seed: a.first_seed,
         seeds: a.seeds,
@@ -132,11 +127,9 @@ fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
         keep_sets: a.keep_sets.clone(),
         noise: a.noise.noise()?,
         discover: DiscoverOptions {
-            procedure,
-            correlation,
+            correlation: parse_correlation(&a.correlation)?,
             bootstrap: a.bootstrap,
             tails: parse_tails(&a.tails)?,
-            phase_profile: a.phase_profile,
             ..DiscoverOptions::default()
         },
     })
@@ -175,22 +168,12 @@ fn summary_text(s: &StudySummary) -> String {
             "held-out RMS gap shrank in {c}/{n} correctly named seeds\n"
         ));
     }
-    if let Some((u, n)) = s.phase_undetermined {
+    if let Some((c, n, (lo, hi))) = s.phase_coverage {
         msg.push_str(&format!(
-            "phase not determined by the training loads (interval over both phases) in {u}/{n} correctly named seeds\n"
+            "true phase on the 95% Wald phase arc in {c}/{n} correctly named seeds (Wilson 95% {:.1}% .. {:.1}%)\n",
+            100.0 * lo,
+            100.0 * hi
         ));
-    }
-    for (arcs, rate) in [
-        ("Wald phase arcs", s.phase_coverage),
-        ("profile phase arcs", s.phase_profile_coverage),
-    ] {
-        if let Some((c, n, (lo, hi))) = rate {
-            msg.push_str(&format!(
-                "true phase on the 95% {arcs} in {c}/{n} correctly named seeds (Wilson 95% {:.1}% .. {:.1}%)\n",
-                100.0 * lo,
-                100.0 * hi
-            ));
-        }
     }
     msg.push_str(&format!(
         "warning about excluded points far outside M0's range in {}/{} seeds\n",

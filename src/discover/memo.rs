@@ -89,18 +89,6 @@ impl PredictionMemo {
     }
 }
 
-#[cfg(test)]
-impl PredictionMemo {
-    /// Curves held.
-    pub fn len(&self) -> usize {
-        self.0.len()
-    }
-
-    pub fn is_empty(&self) -> bool {
-        self.0.is_empty()
-    }
-}
-
 impl Default for PredictionMemo {
     fn default() -> Self {
         Self::new()

@@ -1,46 +1,37 @@
 //! Discrepancy discovery (issue 5): decide whether the paper's model (M0) misses something in
 //! measured pp DTE curves, name the missing effect from a library of nested candidates, add it,
-//! and show the gap shrink on training and held-out loads.
+//! and show the gap shrink on training and held-out loads (docs/discover-method.md).
 //!
-//! Detect: chi-square of the normalised residuals, Wald-Wolfowitz runs along frequency and
-//! residual energy in Omega windows, each calibrated by a parametric bootstrap under the fitted
-//! M0 and Holm-corrected. Name: score statistics rank the candidates, bootstrap-calibrated
-//! likelihood ratios test them (Holm across candidates), the leading ones are refitted, nearly
-//! collinear ones are reported as ambiguous, and a discrepancy that the best candidate does not
-//! remove is `unexplained`.
+//! One likelihood, the estimation engine's (`crate::fit`): M0 and each candidate fitted to the
+//! training loads under one error family (scale, tails, correlation along speed), each
+//! candidate's likelihood ratio calibrated by a parametric bootstrap from the fitted M0 and its
+//! fitted errors, Holm's correction over the candidates, a name only if it also predicts the
+//! held-out loads better than M0, its size with a profile-likelihood interval.
 
-mod ambiguity;
-#[cfg(test)]
-mod bootstrap_check;
 mod calibration;
-mod decide;
+mod compare;
 mod effects;
-mod fit;
 mod forward;
-mod interval;
-mod linearized;
 mod memo;
 mod noise;
-#[cfg(test)]
-mod power;
-mod probes;
 mod procedure;
-mod profile;
-mod refit;
 mod report;
-mod run;
+mod result;
+mod start;
 pub mod stats;
 mod study;
 mod training;
 mod windows;
 
+pub use compare::split;
 pub use effects::{Candidate, Effect, LIBRARY};
 pub use forward::{Curve, Setup};
 pub use noise::{DiscoveryNoise, NoiseOrigin, TailChoice};
+pub use procedure::{discover, discover_setup};
 pub use report::{discovery_json, summary_text, write_discovery};
-pub use run::{
-    discover, discover_setup, split, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
-    Gap, GapSet, OtherStart, PredictionCheck, Procedure, ResidualCurve, TestResult, MAX_BOOTSTRAP,
+pub use result::{
+    least_bootstrap, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints, Gap, GapSet,
+    PredictionCheck, ResidualCurve, TestResult, MAX_BOOTSTRAP,
 };
 pub use stats::clopper_pearson_upper95;
 pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};

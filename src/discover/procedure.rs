@@ -6,17 +6,19 @@
 //! profile-likelihood interval.
 
 use super::calibration::{self, Columns, ErrorModel, NullModel, Replicate};
+use super::compare::{far_from, gap, make_mask, residual_curves, split, Mask};
 use super::effects::{Candidate, Effect, LIBRARY};
-use super::fit::{fit_ste, linear_start, ste_from_low_speed, Mask};
 use super::forward::{aperiodic_pp_range, predict, CurvePrediction, Globals, Setup};
 use super::noise::{DiscoveryNoise, NoiseOrigin, Scales};
-use super::run::{
-    far_from, gap, make_mask, residual_curves, split, CandidateResult, DiscoverOptions, Discovery,
-    ExcludedPoints, GapSet, PredictionCheck, TestResult,
+use super::result::{
+    check_options, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints, GapSet,
+    PredictionCheck, TestResult,
 };
+use super::start::{fit_ste, linear_start, ste_from_low_speed};
 use super::stats::{bootstrap_p, holm};
 use super::training::{Correlation, Curves, EffectParams, Family, Scale};
 use super::windows::windows;
+use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::fit::{
     neg_log_likelihood, profile_interval_or_better, Distribution, Estimate, EstimateOptions,
@@ -27,6 +29,7 @@ use crate::progress::Progress;
 use crate::validate::MunroNoise;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
+use std::f64::consts::FRAC_PI_2;
 
 /// Jacobians at most, and the gain (sigma^2 over three Jacobians) below which a fit through
 /// simulated sweeps stops: as `validate munro`'s swept fits.
@@ -379,10 +382,12 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
     let at = |delta: Vec<f64>| curves.pack(null.globals, &ste, &Effect::of(c, delta));
     let probes = probe_all(null, &curves, &at, c);
     let moved = probes.iter().map(|p| p.moved).fold(0.0, f64::max);
-    // One start: the best probe where it fits better than M0 under M0's noise, else M0. The
-    // engine's first fit of several starts compares them under equal weights, which an
-    // estimated noise does not have yet; a start from a worse probe ended below M0's
-    // likelihood, a nested fit that did not find its null.
+    // Starts: the best probe where it fits better than M0 under M0's noise, else M0; for a
+    // phase-carrying candidate also the best probe whose phase lies more than a quarter turn
+    // from it (the training loads can leave two phase basins: an eps 0.15 set whose only start
+    // ended at eps 0.118 in the wrong one). Each start is its own fit and the largest
+    // likelihood is kept: the engine's first fit of several starts compares them under equal
+    // weights, which an estimated noise does not have yet.
     let m0_rss: f64 = null
         .est
         .whitener
@@ -390,11 +395,18 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
         .iter()
         .map(|x| x * x)
         .sum();
-    let start = probes
-        .iter()
-        .filter(|p| p.rss < m0_rss)
-        .min_by(|a, b| a.rss.total_cmp(&b.rss))
-        .map_or_else(|| vec![0.0; c.dim()], |p| p.delta.clone());
+    let better = |p: &&Probe| p.rss < m0_rss;
+    let best = |ps: Vec<&Probe>| {
+        ps.into_iter()
+            .min_by(|a, b| a.rss.total_cmp(&b.rss))
+            .map(|p| p.delta.clone())
+    };
+    let first = best(probes.iter().filter(better).collect());
+    let mut starts = vec![first.clone().unwrap_or_else(|| vec![0.0; c.dim()])];
+    if let Some(f) = first.filter(|_| c.has_phase()) {
+        let apart = |p: &&Probe| Candidate::phase_distance(&p.delta, &f) > FRAC_PI_2;
+        starts.extend(best(probes.iter().filter(better).filter(apart).collect()));
+    }
     // A candidate that no probe lets change the curves by a tenth of the noise beyond M0's own
     // parameters cannot reach a likelihood ratio of 0.01: it is reported, not tested.
     let identifiable = moved >= 0.1;
@@ -409,9 +421,24 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
             }
         )
     });
-    let starts = vec![at(start)];
-    let est = curves
-        .fit(starts, &null.family, fit_stop())
+    let fits: Vec<Result<Estimate>> = starts
+        .into_par_iter()
+        .map(|d| curves.fit(vec![at(d)], &null.family, fit_stop()))
+        .collect();
+    let est = fits
+        .into_iter()
+        .reduce(|a, b| match (a, b) {
+            (Ok(x), Ok(y)) => Ok(
+                if calibration::log_likelihood(&y, axis) > calibration::log_likelihood(&x, axis) {
+                    y
+                } else {
+                    x
+                },
+            ),
+            (Ok(x), Err(_)) | (Err(_), Ok(x)) => Ok(x),
+            (Err(e), Err(_)) => Err(e),
+        })
+        .unwrap_or_else(|| Err(GearError::Numerical("no start".into())))
         .map_err(|e| e.to_string());
     let lr = est.as_ref().map_or(f64::NAN, |e| {
         2.0 * (calibration::log_likelihood(e, axis) - l0)
@@ -468,7 +495,7 @@ struct Size {
     wald: Option<(f64, f64)>,
     profile: Option<(Option<f64>, Option<f64>)>,
     phase_deg: Option<f64>,
-    phase_wald95_deg: Vec<(f64, f64)>,
+    phase_wald95_deg: Option<(f64, f64)>,
 }
 
 fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
@@ -545,7 +572,7 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
         wald: Some(wald),
         profile: profile_mapped,
         phase_deg: phase.map(|p| p.0),
-        phase_wald95_deg: phase.map(|p| vec![p.1]).unwrap_or_default(),
+        phase_wald95_deg: phase.map(|p| p.1),
     })
 }
 
@@ -567,12 +594,26 @@ fn collinear(null: &NullFit, a: &Estimate, b: &Estimate, collinear_cos: f64) -> 
     (dot / (norm(&u) * norm(&v))).abs() > collinear_cos
 }
 
-/// Discovery on one likelihood: see the module's notes and docs/discover-method.md.
-pub fn discover_by_likelihood(
+/// Run the discovery on a Munro-style data set (see the module's notes and
+/// docs/discover-method.md). Reads the curves and the rig's stated geometry only: never
+/// `[source.truth]`.
+pub fn discover(
+    data: &MunroData,
+    opts: &DiscoverOptions,
+    progress: &dyn Progress,
+) -> Result<Discovery> {
+    check_options(opts)?;
+    let setup = Setup::from_munro(data)?;
+    discover_setup(&setup, opts, progress)
+}
+
+/// [`discover`] on an already built setup.
+pub fn discover_setup(
     setup: &Setup,
     opts: &DiscoverOptions,
     progress: &dyn Progress,
 ) -> Result<Discovery> {
+    check_options(opts)?;
     let n_curves = setup.curves.len();
     let (train, held) = split(n_curves);
     progress.start(4 + LIBRARY.len() as u64, "discovery steps");
@@ -609,46 +650,21 @@ pub fn discover_by_likelihood(
         .enumerate()
         .map(|(k, f)| candidate_result(f, k, &reps))
         .collect();
-    let tested: Vec<usize> = (0..cands.len())
-        .filter(|&k| cands[k].p_value.is_some())
-        .collect();
-    let adj = holm(
-        &tested
-            .iter()
-            .filter_map(|&k| cands[k].p_value)
-            .collect::<Vec<_>>(),
-    );
-    for (&k, p) in tested.iter().zip(adj) {
-        cands[k].p_holm = Some(p);
-    }
-    let gof = goodness_of_fit(&null, &reps);
-    let passing: Vec<usize> = tested
-        .iter()
-        .copied()
-        .filter(|&k| cands[k].p_holm.is_some_and(|p| p < opts.alpha))
-        .collect();
-    // Across dimensions the least AIC, -2 log L + 2 parameters (Akaike 1974).
-    let best = passing.iter().copied().max_by(|&a, &b| {
-        let score = |k: usize| fits[k].lr - 2.0 * fits[k].candidate.dim() as f64;
-        score(a).total_cmp(&score(b))
-    });
-    let ambiguous_with: Vec<String> = best
-        .map(|b| {
-            passing
-                .iter()
-                .filter(|&&k| k != b)
-                .filter(|&&k| match (&fits[b].est, &fits[k].est) {
-                    (Ok(x), Ok(y)) => collinear(&null, x, y, opts.collinear_cos),
-                    _ => false,
-                })
-                .map(|&k| cands[k].name.to_string())
-                .collect()
-        })
-        .unwrap_or_default();
+    let mut gof = goodness_of_fit(&null, &reps);
+    let gof_decides = !matches!(origin, NoiseOrigin::Fitted { .. });
+    adjust(&mut cands, gof_decides.then_some(&mut gof));
+    let (best, rivals) = select(&null, &fits, &cands, opts);
     // The best candidate's predictions, and whether they beat M0's on the held-out loads.
     let after = match best {
         Some(b) => Some(candidate_predictions(&null, &fits[b], &held)?),
         None => None,
+    };
+    let ambiguous_with = match &after {
+        Some(a) if !held.is_empty() => held_out_rivals(&null, &fits, &rivals, a, &held),
+        _ => rivals
+            .iter()
+            .map(|&k| fits[k].candidate.name().to_string())
+            .collect(),
     };
     progress.advance(1);
     let check = after
@@ -670,19 +686,12 @@ pub fn discover_by_likelihood(
             }
         }
     }
-    let misfit = gof.p_value.is_some_and(|p| p < opts.alpha)
-        || null
-            .est
-            .noise
-            .correlation
-            .as_ref()
-            .and_then(|c| c.unbounded_length())
-            .is_some();
+    let misfit = misfit_of(&null, &gof, opts.alpha);
     let (effect, closest) = match (best, predicts) {
         (Some(b), true) if ambiguous_with.is_empty() => (cands[b].name.to_string(), None),
         (Some(b), true) => ("ambiguous".to_string(), Some(cands[b].name.to_string())),
         (Some(b), false) => ("unexplained".to_string(), Some(cands[b].name.to_string())),
-        (None, _) if misfit => (
+        (None, _) if misfit.is_some() => (
             "unexplained".to_string(),
             largest_lr(&cands).map(str::to_string),
         ),
@@ -706,7 +715,106 @@ pub fn discover_by_likelihood(
         after,
         excluded,
         origin,
+        misfit: if best.is_none() { misfit } else { None },
     }))
+}
+
+/// Holm's adjustment of the tested candidates' p-values and, where given (a stated noise), M0's
+/// goodness of fit with them: there it can say "unexplained", and the family-wise error over
+/// every way of leaving "none" is alpha. With the noise estimated from the same residuals the
+/// goodness of fit is near its degrees of freedom by construction, and it is reported only.
+fn adjust(cands: &mut [CandidateResult], gof: Option<&mut TestResult>) {
+    let tested: Vec<usize> = (0..cands.len())
+        .filter(|&k| cands[k].p_value.is_some())
+        .collect();
+    let mut family: Vec<f64> = tested.iter().filter_map(|&k| cands[k].p_value).collect();
+    let gof = gof.filter(|g| g.p_value.is_some());
+    if let Some(p) = gof.as_ref().and_then(|g| g.p_value) {
+        family.push(p);
+    }
+    let adj = holm(&family);
+    for (&k, p) in tested.iter().zip(&adj) {
+        cands[k].p_holm = Some(*p);
+    }
+    if let Some(g) = gof {
+        g.p_holm = adj.last().copied();
+    }
+}
+
+/// Of the passing candidates `rivals` that change the training curves like the best one
+/// (`best`, its predictions), those that predict the held-out loads about as well: within half
+/// of chi2(0.95; 1) = 3.84 of its held-out log-likelihood, or better. The held-out loads are data
+/// the training fits did not see, where effects that act alike at the training loads part (a
+/// torque ripple is the same newtons at every load, a stiffness variation scales with the mean
+/// deflection): a rival they reject leaves the name to the best one. A rival whose prediction
+/// fails stays a rival.
+fn held_out_rivals(
+    null: &NullFit,
+    fits: &[CandidateFit],
+    rivals: &[usize],
+    best: &After,
+    held: &[usize],
+) -> Vec<String> {
+    rivals
+        .iter()
+        .filter(|&&k| {
+            candidate_predictions(null, &fits[k], held).map_or(true, |r| {
+                r.held_log_likelihood > best.held_log_likelihood - 1.92
+            })
+        })
+        .map(|&k| fits[k].candidate.name().to_string())
+        .collect()
+}
+
+/// The best passing candidate (Holm below alpha) by the least AIC, -2 log L + 2 parameters
+/// (Akaike 1974), and the other passing ones that change the curves alike.
+fn select(
+    null: &NullFit,
+    fits: &[CandidateFit],
+    cands: &[CandidateResult],
+    opts: &DiscoverOptions,
+) -> (Option<usize>, Vec<usize>) {
+    let passing: Vec<usize> = (0..cands.len())
+        .filter(|&k| cands[k].p_holm.is_some_and(|p| p < opts.alpha))
+        .collect();
+    let best = passing.iter().copied().max_by(|&a, &b| {
+        let score = |k: usize| fits[k].lr - 2.0 * fits[k].candidate.dim() as f64;
+        score(a).total_cmp(&score(b))
+    });
+    let ambiguous_with = best
+        .map(|b| {
+            passing
+                .iter()
+                .filter(|&&k| k != b)
+                .filter(|&&k| match (&fits[b].est, &fits[k].est) {
+                    (Ok(x), Ok(y)) => collinear(null, x, y, opts.collinear_cos),
+                    _ => false,
+                })
+                .copied()
+                .collect()
+        })
+        .unwrap_or_default();
+    (best, ambiguous_with)
+}
+
+/// Why M0 does not explain the training curves on its own, if it does not: with a stated
+/// noise, its chi-square beyond its bootstrap replicates' after Holm's correction (`p_holm`,
+/// set only where the noise is stated); with any, an estimated correlation
+/// length whose interval reaches beyond the widest curve (the residuals are one smooth curve,
+/// a misfit the noise cannot be: `crate::fit::CorrelationFit::unbounded_length`).
+fn misfit_of(null: &NullFit, gof: &TestResult, alpha: f64) -> Option<String> {
+    if let Some(p) = gof.p_holm.filter(|p| *p < alpha) {
+        return Some(format!(
+            "M0's chi-square of innovations {:.1} lies beyond its bootstrap replicates' (Holm p {p:.3})",
+            gof.statistic
+        ));
+    }
+    let c = null.est.noise.correlation.as_ref()?;
+    c.unbounded_length()?;
+    Some(format!(
+        "M0's residuals are one smooth curve across the speeds: their correlation length {:.0} rpm has a 95% interval reaching beyond the widest curve's {:.0} rpm",
+        c.length_rpm, c.span_rpm
+    ))
 }
 
 /// The candidate with the largest likelihood ratio, if any was fitted.
@@ -818,9 +926,8 @@ fn candidate_result(f: &CandidateFit, k: usize, reps: &[Replicate]) -> Candidate
         lr: f.lr,
         p_value: tested.then(|| bootstrap_p(f.lr, &null)),
         failed: f.est.as_ref().err().cloned(),
-        refit_lr: tested.then_some(f.lr),
-        refit_zeta: f.est.as_ref().ok().map(|e| e.params[0]),
-        refit_omega_n_hz: f.est.as_ref().ok().map(|e| e.params[1]),
+        zeta: f.est.as_ref().ok().map(|e| e.params[0]),
+        omega_n_hz: f.est.as_ref().ok().map(|e| e.params[1]),
         delta,
         note: f.note.clone(),
         ..CandidateResult::untested(f.candidate, f.identifiable)
@@ -923,8 +1030,6 @@ fn excluded_points(setup: &Setup, null: &NullFit) -> Result<Vec<ExcludedPoints>>
                     .unwrap_or((f64::NAN, f64::NAN)),
                 predicted_range_um: predicted,
                 model_range_um: range,
-                region_range_um: None,
-                region_clamped: Vec::new(),
                 outside_model_range: far_from(setup, &null.noise, i, &d, range),
             })
         })
@@ -947,6 +1052,7 @@ struct Assembly<'a> {
     after: Option<After>,
     excluded: Vec<ExcludedPoints>,
     origin: NoiseOrigin,
+    misfit: Option<String>,
 }
 
 fn assemble(a: Assembly) -> Discovery {
@@ -980,17 +1086,12 @@ fn assemble(a: Assembly) -> Discovery {
         .iter()
         .zip(mask)
         .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
-    let detected = a.effect != "none";
     Discovery {
         effect: a.effect,
         ambiguous_with: a.ambiguous_with,
         closest_candidate: a.closest,
-        detected,
-        detected_by_tests: detected,
-        significant_undetected: Vec::new(),
-        held_out_prefers: None,
-        detection: vec![a.gof],
-        post_fit: Vec::new(),
+        misfit: a.misfit,
+        goodness_of_fit: a.gof,
         candidates: a.cands,
         noise: DiscoveryNoise {
             origin: a.origin,

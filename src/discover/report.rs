@@ -1,18 +1,17 @@
 //! Outputs of `geardyn discover`: discovery.json (design.md 3: effect, candidates [{name,
-//! estimate, ci95, p_value}], gap_before, gap_after, and more), report.md / index.html and the
-//! residual plots before and after (PNG + SVG) with the Omega windows marked. The folder is
-//! staged and moved into place only when complete.
+//! estimate, ci95, p_value}], gap_before, gap_after, and more), report.md / index.html, which
+//! open with the answer and why, and the residual plots before and after (PNG + SVG) with the
+//! Omega windows marked. The folder is staged and moved into place only when complete.
 
-use super::effects::Candidate;
 use super::forward::MIN_ZETA;
 use super::noise::NoiseOrigin;
-use super::run::{CandidateResult, Discovery, Gap, ResidualCurve};
+use super::result::{CandidateResult, Discovery, Gap, ResidualCurve};
 use crate::data::{DataKind, MunroData};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::numeric::min_max;
 use crate::plot::{write_xy, Series, XyPlot};
-use crate::report::{data_kind_banner, Page, Staged};
+use crate::report::{correlation_text, data_kind_banner, Page, Staged};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -22,12 +21,12 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "notice": data_kind_banner(&data.rig),
         "data_kind": data.rig.source.kind.name(),
         "effect": d.effect,
+        "answer": answer_text(d),
         "ambiguous_with": d.ambiguous_with,
-        "held_out_prefers": d.held_out_prefers,
         "closest_candidate": d.closest_candidate,
-        "detected": d.detected,
-        "detected_by_tests": d.detected_by_tests,
-        "detected_by_excluded_points": d.detected_by_excluded_points(),
+        "misfit": d.misfit,
+        "goodness_of_fit": d.goodness_of_fit,
+        "prediction_check": d.prediction_check,
         "candidates": d.candidates.iter().map(|c| json!({
             "name": c.name,
             "estimate": c.estimate,
@@ -36,29 +35,21 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "ci95_method": c.ci95_method,
             "wald_ci95": c.wald_ci95.map(|(a, b)| [a, b]),
             "profile_ci95": c.profile_ci95.map(|(a, b)| [a, b]),
-            "interval_quantile": c.interval_quantile,
             "p_value": c.p_value,
             "p_holm": c.p_holm,
             "identifiable": c.identifiable,
             "note": c.note,
             "failed": c.failed,
-            "score": c.score,
-            "score_p_approx": c.score_p_approx,
-            "lr": c.lr,
-            "refit_lr": c.refit_lr,
+            "lr": c.lr.is_finite().then_some(c.lr),
             "delta": c.delta,
-            "refit_zeta": c.refit_zeta,
-            "refit_omega_n_hz": c.refit_omega_n_hz,
-            "refit_other_start": c.other_start,
+            "zeta": c.zeta,
+            "omega_n_hz": c.omega_n_hz,
             "phase_deg": c.phase_deg,
-            "phase_wald95_deg": c.phase_wald95_deg.iter().map(|(a, b)| [a, b]).collect::<Vec<_>>(),
-            "phase_profile95_deg": c.phase_profile95_deg.map(|(a, b)| [a, b]),
+            "phase_wald95_deg": c.phase_wald95_deg.map(|(a, b)| [a, b]),
         })).collect::<Vec<_>>(),
         "gap_before": d.gap_before,
         "gap_after": d.gap_after,
         "gap_after_model": d.gap_after_model,
-        "detection": d.detection,
-        "post_fit": d.post_fit,
         "noise": noise_json(d),
         "m0": {
             "zeta": d.zeta_m0,
@@ -92,15 +83,11 @@ fn distribution_json(m: &NoiseModel) -> (&'static str, Option<f64>) {
     }
 }
 
-/// The noise record of discovery.json: where it came from, the model (floor in um, relative part,
-/// distribution), the scales it gives over the kept points, and how it was chosen.
+/// The noise record of discovery.json: where it came from, the model (floor in um, relative
+/// part, distribution, correlation along speed) and the scales it gives over the kept points.
 fn noise_json(d: &Discovery) -> serde_json::Value {
     let n = &d.noise;
     let (dist, dof) = distribution_json(&n.model);
-    let replicates = n.replicate_model.map(|m| {
-        let (dist, dof) = distribution_json(&m);
-        json!({"floor_um": m.floor, "relative": m.relative, "distribution": dist, "dof": dof})
-    });
     json!({
         "source": n.origin,
         "description": n.origin.describe(),
@@ -108,12 +95,9 @@ fn noise_json(d: &Discovery) -> serde_json::Value {
         "relative": n.per_point.is_none().then_some(n.model.relative),
         "distribution": dist,
         "dof": dof,
+        "correlation_length_rpm": n.model.correlation_length,
+        "correlation": d.noise_correlation,
         "scale_range_um": [d.noise_range_um.0, d.noise_range_um.1],
-        "relative_lr_adjusted": n.relative_lr,
-        "replicates": replicates,
-        "tails_lr_adjusted": n.tails_lr,
-        "pseudo_residuals": n.pseudo_residuals,
-        "trimmed": n.trimmed,
     })
 }
 
@@ -146,7 +130,6 @@ pub fn noise_text(d: &Discovery) -> String {
     } else {
         scale_text(&n.model)
     };
-    let tails = tails_text(&n.model);
     let (lo, hi) = d.noise_range_um;
     // A range only where the scales differ at the printed digits.
     let range = if format!("{lo:.3}") == format!("{hi:.3}") {
@@ -154,18 +137,60 @@ pub fn noise_text(d: &Discovery) -> String {
     } else {
         format!("; {lo:.3}-{hi:.3} µm over the kept points")
     };
-    // Where the test dropped the relative part, the bootstrap draws with it free.
-    let replicates = n.replicate_model.map_or(String::new(), |m| {
-        format!(
-            "; bootstrap replicates drawn with the relative part free: {} ({})",
-            scale_text(&m),
-            tails_text(&m)
-        )
-    });
+    let length = match n.model.correlation_length {
+        l if l > 0.0 => format!("; correlated along speed, length {l:.0} rpm"),
+        _ => String::new(),
+    };
     format!(
-        "noise {model} ({tails}{range}), {}{replicates}",
+        "noise {model} ({}{range}{length}), {}",
+        tails_text(&n.model),
         n.origin.describe()
     )
+}
+
+/// The answer in a sentence or two: what was found, its size, and why (a name, none, or why
+/// the data are unexplained).
+pub fn answer_text(d: &Discovery) -> String {
+    let check = d.prediction_check.as_ref().map_or(String::new(), |c| {
+        format!(
+            " The held-out loads' log-likelihood is {:.1} with it against {:.1} with M0.",
+            c.held_out_log_likelihood_candidate, c.held_out_log_likelihood_m0
+        )
+    });
+    match d.effect.as_str() {
+        "none" => "None: M0, the paper's model, explains the training loads; no candidate effect improves their likelihood beyond what the noise gives (bootstrap, Holm over the candidates at 5%).".to_string(),
+        "unexplained" => match (&d.closest_candidate, &d.misfit) {
+            (Some(c), None) => format!(
+                "Unexplained: {c} fits the training loads significantly better than M0, but it predicts the held-out loads worse, so it is not named.{check}"
+            ),
+            (c, Some(why)) => format!(
+                "Unexplained: M0 does not explain the training loads ({why}), and no candidate of the library passes its test{}.",
+                c.as_ref().map_or(String::new(), |c| format!("; the closest is {c}"))
+            ),
+            (None, None) => "Unexplained.".to_string(),
+        },
+        "ambiguous" => format!(
+            "Ambiguous: {} and {} both fit the training loads significantly better than M0 and change the curves alike; the data do not tell them apart.{check}",
+            d.closest_candidate.as_deref().unwrap_or("-"),
+            d.ambiguous_with.join(", ")
+        ),
+        _ => match d.named() {
+            Some(c) => format!(
+                "{}: {} = {} [{} .. {}] (95%, {}){}; the likelihood ratio against M0 is {:.1} (bootstrap p {}, Holm {}).{check}",
+                c.name,
+                c.estimate_name,
+                opt(c.estimate, 4),
+                opt(c.ci95.map(|x| x.0), 4),
+                opt(c.ci95.map(|x| x.1), 4),
+                c.ci95_method,
+                phase_text(c).map_or(String::new(), |p| format!(", phase {p}")),
+                c.lr,
+                p_text(c.p_value),
+                p_text(c.p_holm),
+            ),
+            None => d.effect.clone(),
+        },
+    }
 }
 
 /// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
@@ -242,54 +267,16 @@ fn gap_text(g: &Gap) -> String {
     )
 }
 
-/// Where a phase-carrying candidate's best refit in another phase basin ended, when one did.
-fn other_start_text(c: &CandidateResult) -> Option<String> {
-    let (o, kept) = (c.other_start.as_ref()?, c.delta.as_ref()?);
-    let deg = |d: &[f64]| Candidate::first_phase(d).to_degrees().rem_euclid(360.0);
-    Some(format!(
-        "{}: the best refit in another phase basin ended at phase {:.0} deg (kept: {:.0} deg) with a training -2 log-likelihood larger by {:.2}{}",
-        c.name,
-        deg(&o.delta),
-        deg(kept),
-        o.deviance_increase,
-        if o.phase_undetermined() {
-            "; within chi2(0.95; 1) = 3.84 at a different phase: the training loads do not determine the phase, and the interval spans both fits"
-        } else {
-            ""
-        }
-    ))
-}
-
-/// A refitted phase-carrying candidate's phase and its 95% arcs (two when the phase is
-/// undetermined between two basins), e.g. "315 deg (Wald 95% 312 .. 318)", with the profile's
-/// arc when the phase was profiled ("profile 95% 300 .. 320"); empty otherwise.
-fn phase_text(c: &CandidateResult) -> String {
-    let Some(p) = c.phase_deg else {
-        return String::new();
-    };
-    // Degrees to enough digits that a narrow arc is not printed as a point.
-    let arc = |&(a, b): &(f64, f64)| {
-        if b - a >= 360.0 {
-            "any".to_string()
-        } else if b - a < 4.0 {
-            format!("{a:.1} .. {b:.1}")
-        } else {
-            format!("{a:.0} .. {b:.0}")
-        }
-    };
-    let arcs: Vec<String> = c.phase_wald95_deg.iter().map(arc).collect();
-    let mut parts = Vec::new();
-    if !arcs.is_empty() {
-        parts.push(format!("Wald 95% {}", arcs.join(" or ")));
-    }
-    if let Some(profile) = &c.phase_profile95_deg {
-        parts.push(format!("profile 95% {}", arc(profile)));
-    }
-    if parts.is_empty() {
-        format!("{p:.0} deg")
-    } else {
-        format!("{p:.0} deg ({})", parts.join("; "))
-    }
+/// A named phase-carrying candidate's phase and its 95% Wald arc, e.g. "315 deg (Wald 95%
+/// 312 .. 318)".
+fn phase_text(c: &CandidateResult) -> Option<String> {
+    let p = c.phase_deg?;
+    Some(match c.phase_wald95_deg {
+        Some((a, b)) if b - a >= 360.0 => format!("{p:.0} deg (any)"),
+        Some((a, b)) if b - a < 4.0 => format!("{p:.1} deg (Wald 95% {a:.1} .. {b:.1})"),
+        Some((a, b)) => format!("{p:.0} deg (Wald 95% {a:.0} .. {b:.0})"),
+        None => format!("{p:.0} deg"),
+    })
 }
 
 /// The note when no curve was measured at the design load.
@@ -307,27 +294,24 @@ fn notes(d: &Discovery) -> Vec<String> {
         design_load_text(d),
         zeta_bound_text(d),
         stated_noise_text(d),
-        held_out_split_text(d),
-        significant_undetected_text(d),
+        excluded_warning(d),
     ]
     .into_iter()
     .flatten()
     .collect()
 }
 
-/// The note when the noise was stated and the answer is "unexplained" with a scatter about the
-/// best model larger than every stated scale: a noise stated too small makes every test reject,
-/// whatever the model. On a set of scatter 0.15 um with `[noise] floor_um = 0.1` the answer was
-/// "unexplained" and nothing said why.
+/// The note when the noise was stated and the answer is "unexplained" with a scatter about M0
+/// larger than every stated scale: a noise stated too small makes M0 fail its goodness of fit,
+/// whatever the model.
 fn stated_noise_text(d: &Discovery) -> Option<String> {
-    let stated = !matches!(d.noise.origin, NoiseOrigin::Estimated { .. });
-    let rms = d.gap_after.training.rms_um;
+    let stated = !matches!(d.noise.origin, NoiseOrigin::Fitted { .. });
+    let rms = d.gap_before.training.rms_um;
     let largest = d.noise_range_um.1;
     (stated && d.effect == "unexplained" && rms > largest).then(|| {
         format!(
-            "the noise is {}, and the training RMS about {}, {rms:.3} µm, exceeds every stated scale (at most {largest:.3} µm): a noise stated smaller than the scatter makes every test reject, whatever the model; without the statement it is estimated from the data",
+            "the noise is {}, and the training RMS about M0, {rms:.3} µm, exceeds every stated scale (at most {largest:.3} µm): a noise stated smaller than the scatter makes M0 fail, whatever the model; without the statement it is estimated with the fit",
             d.noise.origin.describe(),
-            d.gap_after_model
         )
     })
 }
@@ -343,28 +327,19 @@ fn opt(v: Option<f64>, prec: usize) -> String {
     v.map_or("-".into(), |x| format!("{x:.prec$}"))
 }
 
-/// A bootstrap p-value to three decimals, or "<0.001" below that: the smallest p of 1999
-/// replicates, 1 / 2000, would otherwise print as 0.001.
 fn p_text(p: Option<f64>) -> String {
-    match p {
-        Some(p) if p < 0.001 => "<0.001".into(),
-        p => opt(p, 3),
-    }
+    p.map_or("-".into(), crate::report::p_text)
 }
 
-/// A few lines for the terminal.
+/// A few lines for the terminal: the answer first.
 pub fn summary_text(d: &Discovery) -> String {
     let mut s = format!(
-        "effect: {}{}\nM0: zeta {:.5}, omega_n {:.1} Hz; {}\n",
+        "effect: {}
+{}
+M0: zeta {:.5}, omega_n {:.1} Hz; {}
+",
         d.effect,
-        if d.ambiguous_with.is_empty() {
-            d.closest_candidate.as_ref().map_or_else(
-                || unexplained_by_excluded_text(d).unwrap_or_default(),
-                |c| format!(" (closest candidate {c} leaves a discrepancy)"),
-            )
-        } else {
-            format!(" between {}", d.ambiguous_with.join(", "))
-        },
+        answer_text(d),
         d.zeta_m0,
         d.omega_n_hz_m0,
         noise_text(d)
@@ -374,23 +349,17 @@ pub fn summary_text(d: &Discovery) -> String {
     }
     for c in &d.candidates {
         s.push_str(&format!(
-            "  {:<26} LR {:8.1}  p {:>6}  estimate {} {} [{} .. {}]{}{}{}\n",
+            "  {:<26} LR {:>8}  p {:>7}  Holm {:>7}{}\n",
             c.name,
-            c.lr,
+            if c.lr.is_finite() {
+                format!("{:.1}", c.lr)
+            } else {
+                "-".into()
+            },
             p_text(c.p_value),
-            c.estimate_name,
-            opt(c.estimate, 4),
-            opt(c.ci95.map(|x| x.0), 4),
-            opt(c.ci95.map(|x| x.1), 4),
-            interval_method_text(c),
-            Some(phase_text(c))
-                .filter(|t| !t.is_empty())
-                .map_or(String::new(), |t| format!(", phase {t}")),
+            p_text(c.p_holm),
             remarks(c).map_or(String::new(), |n| format!("  ({n})"))
         ));
-    }
-    for t in d.candidates.iter().filter_map(other_start_text) {
-        s.push_str(&format!("  {t}\n"));
     }
     s.push_str(&format!(
         "gap before: training {}\n",
@@ -413,20 +382,7 @@ pub fn summary_text(d: &Discovery) -> String {
     s
 }
 
-/// Where the ends of M0's confidence region were clamped, as a clause (empty when none was).
-fn clamped_text(clamped: &[&str]) -> String {
-    if clamped.is_empty() {
-        String::new()
-    } else {
-        format!(
-            " (ends clamped: {}; the region there is the linearisation's, not the data's)",
-            clamped.join(", ")
-        )
-    }
-}
-
-/// One line per load with excluded points, and a warning when measured points lie outside
-/// everything M0 predicts there.
+/// One line per load with excluded points.
 fn excluded_text(d: &Discovery) -> String {
     let mut s = String::new();
     for e in &d.excluded_by_load {
@@ -438,25 +394,14 @@ fn excluded_text(d: &Discovery) -> String {
         } else {
             windows
         };
-        let region = e.region_range_um.map_or_else(String::new, |r| {
-            format!(
-                ", {} over the models at the ends of M0's 95% confidence region in zeta and omega_n{}",
-                range(r),
-                clamped_text(&e.region_clamped)
-            )
-        });
         s.push_str(&format!(
-            "excluded from the tests at {} N: {} points ({} non-period-1 in M0), measured {}, M0 predicted {predicted} ({over_windows} over 32 observation windows at its points that are not period-1{region}), {} measured far outside the widest of these\n",
+            "left out of the likelihood at {} N: {} points ({} non-period-1 in M0), measured {}, M0 predicted {predicted} ({over_windows} over 32 observation windows at its points that are not period-1), {} measured far outside that\n",
             e.load_n,
             e.points,
             e.non_period1,
             range(e.measured_range_um),
             e.outside_model_range
         ));
-    }
-    if let Some(w) = excluded_warning(d) {
-        s.push_str(&w);
-        s.push('\n');
     }
     s
 }
@@ -465,40 +410,8 @@ fn excluded_text(d: &Discovery) -> String {
 fn excluded_warning(d: &Discovery) -> Option<String> {
     let outside = d.excluded_far_outside();
     (outside > 0).then(|| format!(
-        "WARNING: {outside} excluded point(s) lie far outside every pp M0 produces there, in any observation window and at the ends of its 95% confidence region (by more than 3 sigma + 10% of the largest); the tests do not use them, the decision counts them as a detected discrepancy: look at the curves"
+        "{outside} point(s) left out of the likelihood (M0 not period-1 there, or next to a jump) lie far outside every pp M0 produces there, in any observation window (by more than 3 sigma + 10% of the largest): a disagreement the likelihood does not see; look at the curves"
     ))
-}
-
-/// Why a candidate significant among the candidates' tests is neither refitted nor named.
-/// Why the answer is "ambiguous" when the held-out loads prefer another candidate.
-fn held_out_split_text(d: &Discovery) -> Option<String> {
-    let other = d.held_out_prefers.as_ref()?;
-    let leading = d.ambiguous_with.first()?;
-    Some(format!(
-        "The training loads prefer {leading}, but its refit fails the held-out chi-square; {other}'s refit passes both the training and the held-out chi-square: the loads do not agree on one effect."
-    ))
-}
-
-fn significant_undetected_text(d: &Discovery) -> Option<String> {
-    (!d.significant_undetected.is_empty()).then(|| {
-        format!(
-            "{} significant among the candidates' tests, but no discrepancy is detected (Holm over all the tests of M0, detection and candidates together, does not reject it): not refitted and not named (a name needs a detected discrepancy; on the null studies every name given without one was false).",
-            d.significant_undetected.join(", ")
-        )
-    })
-}
-
-/// Why the effect is "unexplained" when only the excluded points detected a discrepancy and
-/// no candidate is significant.
-fn unexplained_by_excluded_text(d: &Discovery) -> Option<String> {
-    (d.effect == "unexplained" && d.detected_by_excluded_points() && !d.detected_by_tests).then(
-        || {
-            format!(
-                " (no test significant, but {} excluded point(s) lie far outside M0's range, and no candidate is significant)",
-                d.excluded_far_outside()
-            )
-        },
-    )
 }
 
 /// Write the output folder `out`; returns the files written.
@@ -506,17 +419,14 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     let banner = data_kind_banner(&data.rig);
     let stage = Staged::replacing(out)?;
     let mut files = vec!["discovery.json".to_string()];
+    let after_title = format!("Residuals of {}", d.gap_after_model);
     for (name, curves, title) in [
         (
             "residuals_before",
             &d.residuals_before,
             "Residuals of M0 (paper's model)",
         ),
-        (
-            "residuals_after",
-            &d.residuals_after,
-            "Residuals with the leading candidate added (M0 if none)",
-        ),
+        ("residuals_after", &d.residuals_after, after_title.as_str()),
     ] {
         for p in residual_plot(curves, d, title, &stage.path(name))? {
             if let Some(f) = p.file_name() {
@@ -531,21 +441,10 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
         data.rig.source.kind == DataKind::Synthetic,
     );
     summary_section(&mut page, d);
-    detection_section(
-        &mut page,
-        "Detection (bootstrap p-values under M0, Holm-adjusted over these and the candidates' tests)",
-        &d.detection,
-    );
-    candidates_section(&mut page, d);
-    if !d.post_fit.is_empty() {
-        detection_section(
-            &mut page,
-            "Detection tests after adding the leading candidate",
-            &d.post_fit,
-        );
-    }
-    excluded_section(&mut page, d);
     gap_section(&mut page, d);
+    candidates_section(&mut page, d);
+    noise_section(&mut page, d);
+    excluded_section(&mut page, d);
     let (html, md) = page.finish("geardyn discover");
     stage.write("index.html", &html)?;
     stage.write("report.md", &md)?;
@@ -555,44 +454,21 @@ pub fn write_discovery(data: &MunroData, d: &Discovery, out: &Path) -> Result<Ve
     Ok(files.into_iter().map(|f| dest.join(f)).collect())
 }
 
-/// The answer, the loads, M0's fit, the noise, and the notes that qualify the answer.
+/// The answer, the loads and M0's fit, and the notes that qualify the answer.
 fn summary_section(page: &mut Page, d: &Discovery) {
+    page.paragraph(&answer_text(d));
     page.paragraph(&format!(
-        "Effect: {}{}. Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. {}. {} points excluded from the tests. {} bootstrap replicates under M0.",
-        d.effect,
-        if d.ambiguous_with.is_empty() { unexplained_by_excluded_text(d).unwrap_or_default() } else { format!(" ({})", d.ambiguous_with.join(", ")) },
+        "Training loads {:?} N, held-out loads {:?} N. M0 fitted on the training loads: zeta {:.5}, omega_n {:.1} Hz. {} points left out of the likelihood. {} bootstrap replicates under M0.",
         d.training_loads_n,
         d.held_out_loads_n,
         d.zeta_m0,
         d.omega_n_hz_m0,
-        noise_text(d),
         d.excluded_points,
         d.bootstrap
     ));
     for t in notes(d) {
         page.paragraph(&t);
     }
-}
-
-/// A table of detection tests: statistic, bootstrap p-value and Holm-adjusted p-value.
-fn detection_section(page: &mut Page, heading: &str, tests: &[super::run::TestResult]) {
-    page.heading(heading);
-    let rows: Vec<Vec<String>> = tests
-        .iter()
-        .map(|x| {
-            vec![
-                x.name.clone(),
-                if x.statistic.is_nan() {
-                    "- (no points in the window)".to_string()
-                } else {
-                    format!("{:.2}", x.statistic)
-                },
-                opt(x.p_value, 4),
-                opt(x.p_holm, 4),
-            ]
-        })
-        .collect();
-    page.table(&["test", "statistic", "p", "p (Holm)"], &rows);
 }
 
 /// What is said of a candidate beside its numbers: "failed, because ..." when it failed, and
@@ -603,24 +479,28 @@ fn remarks(c: &CandidateResult) -> Option<String> {
     (!said.is_empty()).then(|| said.join("; "))
 }
 
-/// Every candidate's score, test, refit estimate with its interval and phase.
+/// Every candidate's test, and the named one's estimate with its interval and phase.
 fn candidates_section(page: &mut Page, d: &Discovery) {
     page.heading("Candidates");
+    page.paragraph("Each candidate is M0 plus one effect, nested (its parameters at zero give M0), fitted to the training loads with the same noise model as M0, its scale refitted. LR is twice the gain in log-likelihood over M0; its p-value is the share of parametric bootstrap replicates (M0's curves plus errors drawn from M0's fitted noise model, correlation along speed included) whose LR is as large; Holm's correction runs over the candidates tested.");
     let rows: Vec<Vec<String>> = d
         .candidates
         .iter()
         .map(|c| {
             vec![
                 c.name.to_string(),
-                format!("{:.2}", c.score),
-                format!("{:.2}", c.lr),
-                opt(c.p_value, 4),
-                opt(c.p_holm, 4),
+                if c.lr.is_finite() {
+                    format!("{:.2}", c.lr)
+                } else {
+                    "-".into()
+                },
+                p_text(c.p_value),
+                p_text(c.p_holm),
                 format!("{} = {}", c.estimate_name, opt(c.estimate, 4)),
                 c.ci95.map_or("-".into(), |(a, b)| {
-                    format!("{a:.4} .. {b:.4}{}", interval_method_text(c))
+                    format!("{a:.4} .. {b:.4} ({})", c.ci95_method)
                 }),
-                phase_text(c),
+                phase_text(c).unwrap_or_default(),
                 remarks(c).unwrap_or_default(),
             ]
         })
@@ -628,7 +508,6 @@ fn candidates_section(page: &mut Page, d: &Discovery) {
     page.table(
         &[
             "candidate",
-            "score",
             "LR",
             "p (bootstrap)",
             "p (Holm)",
@@ -639,18 +518,38 @@ fn candidates_section(page: &mut Page, d: &Discovery) {
         ],
         &rows,
     );
-    for t in d.candidates.iter().filter_map(other_start_text) {
-        page.paragraph(&t);
-    }
 }
 
-/// The points left out of the tests, their measured and predicted ranges.
+/// The noise model, M0's goodness of fit and the errors' correlation along speed.
+fn noise_section(page: &mut Page, d: &Discovery) {
+    page.heading("Noise");
+    page.paragraph(&format!("M0's {}.", noise_text(d)));
+    let names: Vec<String> = d
+        .training_loads_n
+        .iter()
+        .map(|l| format!("{l:.0} N"))
+        .collect();
+    if let Some(c) = &d.noise_correlation {
+        page.paragraph(&format!("{}.", correlation_text(c, &names)));
+    }
+    page.paragraph(&format!(
+        "M0's chi-square of innovations (the standardized residuals decorrelated along speed) is {:.1}; bootstrap p {}{}.",
+        d.goodness_of_fit.statistic,
+        p_text(d.goodness_of_fit.p_value),
+        match d.goodness_of_fit.p_holm {
+            Some(p) => format!(", {} after Holm's correction with the candidates", p_text(Some(p))),
+            None => " (with the noise fitted to the same residuals it is near its degrees of freedom by construction: reported, not decisive)".to_string(),
+        }
+    ));
+}
+
+/// The points left out of the likelihood, their measured and predicted ranges.
 fn excluded_section(page: &mut Page, d: &Discovery) {
     if d.excluded_by_load.is_empty() {
         return;
     }
-    page.heading("Points excluded from the tests");
-    page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every test and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one. Where a measured point lies far outside that range, the range is widened over the models at the ends of M0's 95% confidence region in zeta and omega_n (the training STE amplitudes at their conditional best, the held-out ones fitted again): the question is whether any model the data allow reaches the point. Measured points far outside the widest range (by more than 3 sigma plus 10% of its largest pp: beyond the noise, beyond any window of the motion and beyond the onset of non-period-1 motion moving a little with the parameters) are a discrepancy the tests cannot see.");
+    page.heading("Points left out of the likelihood");
+    page.paragraph("Where M0 predicts non-period-1 motion, or a jump between two speeds, a point-wise residual says nothing: these points are left out of every fit and gap. The ranges below compare them anyway. A measured chaotic pp is one observation window's sample, so M0's range includes, at each of its chaotic or aperiodic points, the pp of 32 consecutive windows of 64 periods after the predicted one.");
     let rows: Vec<Vec<String>> = d
         .excluded_by_load
         .iter()
@@ -668,8 +567,6 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
                     e.predicted_range_um.0, e.predicted_range_um.1
                 ),
                 format!("{:.1} .. {:.1}", e.model_range_um.0, e.model_range_um.1),
-                e.region_range_um
-                    .map_or_else(|| "-".into(), |r| format!("{:.1} .. {:.1}", r.0, r.1)),
                 e.outside_model_range.to_string(),
             ]
         })
@@ -677,29 +574,15 @@ fn excluded_section(page: &mut Page, d: &Discovery) {
     page.table(
         &[
             "load (N)",
-            "excluded points",
+            "points left out",
             "non-period-1 in M0",
             "measured pp (um)",
             "M0 predicted pp (um)",
             "M0 pp over 32 windows (um)",
-            "over M0's 95% confidence region (um)",
-            "measured outside the widest range by > 3 sigma + 10% of its top",
+            "measured outside by > 3 sigma + 10% of its top",
         ],
         &rows,
     );
-    if let Some(e) = d
-        .excluded_by_load
-        .iter()
-        .find(|e| !e.region_clamped.is_empty())
-    {
-        page.paragraph(&format!(
-            "M0's confidence region{}.",
-            clamped_text(&e.region_clamped)
-        ));
-    }
-    if let Some(w) = excluded_warning(d) {
-        page.paragraph(&w);
-    }
 }
 
 /// The gap before and after on the training and held-out loads, and the residual figures.
@@ -713,31 +596,17 @@ fn gap_section(page: &mut Page, d: &Discovery) {
     if let (Some(b), Some(a)) = (&d.gap_before.held_out, &d.gap_after.held_out) {
         g.push(vec!["held out".into(), gap_text(b), gap_text(a)]);
     }
-    page.table(&["loads", "before (M0)", "after"], &g);
+    page.table(
+        &[
+            "loads",
+            "before (M0)",
+            format!("after ({})", d.gap_after_model).as_str(),
+        ],
+        &g,
+    );
     page.image("residuals_before.png", "residuals of M0 versus Omega");
     page.image(
         "residuals_after.png",
         "residuals after adding the effect versus Omega",
     );
-}
-
-/// " (hull of the profile-likelihood and Wald intervals)" and the like after an interval that
-/// is not the Wald interval every refit gets, and the Student-t quantile it spans where the
-/// noise was estimated (1.96 goes without saying).
-fn interval_method_text(c: &CandidateResult) -> String {
-    if c.ci95.is_none() {
-        return String::new();
-    }
-    let mut parts = Vec::new();
-    if c.ci95_method != "Wald" {
-        parts.push(c.ci95_method.to_string());
-    }
-    if let Some(q) = c.interval_quantile.filter(|q| *q > 1.965) {
-        parts.push(format!("Student-t quantile {q:.2}"));
-    }
-    if parts.is_empty() {
-        String::new()
-    } else {
-        format!(" ({})", parts.join("; "))
-    }
 }

@@ -1,70 +1,7 @@
-//! Small statistical tools of the discovery workflow: the normal and chi-square tails, the
-//! Wald-Wolfowitz runs test, Holm's step-down correction, a difference-based noise estimate and
-//! the one-sided Clopper-Pearson bound (the two-sided Wilson interval is
-//! [`crate::numeric::wilson95`]). Closed forms, no dependencies.
-
-/// Standard normal upper tail P(Z > z), from erfc by the Numerical Recipes Chebyshev fit
-/// (fractional error < 1.2e-7 everywhere), which is ample for p-values.
-pub fn normal_sf(z: f64) -> f64 {
-    0.5 * erfc(z / std::f64::consts::SQRT_2)
-}
-
-fn erfc(x: f64) -> f64 {
-    let z = x.abs();
-    let t = 1.0 / (1.0 + 0.5 * z);
-    let poly = -z * z - 1.265_512_23
-        + t * (1.000_023_68
-            + t * (0.374_091_96
-                + t * (0.096_784_18
-                    + t * (-0.186_288_06
-                        + t * (0.278_868_07
-                            + t * (-1.135_203_98
-                                + t * (1.488_515_87 + t * (-0.822_152_23 + t * 0.170_872_77))))))));
-    let r = t * poly.exp();
-    if x >= 0.0 {
-        r
-    } else {
-        2.0 - r
-    }
-}
-
-/// Chi-square upper tail P(X > x) with `df` degrees of freedom by the Wilson-Hilferty cube-root
-/// normal approximation ((X/k)^(1/3) is nearly normal with mean 1 - 2/(9k), variance 2/(9k));
-/// used only to rank candidates, never for a decision (those are bootstrap-calibrated).
-pub fn chi2_sf(x: f64, df: f64) -> f64 {
-    if x <= 0.0 {
-        return 1.0;
-    }
-    let v = 2.0 / (9.0 * df);
-    normal_sf(((x / df).cbrt() - (1.0 - v)) / v.sqrt())
-}
-
-/// Wald-Wolfowitz runs test along frequency, as a standard normal score: with n+ positive and n-
-/// negative signs and R runs, E(R) = 1 + 2 n+ n- / n and Var(R) = (E(R) - 1)(E(R) - 2)/(n - 1).
-/// Returns (R - E(R)) / sd(R) summed over the independent sequences (one per load) as a single
-/// z (sum of R and of the moments). Too few runs (negative z) means residuals that keep their
-/// sign over stretches of frequency: structure the model misses.
-pub fn runs_z(sequences: &[Vec<f64>]) -> f64 {
-    let (mut r, mut mean, mut var) = (0.0, 0.0, 0.0);
-    for s in sequences {
-        let signs: Vec<bool> = s.iter().filter(|x| **x != 0.0).map(|x| *x > 0.0).collect();
-        let n = signs.len() as f64;
-        let np = signs.iter().filter(|b| **b).count() as f64;
-        let nm = n - np;
-        if np == 0.0 || nm == 0.0 || n < 3.0 {
-            continue;
-        }
-        r += 1.0 + signs.windows(2).filter(|w| w[0] != w[1]).count() as f64;
-        let m = 1.0 + 2.0 * np * nm / n;
-        mean += m;
-        var += (m - 1.0) * (m - 2.0) / (n - 1.0);
-    }
-    if var > 0.0 {
-        (r - mean) / var.sqrt()
-    } else {
-        0.0
-    }
-}
+//! Small statistical tools of the discovery workflow: Holm's step-down correction, the Monte
+//! Carlo p-value, a difference-based noise estimate, the one-sided Clopper-Pearson bound (the
+//! two-sided Wilson interval is [`crate::numeric::wilson95`]) and the Kolmogorov-Smirnov distance
+//! from uniform. Closed forms, no dependencies.
 
 /// Holm's step-down adjustment (Holm 1979) of p-values for family-wise error control:
 /// sort p ascending, p_adj(i) = max_{j <= i} min(1, (m - j) p_(j)), returned in input order.
@@ -186,30 +123,11 @@ mod tests {
     }
 
     #[test]
-    fn normal_and_chi2_tails_match_tables() {
-        assert!((normal_sf(1.959_964) - 0.025).abs() < 1e-6);
-        assert!((normal_sf(-1.0) - 0.841_344_7).abs() < 1e-6);
-        // chi2(0.95; 2) = 5.991, chi2(0.95; 10) = 18.307 (tables).
-        assert!((chi2_sf(5.991, 2.0) - 0.05).abs() < 0.004);
-        assert!((chi2_sf(18.307, 10.0) - 0.05).abs() < 0.002);
-    }
-
-    #[test]
     fn holm_adjusts_in_order() {
         let a = holm(&[0.01, 0.04, 0.03]);
         // sorted 0.01 (x3), 0.03 (x2), 0.04 (x1) -> 0.03, 0.06, max(0.06, 0.04).
         assert!((a[0] - 0.03).abs() < 1e-12 && (a[2] - 0.06).abs() < 1e-12);
         assert!((a[1] - 0.06).abs() < 1e-12);
-    }
-
-    #[test]
-    fn runs_test_sees_alternation_and_blocks() {
-        let alt: Vec<f64> = (0..40)
-            .map(|i| if i % 2 == 0 { 1.0 } else { -1.0 })
-            .collect();
-        let blocks: Vec<f64> = (0..40).map(|i| if i < 20 { 1.0 } else { -1.0 }).collect();
-        assert!(runs_z(&[alt]) > 5.0);
-        assert!(runs_z(&[blocks]) < -5.0);
     }
 
     #[test]

@@ -4,8 +4,8 @@
 //! afterwards). Rates come with Wilson 95% intervals.
 
 use super::effects::Candidate;
-use super::interval::on_phase_arc;
-use super::run::{discover, DiscoverOptions, Discovery};
+use super::procedure::discover;
+use super::result::{DiscoverOptions, Discovery};
 use super::stats::{clopper_pearson_upper95, ks_from_uniform};
 use crate::data::load_munro;
 use crate::error::{GearError, Result};
@@ -127,46 +127,26 @@ pub struct SeedOutcome {
     pub estimate: Option<f64>,
     pub ci95: Option<(f64, f64)>,
     pub covered: Option<bool>,
-    /// The intervals behind a hull `ci95` ([`crate::discover::CandidateResult`]), to compare
-    /// their coverage.
+    /// The intervals behind `ci95` ([`crate::discover::CandidateResult`]), to compare their
+    /// coverage.
     pub wald_ci95: Option<(f64, f64)>,
     pub profile_ci95: Option<(Option<f64>, Option<f64>)>,
-    /// The quantile `wald_ci95` spans either side, in standard errors (Student-t with
-    /// Satterthwaite's degrees of freedom for an estimated noise).
-    pub interval_quantile: Option<f64>,
-    /// The named candidate's phase is not determined by the training loads (its other-phase
-    /// refit is a distinct minimum within chi2(0.95; 1); the interval spans both); None when
-    /// no phase-carrying candidate was named.
-    pub phase_undetermined: Option<bool>,
-    /// The named phase-carrying candidate's phase and its 95% arcs, degrees
-    /// ([`crate::discover::CandidateResult::phase_wald95_deg`]); whether the true phase lies on
-    /// one of them, and how far it is from the estimate (degrees, 0 to 180).
+    /// The named phase-carrying candidate's phase and its 95% Wald arc, degrees; whether the
+    /// true phase lies on it, and how far it is from the estimate (degrees, 0 to 180).
     pub phase_deg: Option<f64>,
-    pub phase_wald95_deg: Vec<(f64, f64)>,
+    pub phase_wald95_deg: Option<(f64, f64)>,
     pub phase_covered: Option<bool>,
-    /// With `--phase-profile`: the phase's profile arc (hull with its Wald arc,
-    /// [`crate::discover::CandidateResult::phase_profile95_deg`]) and whether the true phase
-    /// lies on it or on the other basin's Wald arc when the phase is undetermined.
-    pub phase_profile95_deg: Option<(f64, f64)>,
-    pub phase_profile_covered: Option<bool>,
     pub phase_error_deg: Option<f64>,
     pub held_out_rms_before_um: Option<f64>,
     pub held_out_rms_after_um: Option<f64>,
-    /// Raw (unadjusted) bootstrap p-value of every detection test and every identifiable
+    /// Raw (unadjusted) bootstrap p-value of M0's goodness of fit and of every tested
     /// candidate's likelihood ratio, by name: under the null each should be uniform.
     pub p_values: Vec<(String, f64)>,
-    /// The candidate the decision rested on (named, closest or first of the ambiguous), and
-    /// the raw p-values of the detection tests after its refit (bootstrap under the refit),
-    /// by name; empty without a refit.
-    pub leading_refit: Option<String>,
-    pub post_fit_p_values: Vec<(String, f64)>,
-    /// Points excluded from the tests whose measured pp lies far outside M0's range there
+    /// The best candidate when the answer is unexplained or ambiguous.
+    pub closest_candidate: Option<String>,
+    /// Points left out of the likelihood whose measured pp lies far outside M0's range there
     /// (the run's warning; see `ExcludedPoints`).
     pub excluded_far_outside: usize,
-    /// Candidates refitted with the full model (leading by score, and the dictionary-LR leader).
-    pub refitted: Vec<&'static str>,
-    /// [`Discovery::decided_on`].
-    pub decided_on: Vec<&'static str>,
     pub seconds: f64,
     /// The run's error, when `discover` failed on this set (`effect` is then "error" and the
     /// seed counts as not answered correctly).
@@ -216,14 +196,9 @@ pub struct StudySummary {
     pub coverage: Option<(usize, usize)>,
     /// Held-out RMS smaller after than before, over the correctly named seeds.
     pub held_out_shrunk: Option<(usize, usize)>,
-    /// Phase not determined (interval over both phases), over the correctly named seeds with
-    /// a phase-carrying effect.
-    pub phase_undetermined: Option<(usize, usize)>,
-    /// True phase on the 95% phase arcs, over the correctly named seeds with a
-    /// phase-carrying effect, and its Wilson 95% interval.
+    /// True phase on the 95% phase arc, over the correctly named seeds with a phase-carrying
+    /// effect, and its Wilson 95% interval.
     pub phase_coverage: Option<(usize, usize, (f64, f64))>,
-    /// The same for the phase's profile arcs (`--phase-profile`).
-    pub phase_profile_coverage: Option<(usize, usize, (f64, f64))>,
     /// Seeds whose run warned about excluded points far outside M0's range.
     pub warned: usize,
     /// Seeds on which `discover` failed, with the error (counted as not correct).
@@ -289,7 +264,7 @@ impl StudyOptions {
                 "a study needs at least one seed",
             ));
         }
-        super::run::check_options(&self.discover)
+        super::result::check_options(&self.discover)
     }
 }
 
@@ -416,41 +391,34 @@ fn failed_outcome(truth: &SeedTruth, error: &GearError, seconds: f64) -> SeedOut
     }
 }
 
+/// Whether the phase `deg` (degrees, any turn) lies on the arc `(lo, hi)` (hi above lo, by at
+/// most a turn).
+fn on_phase_arc(deg: f64, (lo, hi): (f64, f64)) -> bool {
+    (deg - lo).rem_euclid(360.0) <= hi - lo
+}
+
 /// One seed's discovery `d` scored against what it hid.
 fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
-    let cand = d.candidates.iter().find(|c| c.name == d.effect);
+    let cand = d.named();
     let p_values = d
-        .detection
-        .iter()
-        .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
+        .goodness_of_fit
+        .p_value
+        .map(|p| (d.goodness_of_fit.name.clone(), p))
+        .into_iter()
         .chain(
             d.candidates
                 .iter()
                 .filter_map(|c| c.p_value.map(|p| (format!("candidate_{}", c.name), p))),
         )
         .collect();
-    let post_fit_p_values = d
-        .post_fit
-        .iter()
-        .filter_map(|t| t.p_value.map(|p| (t.name.clone(), p)))
-        .collect();
-    let phase_undetermined =
-        cand.and_then(|c| c.other_start.as_ref().map(|o| o.phase_undetermined()));
     let ci95 = cand.and_then(|c| c.ci95);
     let phase_deg = cand.and_then(|c| c.phase_deg);
-    let phase_wald95_deg = cand.map(|c| c.phase_wald95_deg.clone()).unwrap_or_default();
-    let phase_profile95_deg = cand.and_then(|c| c.phase_profile95_deg);
+    let phase_wald95_deg = cand.and_then(|c| c.phase_wald95_deg);
     let true_deg = truth.phase.map(f64::to_degrees);
-    // The other basin's Wald arc counts with the profile arc, as with the Wald arcs.
-    let other_arcs = phase_wald95_deg.get(1..).unwrap_or_default();
     SeedOutcome {
-        phase_profile_covered: true_deg
-            .zip(phase_profile95_deg)
-            .map(|(t, arc)| on_phase_arc(t, arc) || other_arcs.iter().any(|&o| on_phase_arc(t, o))),
-        phase_profile95_deg,
         phase_covered: true_deg
-            .filter(|_| phase_deg.is_some())
-            .map(|t| phase_wald95_deg.iter().any(|&arc| on_phase_arc(t, arc))),
+            .zip(phase_wald95_deg)
+            .map(|(t, arc)| on_phase_arc(t, arc)),
         phase_error_deg: truth
             .phase
             .zip(phase_deg)
@@ -464,26 +432,16 @@ fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
             .value
             .zip(ci95)
             .map(|(v, (lo, hi))| v >= lo && v <= hi),
-        phase_undetermined,
         estimate: cand.and_then(|c| c.estimate),
         ci95,
         wald_ci95: cand.and_then(|c| c.wald_ci95),
         profile_ci95: cand.and_then(|c| c.profile_ci95),
-        interval_quantile: cand.and_then(|c| c.interval_quantile),
         held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
         held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
         excluded_far_outside: d.excluded_far_outside(),
-        refitted: d
-            .candidates
-            .iter()
-            .filter(|c| c.estimate.is_some())
-            .map(|c| c.name)
-            .collect(),
-        decided_on: d.decided_on(),
+        closest_candidate: d.closest_candidate.clone(),
         effect: d.effect.clone(),
         p_values,
-        leading_refit: d.leading_refit().map(str::to_string),
-        post_fit_p_values,
         seconds,
         error: None,
     }
@@ -510,9 +468,6 @@ fn summarise(
                 .is_some_and(|(b, a)| a < b)
         })
     });
-    let with_phase: Vec<bool> = good.iter().filter_map(|o| o.phase_undetermined).collect();
-    let phase_undetermined = (!with_phase.is_empty())
-        .then(|| (with_phase.iter().filter(|u| **u).count(), with_phase.len()));
     let rate = |flags: Vec<bool>| {
         (!flags.is_empty()).then(|| {
             let k = flags.iter().filter(|c| **c).count();
@@ -520,11 +475,6 @@ fn summarise(
         })
     };
     let phase_coverage = rate(good.iter().filter_map(|o| o.phase_covered).collect());
-    let phase_profile_coverage = rate(
-        good.iter()
-            .filter_map(|o| o.phase_profile_covered)
-            .collect(),
-    );
     let null = hidden == Hidden::None;
     StudySummary {
         hidden,
@@ -554,9 +504,7 @@ fn summarise(
         },
         coverage,
         held_out_shrunk,
-        phase_undetermined,
         phase_coverage,
-        phase_profile_coverage,
         warned: outcomes
             .iter()
             .filter(|o| o.excluded_far_outside > 0)

@@ -5,8 +5,8 @@
 //! M0, each candidate, the named effect's interval and a held-out load's STE, goes through here,
 //! so that all of them maximise the one likelihood of `crate::fit` (docs/discover-method.md).
 
+use super::compare::Mask;
 use super::effects::{Candidate, Effect};
-use super::fit::Mask;
 use super::forward::{
     fitted_damping_admissible, predict, predict_near, CurvePrediction, Globals, Setup,
 };

@@ -709,6 +709,24 @@ where
         CorrelationSetting::Stated(_, l) => l,
         _ => 0.0,
     };
+    // Tails and length both held (a bootstrap replicate's fit): the Student-t fit alone.
+    if let (
+        Robust::StudentT(dof),
+        CorrelationSetting::Stated(..) | CorrelationSetting::Independent,
+    ) = (opts.robust, &opts.correlation)
+    {
+        let length = Length::Held(axis, held);
+        let t = run(&first.params, Distribution::StudentT { dof }, length)?;
+        let correlation = axis.map(|a| correlation_fit(&t, &opts.noise, (a, length), None));
+        return summarise(
+            t,
+            params,
+            (&opts.noise, axis),
+            (None, correlation),
+            start_costs,
+            noise_params,
+        );
+    }
     let independent = run(
         &first.params,
         Distribution::Gaussian,

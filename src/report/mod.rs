@@ -237,8 +237,13 @@ pub fn noise_summary(e: &crate::fit::Estimate) -> String {
 /// curves' names by label), with a warning where even the chosen noise model leaves a pattern
 /// (Ljung-Box p below 0.01). None where the fit had no speed axis.
 pub fn correlation_summary(e: &crate::fit::Estimate, names: &[String]) -> Option<String> {
-    use crate::fit::{CorrelationSource, CORRELATION_LR_CRITICAL};
-    let c = e.noise.correlation.as_ref()?;
+    Some(correlation_text(e.noise.correlation.as_ref()?, names))
+}
+
+/// [`correlation_summary`] of a fit's correlation part.
+pub fn correlation_text(c: &crate::fit::CorrelationFit, names: &[String]) -> String {
+    use crate::fit::CorrelationSource;
+    use crate::fit::CORRELATION_LR_CRITICAL;
     let step = c.median_step_rpm.map_or(String::new(), |h| {
         format!(
             " (speeds {h:.0} rpm apart: correlation {:.2})",
@@ -300,14 +305,14 @@ pub fn correlation_summary(e: &crate::fit::Estimate, names: &[String]) -> Option
             flagged.join(", ")
         )
     };
-    Some(format!(
+    format!(
         "{model}. Residual correlation per curve (lag-1 of the standardized residuals; Ljung-Box of what the noise model leaves): {}{warning}",
         curves.join("; ")
-    ))
+    )
 }
 
 /// A p-value as printed: three decimals, or "< 0.001".
-fn p_text(p: f64) -> String {
+pub fn p_text(p: f64) -> String {
     if p < 0.001 {
         "< 0.001".into()
     } else {

@@ -1,0 +1,220 @@
+//! Where a model and the measured curves are compared: the training / held-out split, the
+//! mask of points a point-wise likelihood can use (period-1 and away from jumps), the gaps
+//! (RMS residuals per load and Omega window) and the residual curves of the report.
+
+use super::forward::{jumps_between, CurvePrediction, Setup};
+use super::noise::DiscoveryNoise;
+use super::result::{Gap, ResidualCurve};
+use super::windows::Window;
+use crate::error::Result;
+use rayon::prelude::*;
+
+/// Points kept per curve (same shape as the curves).
+pub type Mask = Vec<Vec<bool>>;
+
+/// Training loads: every other load from the highest (the design load) down; the rest are
+/// held out (with one load there is nothing to hold out).
+pub fn split(n: usize) -> (Vec<usize>, Vec<usize>) {
+    let train = (0..n).filter(|i| i % 2 == 0).collect();
+    let held = (0..n).filter(|i| i % 2 == 1).collect();
+    (train, held)
+}
+
+/// Widest interval between two speeds, relative to the higher, across which any change of
+/// regime with a step over 10 noise scales drops both points: the studies' grids (50 and
+/// 100 rpm, 1.7-3.3% at Munro's resonance) and the rule they were calibrated with. A boundary
+/// there is within a few per cent of both points, about what a refit moves it by; kept, such
+/// points changed M0 a lot (on a DOP853-made eps 0.2 set, relative noise, seed 3, M0's zeta
+/// went from 0.060 to 0.024 and the stiffness variation was no longer found).
+const NARROW_INTERVAL: f64 = 0.05;
+
+/// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
+/// measured pp there depends on history beyond the model) and the two points around every
+/// predicted jump larger than 10 noise scales (at the higher of the two levels): a change of
+/// impact regime (Fig. 9: none, single-sided, double-sided) between neighbouring speeds. A
+/// jump displaced by one grid step would dominate every statistic without saying anything
+/// about a missing effect. Across an interval wider than [`NARROW_INTERVAL`] the change must
+/// also be discontinuous in the sweep ([`jumps_between`]): a coarse grid's change along one
+/// continuous branch (on a 500 rpm grid, the design load's resonance peak, at which the teeth
+/// separate for a moment) moves smoothly with the parameters and carries zeta; dropping its
+/// three points left M0 without zeta, which ran to its floor. `curves[k]` is the curve
+/// `preds[k]` predicts.
+pub fn make_mask(
+    setup: &Setup,
+    preds: &[CurvePrediction],
+    curves: &[usize],
+    noise: &DiscoveryNoise,
+) -> Result<Mask> {
+    preds
+        .par_iter()
+        .zip(curves)
+        .map(|(p, &i)| {
+            let n = p.dte_pp_um.len();
+            let mut m: Vec<bool> = p.period1.clone();
+            for j in 1..n {
+                // A jump is a change of contact regime with a step in pp; a resonance peak
+                // in contact is steep too but smooth in the parameters, and it carries zeta.
+                // The jump onto the back flank keeps the teeth separated on both sides: on a
+                // rattle-regime set (b x 0.7, seed 16, 945 N) single-sided impacts at 30 um
+                // jump to double-sided ones at 157 um, and a refit whose jump came one speed
+                // early kept the point between, 120 um off, which alone made it "unexplained".
+                let regime_changed = p.separated[j] != p.separated[j - 1]
+                    || p.back_contact[j] != p.back_contact[j - 1];
+                let (a, b) = (p.dte_pp_um[j - 1], p.dte_pp_um[j]);
+                let top = a.abs().max(b.abs());
+                let step = 10.0 * noise.scale_at(i, j, top).max(noise.scale_at(i, j - 1, top));
+                let speeds = &setup.curves[i].speeds_rpm;
+                let narrow = speeds[j] - speeds[j - 1] <= NARROW_INTERVAL * speeds[j];
+                if regime_changed
+                    && (b - a).abs() > step
+                    && (narrow || jumps_between(p, speeds, j, step)?)
+                {
+                    m[j] = false;
+                    m[j - 1] = false;
+                }
+            }
+            Ok(m)
+        })
+        .collect()
+}
+
+/// The RMS residual of `preds` about the curves `idx` at the kept points, per load and at the
+/// worst Omega window of `ws`.
+pub fn gap(
+    setup: &Setup,
+    idx: &[usize],
+    preds: &[CurvePrediction],
+    mask: &Mask,
+    omega: &[Vec<f64>],
+    ws: &[Window],
+) -> Gap {
+    let mut all = Vec::new();
+    let mut per_w = vec![Vec::new(); ws.len()];
+    let mut per_load = Vec::new();
+    let mut per_load_res: Vec<Vec<f64>> = Vec::new();
+    for &i in idx {
+        let mut this = Vec::new();
+        for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
+            if mask[i][j] {
+                let r = y - preds[i].dte_pp_um[j];
+                all.push(r);
+                this.push(r);
+                for (k, w) in ws.iter().enumerate() {
+                    if w.contains(omega[i][j]) {
+                        per_w[k].push(r);
+                    }
+                }
+            }
+        }
+        per_load_res.push(this);
+    }
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
+    for (&i, v) in idx.iter().zip(&per_load_res) {
+        per_load.push((setup.curves[i].load_n, rms(v), v.len()));
+    }
+    let worst = per_w
+        .iter()
+        .enumerate()
+        .filter(|(_, v)| v.len() >= 3)
+        .map(|(k, v)| (k, rms(v)))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    Gap {
+        rms_um: rms(&all),
+        worst_window_rms_um: worst.map_or(0.0, |w| w.1),
+        worst_window: worst.map(|w| ws[w.0].label.to_string()),
+        points: all.len(),
+        per_load,
+    }
+}
+
+pub fn residual_curves(
+    setup: &Setup,
+    train: &[usize],
+    preds: &[CurvePrediction],
+    mask: &Mask,
+    omega: &[Vec<f64>],
+) -> Vec<ResidualCurve> {
+    setup
+        .curves
+        .iter()
+        .enumerate()
+        .map(|(i, c)| ResidualCurve {
+            load_n: c.load_n,
+            training: train.contains(&i),
+            points: (0..c.speeds_rpm.len())
+                .map(|j| {
+                    (
+                        c.speeds_rpm[j],
+                        omega[i][j],
+                        c.dte_pp_um[j] - preds[i].dte_pp_um[j],
+                        mask[i][j],
+                    )
+                })
+                .collect(),
+        })
+        .collect()
+}
+
+/// Of the points `dropped` of curve `i`, those whose measured pp lies outside the model range
+/// `range` (um) by more than 3 noise scales (at its largest pp) plus 10% of that pp.
+pub fn far_from(
+    setup: &Setup,
+    noise: &DiscoveryNoise,
+    i: usize,
+    dropped: &[usize],
+    range: (f64, f64),
+) -> usize {
+    let top = range.1.abs();
+    let margin = |j: usize| 3.0 * noise.scale_at(i, j, top) + 0.1 * top;
+    dropped
+        .iter()
+        .filter(|&&j| {
+            let v = setup.curves[i].dte_pp_um[j];
+            v > range.1 + margin(j) || v < range.0 - margin(j)
+        })
+        .count()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::make_mask;
+    use crate::discover::forward::CurvePrediction;
+
+    /// A jump from single-sided impacts (30 um) onto the back flank (157 um) drops the points
+    /// on both sides although the teeth are separated on both; a jump out of contact does the
+    /// same; a step in back contact smaller than 10 sigma, and a large step within one regime
+    /// (a resonance peak), keep their points; a non-period-1 point is dropped. Without the
+    /// model a regime change cannot be refined and counts as a jump.
+    #[test]
+    fn mask_drops_the_points_around_a_jump_onto_the_back_flank() {
+        let p = CurvePrediction {
+            dte_pp_um: vec![20.0, 28.0, 30.0, 157.0, 162.0, 162.5, 300.0, 10.0, 9.0],
+            period1: vec![true, true, true, true, true, true, true, true, false],
+            separated: vec![false, true, true, true, true, true, true, false, false],
+            back_contact: vec![false, false, false, true, true, false, false, false, false],
+            aperiodic_start: vec![None; 9],
+            neighbour_starts: Vec::new(),
+            sweep_model: None,
+        };
+        let setup = crate::discover::forward::Setup::new(
+            crate::data::munro_rig().dimensional().unwrap(),
+            3780.0,
+            vec![crate::discover::forward::Curve {
+                load_n: 3780.0,
+                speeds_rpm: (0..9).map(|k| 1000.0 + 100.0 * k as f64).collect(),
+                dte_pp_um: vec![1.0; 9],
+                sd_um: None,
+            }],
+            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
+        );
+        let noise = crate::discover::noise::DiscoveryNoise::stated(
+            crate::discover::noise::NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(0.15),
+        );
+        let m = make_mask(&setup, &[p], &[0], &noise).unwrap();
+        assert_eq!(
+            m[0],
+            vec![false, false, false, false, true, true, false, false, false]
+        );
+    }
+}
