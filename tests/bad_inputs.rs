@@ -431,8 +431,8 @@ fn table() -> Vec<Case> {
         ),
         cli(
             "discover-study with too few replicates to ever detect",
-            "discover-study --hidden none --seeds 1 --bootstrap 519 --out out/summary.json",
-            "the bootstrap needs 520",
+            "discover-study --hidden none --seeds 1 --bootstrap 99 --out out/summary.json",
+            "the bootstrap needs 100",
         ),
         cli(
             "validate given --rig",
