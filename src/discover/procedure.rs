@@ -241,11 +241,9 @@ fn fit_null<'a>(
     for (k, &i) in train.iter().enumerate() {
         ste_all[i] = ste[k].abs();
     }
-    let mut held_log_likelihood = 0.0;
-    for h in held_fits {
-        ste_all[h.curve] = h.ste_um;
-        preds[h.curve] = h.prediction;
-        held_log_likelihood += h.log_likelihood;
+    let (held_ste, held_log_likelihood) = place_held(held_fits, &mut preds);
+    for (i, e) in held_ste {
+        ste_all[i] = e;
     }
     Ok(NullFit {
         curves,
@@ -258,6 +256,21 @@ fn fit_null<'a>(
         scales,
         held_log_likelihood,
     })
+}
+
+/// The held-out loads' predictions put in place among `preds`; their STEs (curve, um) and the
+/// sum of their log-likelihoods.
+fn place_held(fits: Vec<HeldOut>, preds: &mut [CurvePrediction]) -> (Vec<(usize, f64)>, f64) {
+    let mut log_likelihood = 0.0;
+    let ste = fits
+        .into_iter()
+        .map(|h| {
+            preds[h.curve] = h.prediction;
+            log_likelihood += h.log_likelihood;
+            (h.curve, h.ste_um)
+        })
+        .collect();
+    (ste, log_likelihood)
 }
 
 /// A held-out load predicted by a fitted model: its STE fitted alone.
@@ -322,18 +335,37 @@ struct CandidateFit {
     columns: Option<DMatrix<f64>>,
 }
 
-/// The whitened vector `v` (M0's innovations of a change of the curves) with its projection on
-/// M0's whitened Jacobian removed: what no change of M0's own parameters can do.
-fn off_m0(null: &NullFit, v: &[f64]) -> Vec<f64> {
-    let w = &null.est.whitener;
-    let g = w.innovations_of_columns(&null.est.model_jacobian);
-    let x = nalgebra::DVector::from_vec(w.innovations(v));
-    let svd = g.clone().svd(true, true);
-    let proj = svd
-        .solve(&x, 1e-10)
-        .map(|beta| &g * beta)
-        .unwrap_or_else(|_| nalgebra::DVector::zeros(x.len()));
-    (x - proj).iter().copied().collect()
+/// M0's whitened Jacobian and its SVD: the directions M0's own parameters can move the curves
+/// in, whitened by M0's noise (computed once per candidate's probes, not once per probe).
+struct M0Directions {
+    g: DMatrix<f64>,
+    svd: nalgebra::SVD<f64, nalgebra::Dyn, nalgebra::Dyn>,
+}
+
+impl M0Directions {
+    fn of(null: &NullFit) -> Self {
+        let g = null
+            .est
+            .whitener
+            .innovations_of_columns(&null.est.model_jacobian);
+        M0Directions {
+            svd: g.clone().svd(true, true),
+            g,
+        }
+    }
+
+    /// The whitened vector `v` (M0's innovations of a change of the curves) with its
+    /// projection on M0's whitened Jacobian removed: what no change of M0's own parameters can
+    /// do.
+    fn off(&self, null: &NullFit, v: &[f64]) -> Vec<f64> {
+        let x = nalgebra::DVector::from_vec(null.est.whitener.innovations(v));
+        let proj = self
+            .svd
+            .solve(&x, 1e-10)
+            .map(|beta| &self.g * beta)
+            .unwrap_or_else(|_| nalgebra::DVector::zeros(x.len()));
+        (x - proj).iter().copied().collect()
+    }
 }
 
 /// A probe of a candidate at M0's other parameters: how far it moves the training curves off
@@ -354,6 +386,7 @@ fn probe_all(
     let y = curves.data();
     let f0 = null.curves.model(&null.est.params).unwrap_or_default();
     let squares = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
+    let m0 = M0Directions::of(null);
     c.probes()
         .into_par_iter()
         .filter_map(|delta| {
@@ -362,7 +395,7 @@ fn probe_all(
             let r: Vec<f64> = y.iter().zip(&f).map(|(y, f)| y - f).collect();
             Some(Probe {
                 delta,
-                moved: squares(&off_m0(null, &off)).sqrt(),
+                moved: squares(&m0.off(null, &off)).sqrt(),
                 rss: squares(&null.est.whitener.innovations(&r)),
             })
         })
@@ -989,13 +1022,7 @@ fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Re
             null.est.noise.model.distribution,
         ),
     )?;
-    let mut held_ste = Vec::new();
-    let mut held_log_likelihood = 0.0;
-    for h in fits {
-        held_ste.push((h.curve, h.ste_um));
-        preds[h.curve] = h.prediction;
-        held_log_likelihood += h.log_likelihood;
-    }
+    let (held_ste, held_log_likelihood) = place_held(fits, &mut preds);
     Ok(After {
         preds,
         held_ste,
