@@ -25,10 +25,10 @@ pub use lm::{
     least_squares, least_squares_warm, rss, secant_jacobian, LmFit, NearResiduals, Stop, UNSEEN,
 };
 pub use noise::{
-    estimate_length, estimate_noise, estimate_noise_and_length, floor_at_bound,
-    held_variance_components, length_interval, log_likelihood, neg_log_likelihood, restricted_term,
-    robust_weight, variance_components, Distribution, NoiseData, NoiseFreedom, NoiseModel,
-    VarianceComponents,
+    estimate_length, estimate_noise, estimate_noise_and_length, estimate_noise_near,
+    floor_at_bound, held_variance_components, length_interval, log_likelihood, neg_log_likelihood,
+    restricted_term, robust_weight, variance_components, Distribution, NoiseData, NoiseFreedom,
+    NoiseModel, VarianceComponents,
 };
 pub use params::{Param, Transform};
 pub use profile::{profile_interval, profile_interval_or_better, ProfileInterval, Profiled};

@@ -323,7 +323,20 @@ pub fn estimate_noise(
     freedom: NoiseFreedom,
     dist: Distribution,
 ) -> Result<(NoiseModel, f64)> {
-    estimate_noise_on(data, freedom, dist, None)
+    estimate_noise_on(data, freedom, dist, None, None)
+}
+
+/// [`estimate_noise`] started from a noise model `near` the optimum (the previous step's of a
+/// reweighted fit): one search from there instead of two from the residuals' spread. The
+/// likelihood in (ln floor, ln relative) has one minimum on every set tried; a start near it
+/// saves most of the search.
+pub fn estimate_noise_near(
+    data: &NoiseData,
+    freedom: NoiseFreedom,
+    dist: Distribution,
+    near: &NoiseModel,
+) -> Result<(NoiseModel, f64)> {
+    estimate_noise_on(data, freedom, dist, None, Some(near))
 }
 
 /// [`estimate_noise`] with the correlation length estimated too, on `axis`, jointly in one
@@ -346,7 +359,7 @@ pub fn estimate_noise_and_length(
     };
     // A length below the bounds' least (neighbours correlated by under e^-10) is independent
     // errors: kept, it would flip with rounding between reweighting steps.
-    match estimate_noise_on(data, freedom, dist, Some(axis)) {
+    match estimate_noise_on(data, freedom, dist, Some(axis), None) {
         Ok(c) if c.1 < independent.1 && c.0.correlation_length > lo => Ok(c),
         _ => Ok(independent),
     }
@@ -357,6 +370,7 @@ fn estimate_noise_on(
     freedom: NoiseFreedom,
     dist: Distribution,
     free_length: Option<&Axis>,
+    near: Option<&NoiseModel>,
 ) -> Result<(NoiseModel, f64)> {
     let n = data.residuals.len();
     if n < 3 || data.levels.len() != n || data.leverages.len() != n {
@@ -377,22 +391,30 @@ fn estimate_noise_on(
     };
     let length0 = free_length.and_then(Axis::median_step);
     let mut best: Option<(Vec<f64>, f64)> = None;
-    let starts: &[f64] = if freedom.relative {
-        &[0.01, 0.1]
-    } else {
-        &[0.0]
+    // Starts (ln floor coordinate, relative part) and the simplex's step: from the residuals'
+    // spread two relative parts a decade apart; near a known model that model, a smaller step.
+    let (starts, step): (Vec<(f64, f64)>, f64) = match near {
+        Some(m) => {
+            let a = 0.5
+                * (m.floor.powi(2) - freedom.floor_min.powi(2))
+                    .max(1e-300)
+                    .ln();
+            (vec![(a, m.relative.max(RELATIVE_NEGLIGIBLE))], 0.1)
+        }
+        None if freedom.relative => (vec![(floor0.ln(), 0.01), (floor0.ln(), 0.1)], 0.5),
+        None => (vec![(floor0.ln(), 0.0)], 0.5),
     };
-    for &rel0 in starts {
+    for (a0, rel0) in starts {
         let mut x0 = if freedom.relative {
-            vec![floor0.ln(), rel0.ln()]
+            vec![a0, rel0.ln()]
         } else {
-            vec![floor0.ln()]
+            vec![a0]
         };
         x0.extend(length0.map(f64::ln));
         let mut simplex = vec![x0.clone()];
         for i in 0..x0.len() {
             let mut v = x0.clone();
-            v[i] += 0.5;
+            v[i] += step;
             simplex.push(v);
         }
         let solver = NelderMead::new(simplex)
