@@ -14,6 +14,7 @@ pub(crate) mod fast_math;
 pub mod fit;
 pub mod hb;
 pub mod mesh;
+pub mod method_study;
 pub mod model;
 pub mod numeric;
 pub mod plot;

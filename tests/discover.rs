@@ -196,7 +196,12 @@ fn null_set_gives_none_without_reading_the_truth() {
 fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/munro");
     let d = run(&shipped);
-    assert_eq!(d.effect, "none", "{}", geardyn::discover::summary_text(&d));
+    assert_eq!(
+        d.effect,
+        "none",
+        "{}",
+        geardyn::report::discovery_summary(&d)
+    );
     assert_eq!(d.excluded_far_outside(), 0, "{:?}", d.excluded_by_load);
     let e = d
         .excluded_by_load
@@ -245,7 +250,7 @@ fn the_independent_second_harmonic_set_is_named() {
         d.effect,
         "ste_harmonics",
         "{}",
-        geardyn::discover::summary_text(&d)
+        geardyn::report::discovery_summary(&d)
     );
     let r2 = d.named().and_then(|c| c.estimate).unwrap();
     assert!((r2 / 0.4 - 1.0).abs() < 0.1, "r2 {r2}");
@@ -267,7 +272,12 @@ fn a_null_set_with_errors_correlated_along_speed_gives_none() {
     t.dop853_rtol = Some(1e-9);
     synth_munro(&t, tmp.path(), &NoProgress).unwrap();
     let d = run(tmp.path());
-    assert_eq!(d.effect, "none", "{}", geardyn::discover::summary_text(&d));
+    assert_eq!(
+        d.effect,
+        "none",
+        "{}",
+        geardyn::report::discovery_summary(&d)
+    );
     let length = d.noise.model.correlation_length;
     assert!(length > 30.0 && length < 400.0, "length {length} rpm");
 }
@@ -511,7 +521,7 @@ fn null_sets_with_level_dependent_and_heavy_tailed_noise_give_none() {
             "none",
             "{}: {}",
             family.name(),
-            geardyn::discover::summary_text(&d)
+            geardyn::report::discovery_summary(&d)
         );
         assert!(matches!(d.noise.origin, NoiseOrigin::Fitted { .. }));
         let m = d.noise.model;
@@ -620,7 +630,7 @@ fn stated_noise_is_used_as_stated() {
         },
     );
     assert_eq!(d.effect, "unexplained");
-    let text = geardyn::discover::summary_text(&d);
+    let text = geardyn::report::discovery_summary(&d);
     assert!(
         text.contains("a noise stated smaller than the scatter makes M0 fail"),
         "{text}"

@@ -76,9 +76,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         ..DiscoverOptions::default()
     };
     let d = discover(&data, &opts, &Bar::new())?;
-    let written = geardyn::discover::write_discovery(&data, &d, &a.out)?;
+    let written = geardyn::report::write_discovery(&data, &d, &a.out)?;
     let mut text = format!("{}\n", data_kind_banner(&data.rig));
-    text.push_str(&geardyn::discover::summary_text(&d));
+    text.push_str(&geardyn::report::discovery_summary(&d));
     for p in written {
         text.push_str(&format!("wrote {}\n", p.display()));
     }

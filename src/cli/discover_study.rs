@@ -7,9 +7,8 @@ use super::limits::{real, whole};
 use super::progress_bar::Bar;
 use anyhow::Context;
 use clap::Args as ClapArgs;
-use geardyn::discover::{
-    run_study, DiscoverOptions, Hidden, SeedOutcome, StudyOptions, StudySummary, MAX_BOOTSTRAP,
-};
+use geardyn::discover::{DiscoverOptions, MAX_BOOTSTRAP};
+use geardyn::method_study::discover::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 use std::path::PathBuf;
 
 #[derive(ClapArgs, Debug)]

@@ -15,25 +15,20 @@ mod forward;
 mod memo;
 mod noise;
 mod procedure;
-mod report;
 mod result;
 mod start;
-pub mod stats;
-mod study;
+mod stats;
 mod training;
 mod windows;
 
 pub use compare::split;
 pub use effects::{Candidate, Effect, LIBRARY};
-pub use forward::{Curve, Setup};
+pub use forward::{Curve, Setup, MIN_ZETA};
 pub use noise::{DiscoveryNoise, NoiseOrigin, TailChoice};
 pub use procedure::{discover, discover_setup};
-pub use report::{discovery_json, summary_text, write_discovery};
 pub use result::{
-    least_bootstrap, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints, Gap, GapSet,
-    PredictionCheck, ResidualCurve, TestResult, MAX_BOOTSTRAP,
+    check_options, least_bootstrap, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
+    Gap, GapSet, PredictionCheck, ResidualCurve, TestResult, MAX_BOOTSTRAP,
 };
-pub use stats::clopper_pearson_upper95;
-pub use study::{run_study, Hidden, SeedOutcome, StudyOptions, StudySummary};
 pub use training::Correlation;
-pub use windows::{windows, Window};
+pub use windows::{windows, Window, HALF_WIDTH as WINDOW_HALF_WIDTH};

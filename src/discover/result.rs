@@ -1,6 +1,6 @@
 //! What a discovery run is asked (its options) and what it found: the answer, each candidate's
 //! test and size, M0's fit and errors, and the gaps before and after on training and held-out
-//! loads. Immutable once made; `super::report` writes it.
+//! loads. Immutable once made; `crate::report::write_discovery` writes it.
 
 use super::effects::Candidate;
 use super::forward::MIN_ZETA;
@@ -58,7 +58,7 @@ pub fn least_bootstrap(alpha: f64) -> usize {
 
 /// The options' ranges, checked before any work: alpha in (0, 0.5]; enough replicates
 /// ([`least_bootstrap`]) and at most [`MAX_BOOTSTRAP`]; a stated noise in (0, 1000) um.
-pub(crate) fn check_options(opts: &DiscoverOptions) -> Result<()> {
+pub fn check_options(opts: &DiscoverOptions) -> Result<()> {
     if !(opts.alpha > 0.0 && opts.alpha <= 0.5) {
         return Err(GearError::param(
             "alpha",

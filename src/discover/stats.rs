@@ -48,79 +48,9 @@ pub fn bootstrap_p(observed: f64, replicates: &[f64]) -> f64 {
     (1 + ge) as f64 / (replicates.len() + 1) as f64
 }
 
-/// One-sided 95% upper confidence bound of a binomial proportion from k successes in n trials
-/// (Clopper & Pearson 1934): the p at which P(X <= k; n, p) = 0.05, by bisection on the exact
-/// binomial distribution function (terms summed in log space). 1 when k = n; None for n = 0.
-pub fn clopper_pearson_upper95(k: usize, n: usize) -> Option<f64> {
-    if n == 0 || k > n {
-        return None;
-    }
-    if k == n {
-        return Some(1.0);
-    }
-    let cdf = |p: f64| -> f64 {
-        let (lp, lq) = (p.ln(), (1.0 - p).ln());
-        let mut ln_choose = 0.0;
-        let mut sum = 0.0;
-        for i in 0..=k {
-            if i > 0 {
-                ln_choose += ((n - i + 1) as f64 / i as f64).ln();
-            }
-            sum += (ln_choose + i as f64 * lp + (n - i) as f64 * lq).exp();
-        }
-        sum
-    };
-    let (mut lo, mut hi) = (k as f64 / n as f64, 1.0);
-    for _ in 0..60 {
-        let mid = 0.5 * (lo + hi);
-        if cdf(mid) > 0.05 {
-            lo = mid;
-        } else {
-            hi = mid;
-        }
-    }
-    Some(0.5 * (lo + hi))
-}
-
-/// Kolmogorov-Smirnov distance sup |F_n(p) - p| of sorted values in [0, 1] from the uniform
-/// distribution (0 for no values).
-pub fn ks_from_uniform(sorted: &[f64]) -> f64 {
-    let n = sorted.len() as f64;
-    sorted
-        .iter()
-        .enumerate()
-        .map(|(i, &p)| (p - i as f64 / n).max((i + 1) as f64 / n - p))
-        .fold(0.0, f64::max)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn clopper_pearson_bounds_match_closed_forms() {
-        // k = 0: (1 - p)^n = 0.05, p = 1 - 0.05^(1/n).
-        let u = clopper_pearson_upper95(0, 300).unwrap();
-        assert!((u - (1.0 - 0.05f64.powf(1.0 / 300.0))).abs() < 1e-12, "{u}");
-        // k = n - 1: 1 - p^n = 0.05, p = 0.95^(1/n).
-        let u = clopper_pearson_upper95(9, 10).unwrap();
-        assert!((u - 0.95f64.powf(0.1)).abs() < 1e-12, "{u}");
-        // k = 1, n = 2: 1 - p^2 = 0.05 as well.
-        let u = clopper_pearson_upper95(1, 2).unwrap();
-        assert!((u - 0.95f64.sqrt()).abs() < 1e-12);
-        assert_eq!(clopper_pearson_upper95(3, 3), Some(1.0));
-        assert_eq!(clopper_pearson_upper95(0, 0), None);
-    }
-
-    #[test]
-    fn ks_distance_of_an_even_grid_and_a_pile_up() {
-        // Midpoints (i + 1/2) / n are the closest n points to uniform: distance 1 / (2n).
-        let grid: Vec<f64> = (0..10).map(|i| (i as f64 + 0.5) / 10.0).collect();
-        assert!((ks_from_uniform(&grid) - 0.05).abs() < 1e-15);
-        // Everything at 0.01: the empirical CDF is 1 from 0.01 on, distance 0.99.
-        assert!((ks_from_uniform(&[0.01; 5]) - 0.99).abs() < 1e-15);
-        assert_eq!(ks_from_uniform(&[]), 0.0);
-    }
 
     #[test]
     fn holm_adjusts_in_order() {

@@ -1,5 +1,5 @@
-//! Numerical leaves shared by every layer: seeded random numbers ([`Rng`]), the Wilson
-//! interval of a proportion ([`wilson95`]), scalar root finding (Brent's method and sign-change
+//! Numerical leaves shared by every layer: seeded random numbers ([`Rng`]), rates over
+//! seeds ([`wilson95`], [`clopper_pearson_upper95`], [`ks_from_uniform`]), scalar root finding (Brent's method and sign-change
 //! brackets), rounding to significant digits ([`to_significant`]) and the range of a set of
 //! values ([`min_max`]).
 //!
@@ -7,12 +7,12 @@
 
 mod format;
 mod min_max;
+mod rates;
 mod rng;
 mod roots;
-mod wilson;
 
 pub use format::to_significant;
 pub use min_max::min_max;
+pub use rates::{clopper_pearson_upper95, ks_from_uniform, wilson95};
 pub use rng::Rng;
 pub(crate) use roots::{brent, sign_changes};
-pub use wilson::wilson95;

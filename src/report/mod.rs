@@ -2,11 +2,13 @@
 //! figures, Markdown and an HTML page in `reports/<name>/`. Output folders are staged and moved
 //! into place only when complete, so a failure leaves no partial output.
 
+mod discover;
 pub mod html;
 mod kubo;
 mod munro;
 mod staging;
 
+pub use discover::{discovery_json, discovery_summary, write_discovery};
 pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
 pub use munro::{curve_names as munro_curve_names, munro_json, write_munro_report, MunroFigures};

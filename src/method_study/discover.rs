@@ -3,13 +3,10 @@
 //! (the generated rig.toml records the truth; the workflow does not read it, the study compares
 //! afterwards). Rates come with Wilson 95% intervals.
 
-use super::effects::Candidate;
-use super::procedure::discover;
-use super::result::{DiscoverOptions, Discovery};
-use super::stats::{clopper_pearson_upper95, ks_from_uniform};
 use crate::data::load_munro;
+use crate::discover::{discover, Candidate, DiscoverOptions, Discovery};
 use crate::error::{GearError, Result};
-use crate::numeric::{wilson95, Rng};
+use crate::numeric::{clopper_pearson_upper95, ks_from_uniform, wilson95, Rng};
 use crate::progress::Progress;
 use crate::validate::{synth_munro, HiddenEffects, MunroTruth, NoiseFamily, SpeedGrid, SynthNoise};
 use serde::Serialize;
@@ -33,7 +30,7 @@ impl Hidden {
         match s {
             "none" => Some(Hidden::None),
             "sensor_peak" => Some(Hidden::SensorPeak),
-            _ => super::effects::LIBRARY
+            _ => crate::discover::LIBRARY
                 .iter()
                 .find(|c| c.name() == s)
                 .map(|c| Hidden::Library(*c)),
@@ -264,7 +261,7 @@ impl StudyOptions {
                 "a study needs at least one seed",
             ));
         }
-        super::result::check_options(&self.discover)
+        crate::discover::check_options(&self.discover)
     }
 }
 
@@ -558,11 +555,9 @@ mod tests {
 
     #[test]
     fn every_hidden_effect_reads_back_from_its_name() {
-        let all = [Hidden::None, Hidden::SensorPeak].into_iter().chain(
-            super::super::effects::LIBRARY
-                .iter()
-                .map(|c| Hidden::Library(*c)),
-        );
+        let all = [Hidden::None, Hidden::SensorPeak]
+            .into_iter()
+            .chain(crate::discover::LIBRARY.iter().map(|c| Hidden::Library(*c)));
         for h in all {
             assert_eq!(Hidden::parse(h.name()), Some(h), "{}", h.name());
         }

@@ -3,15 +3,13 @@
 //! open with the answer and why, and the residual plots before and after (PNG + SVG) with the
 //! Omega windows marked. The folder is staged and moved into place only when complete.
 
-use super::forward::MIN_ZETA;
-use super::noise::NoiseOrigin;
-use super::result::{CandidateResult, Discovery, Gap, ResidualCurve};
+use super::{correlation_text, data_kind_banner, Page, Staged};
 use crate::data::{DataKind, MunroData};
+use crate::discover::{CandidateResult, Discovery, Gap, NoiseOrigin, ResidualCurve, MIN_ZETA};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::numeric::min_max;
 use crate::plot::{write_xy, Series, XyPlot};
-use crate::report::{correlation_text, data_kind_banner, Page, Staged};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -219,7 +217,7 @@ fn residual_plot(
     let mut plot = XyPlot::new(title, "Omega = mesh frequency / omega_n (M0)", "residual (measured - model), um")
         .with_caption(format!(
             "Shaded: windows around Ω = 1/3, 1/2, 2/3, 1, 2 (±{:.0}%); points excluded from the tests (non-period-1 or next to a jump) not drawn",
-            100.0 * super::windows::HALF_WIDTH
+            100.0 * crate::discover::WINDOW_HALF_WIDTH
         ));
     let (lo, hi) = min_max(curves.iter().flat_map(|c| c.points.iter().map(|p| p.1)))
         .unwrap_or((f64::INFINITY, f64::NEG_INFINITY));
@@ -332,7 +330,7 @@ fn p_text(p: Option<f64>) -> String {
 }
 
 /// A few lines for the terminal: the answer first.
-pub fn summary_text(d: &Discovery) -> String {
+pub fn discovery_summary(d: &Discovery) -> String {
     let mut s = format!(
         "effect: {}
 {}
