@@ -377,9 +377,8 @@ impl M0Directions {
 /// A probe of a candidate at M0's other parameters: how far it moves the training curves off
 /// M0's own directions, and its sum of squared innovations under M0's noise off those
 /// directions, what remains after M0's parameters move to first order (the probes that failed
-/// are left out). Held at M0's values they would judge a strong effect by M0's compensation:
-/// an eps 0.15 set's M0 took a design-load STE of 2.9 um for 0.3, and every probe near the
-/// true phase then fitted worse than M0.
+/// are left out). Held at M0's values they would judge a strong effect by M0's compensation
+/// for it (M0's STEs and damping make up for a missing effect as far as they can).
 struct Probe {
     delta: Vec<f64>,
     moved: f64,
@@ -477,9 +476,8 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
 /// where they fit better than M0, else M0 itself. A phase-carrying candidate gets up to
 /// [`PHASE_STARTS`] of them in different phases, one of them more than a quarter turn from the
 /// best where a probe there fits better than M0: the training loads can leave several phase
-/// basins (an eps 0.15 set's best probe led to eps 0.118 in the wrong one, another's to eps
-/// 0.145 at 44 degrees from the truth with the damping pulled down to 0.0144). Each start is
-/// its own fit and the largest likelihood is kept: the engine's first fit of several starts
+/// basins, each with the damping and the STEs pulled to make up for a wrong phase. Each start
+/// is its own fit and the largest likelihood is kept: the engine's first fit of several starts
 /// compares them under equal weights, which an estimated noise does not have yet.
 fn starts_of(null: &NullFit, probes: &[Probe], c: Candidate) -> Vec<Vec<f64>> {
     let m0_rss: f64 = M0Directions::of(null)
@@ -619,8 +617,8 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
     };
     // A 95% profile interval holds its estimate well inside (the ratio is 0 there and about
     // 3.84 two standard errors away): a side that ends within a hundredth of Wald's width of
-    // the estimate is one whose inner fits failed next to it (a failed fit counts as outside;
-    // seen on 2nd-harmonic sets: 0.406 [0.386, 0.406]), and that side is Wald's.
+    // the estimate is one whose inner fits failed next to it (a failed fit counts as outside),
+    // and that side is Wald's.
     let (wlo, whi) = polar.ci95[k];
     let failed = |e: Option<f64>| e.is_some_and(|v| (v - u).abs() <= 0.01 * (whi - wlo).abs());
     let (ci95, method) = match profile {
