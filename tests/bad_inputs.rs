@@ -253,6 +253,12 @@ fn table() -> Vec<Case> {
             "field 'ste.amplitude_um'",
         ),
         rig(
+            "STE load given twice to 1e-9",
+            "[source]\n",
+            "[ste]\nload_n = [3780.0, 3780.0000000001]\namplitude_um = [0.3, 0.4]\n\n[source]\n",
+            "field 'ste.load_n': entry 2 (3780.0000000001 N) is the load of entry 1",
+        ),
+        rig(
             "zeta given to validate munro",
             "backlash_mm = 0.1",
             "backlash_mm = 0.1\nzeta = 0.02",
@@ -542,6 +548,12 @@ fn table() -> Vec<Case> {
             "validate without data outside the repository",
             "validate munro --fits fits --reports reports",
             "give your data set with --data DIR",
+        ),
+        case(
+            "mesh at a load of 1e9 N",
+            "mesh --rig data/rig.toml --load-n 1e9 --tip-relief-design-load-n 3780 --out out",
+            "--load-n '1e9': load 1000000000 must be in (0, 1e8] N",
+            Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.to_string()),
         ),
         cli(
             "mesh 1e9 samples",

@@ -19,7 +19,7 @@ pub struct Args {
     /// The rig file (rig.toml): [rig] and the optional [geometry] table.
     #[arg(long)]
     rig: PathBuf,
-    /// Loads in newtons: START:STOP:STEP, or one value.
+    /// Loads in newtons, each in (0, 1e8]: START:STOP:STEP, or one value.
     #[arg(long = "load-n", allow_hyphen_values = true)]
     load_n: String,
     #[command(flatten)]
@@ -46,9 +46,9 @@ fn parse_loads(text: &str) -> anyhow::Result<Vec<f64>> {
                 "--load-n '{text}': {what} '{s}' is not a number; expected START:STOP:STEP"
             )
         })?;
-        if !(v.is_finite() && v > 0.0) {
+        if !(v.is_finite() && v > 0.0 && v <= geardyn::model::MAX_LOAD_N) {
             anyhow::bail!(
-                "--load-n '{text}': {what} {v} must be a positive finite number of newtons"
+                "--load-n '{text}': {what} {v} must be in (0, 1e8] N, as every load input of geardyn"
             );
         }
         Ok(v)

@@ -3,7 +3,7 @@
 //! curves by load, with the one notion of "same load" that [`super::same_load`] defines.
 
 use super::csv_curves::Row;
-use super::munro::same_load;
+use super::same_load::same_load;
 use crate::error::Result;
 use std::collections::{BTreeMap, HashMap};
 use std::path::{Path, PathBuf};

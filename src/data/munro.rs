@@ -9,6 +9,7 @@ use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::{CurveOrder, LoadGroups};
 use super::errors::{check_data_folder, data_error};
 use super::rig::{load_rig, rig_key_error, Rig, RigFile};
+use super::same_load::same_load;
 use crate::error::Result;
 use crate::model::{MAX_DTE_UM, MAX_LOAD_N};
 use serde::{Deserialize, Serialize};
@@ -49,14 +50,6 @@ pub struct MunroData {
     pub rig: RigFile,
     /// All points, file by file (files sorted by name) in file order.
     pub points: Vec<MunroPoint>,
-}
-
-/// Whether two loads are the same (relative tolerance 1e-9): the one notion of "same load" of
-/// the data layer. [`MunroData::loads`] and [`MunroData::curve`] group points with it, and
-/// [`load_munro`] checks speeds for duplicates within the curves it forms (refusing loads that
-/// would make the grouping ambiguous).
-pub fn same_load(a: f64, b: f64) -> bool {
-    (a - b).abs() <= 1e-9 * a.abs().max(b.abs())
 }
 
 impl MunroData {

@@ -4,6 +4,7 @@
 
 use super::errors::{data_error, read_text};
 use super::geometry::GearGeometry;
+use super::same_load::same_load;
 use super::source::Source;
 use super::toml_doc::TomlDoc;
 use crate::error::{GearError, Result, WHOLE_FILE};
@@ -265,7 +266,7 @@ impl SteTable {
         self.load_n
             .iter()
             .zip(&self.amplitude_um)
-            .find(|(l, _)| (*l - load_n).abs() <= 1e-9 * l.abs().max(load_n.abs()))
+            .find(|(l, _)| same_load(**l, load_n))
             .map(|(_, a)| *a)
     }
 
@@ -305,12 +306,19 @@ impl SteTable {
                 ));
             }
         }
+        // Loads that `same_load` takes for one (relative 1e-9) are one load: a second entry
+        // there would never be read.
         for (i, l) in self.load_n.iter().enumerate() {
-            if self.load_n[..i].contains(l) {
+            if let Some(j) = self.load_n[..i].iter().position(|e| same_load(*e, *l)) {
                 return Err(doc.error(
                     "ste",
                     "load_n",
-                    format!("entry {} repeats the load {l} N", i + 1),
+                    format!(
+                        "entry {} ({l} N) is the load of entry {} ({} N) to 1e-9: give each load once",
+                        i + 1,
+                        j + 1,
+                        self.load_n[j]
+                    ),
                 ));
             }
         }

@@ -23,6 +23,7 @@ use super::profile_deviation::ProfileDeviation;
 use super::tooth_stiffness::StiffnessTable;
 use crate::data::ProfilePoints;
 use crate::error::{GearError, Result};
+use crate::model::MAX_LOAD_N;
 use serde::Serialize;
 
 /// Shape of a tip relief over its length.
@@ -288,11 +289,11 @@ impl MeshModel {
     /// The loaded STE over one mesh period at `load_n` (> 0) with `relief`, at `samples`
     /// (>= 8) equally spaced positions.
     pub fn waveform(&self, load_n: f64, relief: &TipRelief, samples: usize) -> Result<SteWaveform> {
-        if !(load_n.is_finite() && load_n > 0.0) {
+        if !(load_n.is_finite() && load_n > 0.0 && load_n <= MAX_LOAD_N) {
             return Err(GearError::param(
                 "load_n",
                 load_n,
-                "load must be a positive finite number of newtons",
+                "load must be in (0, 1e8] N, as every load input of geardyn",
             ));
         }
         if samples < 8 {
