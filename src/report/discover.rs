@@ -9,7 +9,7 @@ use crate::discover::{CandidateResult, Discovery, Gap, NoiseOrigin, ResidualCurv
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::numeric::min_max;
-use crate::plot::{write_xy, Series, XyPlot};
+use crate::plot::{write_xy, Marker, Series, XyPlot};
 use serde_json::json;
 use std::path::{Path, PathBuf};
 
@@ -244,7 +244,18 @@ fn residual_plot(
             c.load_n,
             if c.training { "training" } else { "held out" }
         );
-        plot = plot.with_series(Series::line_markers(label, pts).with_color(k));
+        // A marker shape per load as well as a colour: the loads stay apart in grayscale.
+        let marker = [
+            Marker::Circle,
+            Marker::Square,
+            Marker::Triangle,
+            Marker::Cross,
+        ][k % 4];
+        plot = plot.with_series(
+            Series::line_markers(label, pts)
+                .with_color(k)
+                .with_marker(marker),
+        );
     }
     write_xy(&plot, stem)
 }
