@@ -387,6 +387,7 @@ struct Probe {
 
 fn probe_all(
     null: &NullFit,
+    m0: &M0Directions,
     curves: &Curves,
     at: &(dyn Fn(Vec<f64>) -> Vec<f64> + Sync),
     c: Candidate,
@@ -394,7 +395,6 @@ fn probe_all(
     let y = curves.data();
     let f0 = null.curves.model(&null.est.params).unwrap_or_default();
     let squares = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
-    let m0 = M0Directions::of(null);
     c.probes()
         .into_par_iter()
         .filter_map(|delta| {
@@ -421,9 +421,10 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
     );
     let (_, ste, _) = null.curves.unpack(&null.est.params);
     let at = |delta: Vec<f64>| curves.pack(null.globals, &ste, &Effect::of(c, delta));
-    let probes = probe_all(null, &curves, &at, c);
+    let m0 = M0Directions::of(null);
+    let probes = probe_all(null, &m0, &curves, &at, c);
     let moved = probes.iter().map(|p| p.moved).fold(0.0, f64::max);
-    let starts = starts_of(null, &probes, c);
+    let starts = starts_of(null, &m0, &probes, c);
     // A candidate that no probe lets change the curves by a tenth of the noise beyond M0's own
     // parameters cannot reach a likelihood ratio of 0.01: it is reported, not tested.
     let identifiable = moved >= 0.1;
@@ -479,8 +480,8 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
 /// basins, each with the damping and the STEs pulled to make up for a wrong phase. Each start
 /// is its own fit and the largest likelihood is kept: the engine's first fit of several starts
 /// compares them under equal weights, which an estimated noise does not have yet.
-fn starts_of(null: &NullFit, probes: &[Probe], c: Candidate) -> Vec<Vec<f64>> {
-    let m0_rss: f64 = M0Directions::of(null)
+fn starts_of(null: &NullFit, m0: &M0Directions, probes: &[Probe], c: Candidate) -> Vec<Vec<f64>> {
+    let m0_rss: f64 = m0
         .off(null, &null.est.residuals)
         .iter()
         .map(|x| x * x)
