@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 #[derive(Debug, thiserror::Error)]
 pub enum GearError {
     /// A model or solver parameter is outside its admissible range.
-    #[error("invalid parameter {name} = {value}: {reason}")]
+    #[error("invalid parameter {name} = {}: {reason}", readable(*value))]
     InvalidParameter {
         name: &'static str,
         value: f64,
@@ -73,6 +73,17 @@ impl GearError {
     }
 }
 
+/// A value as a message shows it: Rust's shortest exact decimal, in exponent form outside
+/// [1e-4, 1e7) so that 1e-300 does not print as 300 digits.
+pub fn readable(x: f64) -> String {
+    let a = x.abs();
+    if a == 0.0 || !a.is_finite() || (1e-4..1e7).contains(&a) {
+        format!("{x}")
+    } else {
+        format!("{x:e}")
+    }
+}
+
 /// "field 'F': ", or nothing when the problem is the file as a whole.
 fn field_part(field: &str) -> String {
     if field == WHOLE_FILE {
@@ -87,5 +98,21 @@ fn located(file: &Path, line: usize) -> String {
     match line {
         0 => file.display().to_string(),
         n => format!("{}:{n}", file.display()),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn values_read_in_a_few_characters() {
+        assert_eq!(readable(0.1), "0.1");
+        assert_eq!(readable(3780.0), "3780");
+        assert_eq!(readable(1e-300), "1e-300");
+        assert_eq!(readable(-2.5e299), "-2.5e299");
+        assert_eq!(readable(f64::NAN), "NaN");
+        let e = GearError::param("F_m", 2.8e271, "too large");
+        assert_eq!(e.to_string(), "invalid parameter F_m = 2.8e271: too large");
     }
 }

@@ -101,12 +101,41 @@ fn flat_curve() -> String {
         .collect()
 }
 
+/// The shipped Munro curves (`data/munro/dte.csv`), header included.
+fn shipped_munro() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/munro/dte.csv"))
+        .expect("shipped data")
+}
+
+/// The shipped Munro curves with this rig.toml.
+fn munro_with(rig: String) -> Setup {
+    Setup::Data(shipped_munro(), rig)
+}
+
+/// The valid rig with `table` (its lines, then a blank line) inserted before `[source]`: the
+/// table's first key is on line 12.
+fn rig_with_table(table: &str) -> String {
+    RIG.replace("[source]\n", &format!("{table}\n[source]\n"))
+}
+
+const MESH_DESIGN_RELIEF: &str =
+    "mesh --rig data/rig.toml --load-n 945:4725:945 --tip-relief-design-load-n 3780 --out out";
+
+/// The mesh command of [`MESH_DESIGN_RELIEF`] on the valid rig with `from` replaced by `to`.
+fn mesh_rig(name: &'static str, from: &str, to: &str, needle: &str) -> Case {
+    assert!(RIG.contains(from), "{name}: '{from}' not in the rig");
+    case(
+        name,
+        MESH_DESIGN_RELIEF,
+        needle,
+        Setup::Data(format!("{HEADER}3780,1000,1.0\n"), RIG.replace(from, to)),
+    )
+}
+
 /// The shipped Munro curves at 3780 and 945 N, the lighter one measured only at 1000 rpm (pp
 /// DTE 0) and from 2000 rpm on: its STE must be read from that one low-speed point.
 fn zero_dte_at_lowest_speed() -> String {
-    let shipped =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/data/munro/dte.csv"))
-            .expect("shipped data");
+    let shipped = shipped_munro();
     let mut rows = String::new();
     for line in shipped.lines().skip(1) {
         let f: Vec<&str> = line.split(',').collect();
@@ -608,6 +637,138 @@ fn table() -> Vec<Case> {
                 "gear,diameter_mm,relief_um\npinion,200,0\npinion,210,3\n".into(),
                 RIG.to_string(),
             ),
+        ),
+        // Values inside the old ranges that the model cannot work with, and derived quantities
+        // that fail: each names the input that made it fail.
+        rig(
+            "backlash 1e-300 mm",
+            "backlash_mm = 0.1",
+            "backlash_mm = 1e-300",
+            "rig.toml:9: field 'rig.backlash_mm': backlash_mm = 1e-300: a backlash below 0.001 mm",
+        ),
+        case(
+            "a load the backlash cannot carry (F_m above 1e9)",
+            VALIDATE,
+            "rig.toml:8: field 'rig.design_load_n': design_load_n = 1e8: over the mesh stiffness",
+            Setup::Data(
+                format!("{HEADER}3780,1000,1.0\n"),
+                RIG.replace("design_load_n = 3780.0", "design_load_n = 1e8").replace(
+                    "backlash_mm = 0.1",
+                    "backlash_mm = 0.001\nmesh_stiffness_n_per_um = 0.01",
+                ),
+            ),
+        ),
+        rig(
+            "noise floor 1e-300 um",
+            "[source]\n",
+            "[noise]\nfloor_um = 1e-300\n\n[source]\n",
+            "rig.toml:12: field 'noise.floor_um': floor_um = 1e-300",
+        ),
+        csv(
+            "stated sd 1e-300 um",
+            "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n3780,1000,1.0,1e-300\n",
+            "c.csv:2: field 'dte_pp_sd_um': 1e-300 is outside the plausible range [0.001, 1000]",
+        ),
+        case(
+            "discover on an all-zero DTE",
+            "discover --data data --out out",
+            "c.csv: field 'dte_pp_um': every point of the design-load curve (3780 N) reads 0 um",
+            Setup::Data(
+                format!(
+                    "{HEADER}{}",
+                    (0..10)
+                        .map(|i| format!("3780,{},0\n", 1000 + 100 * i))
+                        .collect::<String>()
+                ),
+                RIG.to_string(),
+            ),
+        ),
+        case(
+            "validate --ste geometry: a bore wider than the root circle",
+            "validate munro --data data --fits fits --reports reports --ste geometry",
+            "rig.toml:12: field 'geometry.pinion_bore_diameter_mm': pinion_bore_diameter_mm = 1000",
+            munro_with(rig_with_table("[geometry]\npinion_bore_diameter_mm = 1000\n")),
+        ),
+        case(
+            "profile table: a point inside the base circle",
+            PROFILE_CMD,
+            "data/c.csv:2: field 'diameter_mm': profile table: the pinion point at 10 mm lies inside",
+            Setup::Data(
+                "gear,diameter_mm,relief_um\npinion,10.0,0.0\npinion,216,5\n".into(),
+                RIG.to_string(),
+            ),
+        ),
+        mesh_rig(
+            "mesh: a pressure angle the default root fillet does not fit",
+            "pressure_angle_deg = 20.0",
+            "pressure_angle_deg = 34.9",
+            "rig.toml:6: field 'rig.pressure_angle_deg': pressure_angle_deg = 34.9",
+        ),
+        mesh_rig(
+            "mesh: face width 1e-9 mm",
+            "face_width_mm = 12.7",
+            "face_width_mm = 1e-9",
+            "rig.toml:7: field 'rig.face_width_mm': face_width_mm = 1e-9",
+        ),
+        mesh_rig(
+            "mesh: a design load that deflects a 0.1 mm face too far for a relief",
+            "face_width_mm = 12.7",
+            "face_width_mm = 0.1",
+            "tip_relief_design_load_n = 3780: deflects the teeth further than a tip relief",
+        ),
+        mesh_rig(
+            "mesh: a centre distance of 1 km",
+            "[source]\n",
+            "[geometry]\ncentre_distance_mm = 1e6\n\n[source]\n",
+            "rig.toml:12: field 'geometry.centre_distance_mm': centre_distance_mm = 1000000",
+        ),
+        mesh_rig(
+            "mesh: module 0.001 mm",
+            "module_mm = 6.35",
+            "module_mm = 0.001",
+            "rig.toml:5: field 'rig.module_mm': module_mm = 0.001: a module below 0.05 mm",
+        ),
+        case(
+            "mesh: a tip relief deeper than a tenth of the module",
+            "mesh --rig data/rig.toml --load-n 945 --tip-relief-um 21 --out out",
+            "tip_relief_um = 21: tip relief deeper than a tenth of the module",
+            Setup::Data(
+                format!("{HEADER}3780,1000,1.0\n"),
+                RIG.replace("module_mm = 6.35", "module_mm = 0.1"),
+            ),
+        ),
+        case(
+            "validate munro: a stated design-load STE the curve contradicts",
+            VALIDATE,
+            "rig.toml:13: field 'ste.amplitude_um': the design-load curve (3780 N) cannot be fitted",
+            munro_with(rig_with_table(
+                "[ste]\nload_n = [3780.0]\namplitude_um = [50.0]\n",
+            )),
+        ),
+        case(
+            "validate kubo: min equals max on every row",
+            "validate kubo --data data --fits fits --reports reports",
+            "c.csv:2: field 'dynamic_factor_max': dynamic_factor_min equals dynamic_factor_max on every row",
+            Setup::Data(
+                "speed_rpm,dynamic_factor_min,dynamic_factor_max\n1000,1.0,1.0\n2000,1.1,1.1\n"
+                    .into(),
+                RIG.to_string(),
+            ),
+        ),
+        cli(
+            "--ic-grid of 1e300",
+            &format!("basins {M} --omega 0.5 --ic-grid -1e300:1e300:5 --out out"),
+            "--ic-grid '-1e300:1e300:5': -1e300 is refused",
+        ),
+        cli(
+            "init-data where no folder can be made",
+            "init-data /proc/x",
+            "DIR /proc/x: cannot create the folder",
+        ),
+        cli(
+            "init-data below a folder that does not exist",
+            "init-data a/b/c",
+            "DIR a/b/c: its folder a/b does not exist",
         ),
         // Output paths of the wrong kind: named, with what was expected, before any work.
         case(

@@ -185,7 +185,7 @@ pub fn check_out_file(flag: &str, file: &Path) -> anyhow::Result<()> {
 /// into it and reach `dir` only with [`Staged::commit_merge`], once everything succeeded.
 pub fn stage(flag: &str, dir: &Path) -> anyhow::Result<Staged> {
     check_out_dir(flag, dir)?;
-    Ok(Staged::new(dir)?)
+    Staged::new(dir).with_context(|| format!("{flag} {}: cannot create the folder", dir.display()))
 }
 
 /// Commit a staged folder and return the final paths of the files written into it.

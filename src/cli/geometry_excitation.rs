@@ -5,10 +5,21 @@
 
 use super::limits::{real, whole};
 use clap::{Args as ClapArgs, ValueEnum};
-use geardyn::data::{load_profile_table, ProfilePoints};
+use geardyn::data::{load_profile_table, locate_rig_key, ProfilePoints};
 use geardyn::mesh::ReliefShape;
 use geardyn::validate::StiffnessChoice;
-use std::path::PathBuf;
+use geardyn::GearError;
+use std::path::{Path, PathBuf};
+
+/// An error of the tooth-contact model of the rig file `rig`: located at the rig.toml key (or
+/// the profile table's line) it names, which says all; otherwise `what` and the rig file as its
+/// context.
+pub fn geometry_error(rig: &Path, what: &str, e: GearError) -> anyhow::Error {
+    match locate_rig_key(rig, e) {
+        e @ GearError::Data { .. } => e.into(),
+        e => anyhow::Error::new(e).context(format!("{what} {}", rig.display())),
+    }
+}
 
 /// A tip relief: its depth (given, or sized by Harris's rule for a load), length and shape.
 #[derive(ClapArgs, Debug, Clone)]

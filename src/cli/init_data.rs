@@ -4,7 +4,7 @@
 use super::common::{check_out_dir, commit, stage, write_text};
 use clap::{Args as ClapArgs, ValueEnum};
 use geardyn::data::{csv_template, rig_template, Layout};
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 #[derive(ClapArgs, Debug)]
 pub struct Args {
@@ -24,6 +24,7 @@ enum CliLayout {
 
 pub fn run(a: Args) -> anyhow::Result<()> {
     check_out_dir("DIR", &a.dir)?;
+    check_parent_exists(&a.dir)?;
     let layout = match a.layout {
         CliLayout::Munro => Layout::Munro,
         CliLayout::Kubo => Layout::Kubo,
@@ -51,5 +52,27 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         layout.command(),
         a.dir.display()
     );
+    Ok(())
+}
+
+/// init-data makes one new folder, in a folder that exists: a mistyped path would otherwise
+/// create a tree of folders without a word.
+fn check_parent_exists(dir: &Path) -> anyhow::Result<()> {
+    if dir.is_dir() {
+        return Ok(());
+    }
+    let parent = dir
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    if !parent.is_dir() {
+        anyhow::bail!(
+            "DIR {}: its folder {} does not exist; init-data makes one new folder in an existing \
+             one (create {} first if it is meant)",
+            dir.display(),
+            parent.display(),
+            parent.display()
+        );
+    }
     Ok(())
 }

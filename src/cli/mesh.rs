@@ -2,9 +2,8 @@
 //! harmonics and the Harris map as CSV, PNG and SVG, and a JSON summary.
 
 use super::common::{check_out_replaced, print_text};
-use super::geometry_excitation::ReliefArgs;
+use super::geometry_excitation::{geometry_error, ReliefArgs};
 use super::limits::whole;
-use anyhow::Context;
 use clap::Args as ClapArgs;
 use geardyn::data::load_rig_with_geometry;
 use geardyn::mesh::{analyse, MeshAnalysis, MeshOptions, ReliefChoice};
@@ -108,7 +107,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         profile: a.relief.profile()?,
     };
     let r = analyse(rig, &geometry, &opts)
-        .with_context(|| format!("mesh analysis of {}", a.rig.display()))?;
+        .map_err(|e| geometry_error(&a.rig, "mesh analysis of", e))?;
     let json = serde_json::to_string_pretty(&r)?;
     let stage = Staged::replacing(&a.out)?;
     stage.write("mesh.json", &format!("{json}\n"))?;

@@ -2,7 +2,7 @@
 //! --omega`, the paper's eq. 5), or in the rig's units (`--rig rig.toml --load-n --ste-um --zeta
 //! --omega-n-hz --speed-rpm`), converted by the library's `OperatingPoint` (paper Sec. 2.1).
 
-use super::geometry_excitation::ExcitationArgs;
+use super::geometry_excitation::{geometry_error, ExcitationArgs};
 use super::limits::{check_range, real, FAH, FM, OMEGA, ZETA};
 use anyhow::Context;
 use clap::Args as ClapArgs;
@@ -231,7 +231,7 @@ impl ModelArgs {
             ..GeometryOptions::design_rule(geometry)
         };
         let mesh = GearMesh::new(rig, &options)
-            .with_context(|| format!("the gear geometry of {}", path.display()))?;
+            .map_err(|e| geometry_error(path, "the gear geometry of", e))?;
         let (relief_um, relief_rule) = match (r.tip_relief_um, r.tip_relief_design_load_n) {
             (Some(a), _) => (a, "given".to_string()),
             (None, design) => {

@@ -9,7 +9,7 @@
 //! second in release builds); no row is kept after the caller has looked at it.
 
 use super::errors::{data_error, read_text};
-use crate::error::{GearError, Result, WHOLE_FILE};
+use crate::error::{readable, GearError, Result, WHOLE_FILE};
 use std::io::Cursor;
 use std::path::{Path, PathBuf};
 
@@ -367,7 +367,12 @@ impl Row<'_> {
             let open = if lo_open { "(" } else { "[" };
             return Err(self.error(
                 name,
-                format!("{v} is outside the plausible range {open}{lo}, {hi}] of {name}"),
+                format!(
+                    "{} is outside the plausible range {open}{}, {}] of {name}",
+                    readable(v),
+                    readable(lo),
+                    readable(hi)
+                ),
             ));
         }
         Ok(v)

@@ -6,7 +6,7 @@
 
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::CurveOrder;
-use super::errors::check_data_folder;
+use super::errors::{check_data_folder, data_error};
 use super::rig::{load_rig, RigFile};
 use crate::error::Result;
 use serde::{Deserialize, Serialize};
@@ -88,9 +88,31 @@ pub fn load_kubo(dir: &Path) -> Result<KuboData> {
             });
         }
     }
+    check_envelope_width(&points)?;
     Ok(KuboData {
         dir: dir.to_path_buf(),
         rig,
         points,
     })
+}
+
+/// A band with a width somewhere: min = max on every row is one column given twice (or a curve
+/// without its scatter), from which the fit cannot read the spread from tooth pair to tooth pair.
+fn check_envelope_width(points: &[KuboPoint]) -> Result<()> {
+    let flat = points.len() > 1
+        && points
+            .iter()
+            .all(|p| p.dynamic_factor_min == p.dynamic_factor_max);
+    match points.first() {
+        Some(first) if flat => Err(data_error(
+            &first.file,
+            first.line,
+            "dynamic_factor_max",
+            "dynamic_factor_min equals dynamic_factor_max on every row: not an envelope (Kubo's \
+             band has the width of the scatter from tooth pair to tooth pair, which the fit \
+             reads); give the band's lower and upper edges, or a single curve as the band of \
+             its reading uncertainty (value - u, value + u)",
+        )),
+        _ => Ok(()),
+    }
 }

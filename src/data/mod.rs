@@ -32,10 +32,10 @@ mod toml_doc;
 pub use geometry::GearGeometry;
 pub use kubo::{load_kubo, KuboData, KuboPoint, MAX_DYNAMIC_FACTOR};
 pub use munro::{load_munro, loads_text, munro_rig, MunroData, MunroPoint};
-pub use profile_table::{load_profile_table, ProfilePoints, PROFILE_HEADER};
+pub use profile_table::{load_profile_table, ProfilePoints, TableLines, PROFILE_HEADER};
 pub use rig::{
-    load_gear_pair, load_rig, load_rig_with_geometry, rig_key_error, write_rig, Rig, RigFile,
-    StatedNoise, SteTable,
+    load_gear_pair, load_rig, load_rig_with_geometry, locate_rig_key, rig_key_error, write_rig,
+    Rig, RigFile, StatedNoise, SteTable,
 };
 pub use same_load::same_load;
 pub use source::{DataKind, Source};

@@ -8,7 +8,7 @@
 use super::csv_curves::{csv_files, CsvTable, SpeedColumns};
 use super::curve_order::{CurveOrder, LoadGroups};
 use super::errors::{check_data_folder, data_error};
-use super::rig::{load_rig, rig_key_error, Rig, RigFile};
+use super::rig::{load_rig, rig_key_error, Rig, RigFile, MIN_NOISE_UM};
 use super::same_load::same_load;
 use crate::error::Result;
 use crate::model::{MAX_DTE_UM, MAX_LOAD_N};
@@ -131,7 +131,7 @@ pub fn load_munro(dir: &Path) -> Result<MunroData> {
             let speed_rpm = speed.speed_rpm(&row)?;
             let dte_pp_um = row.within(dte_col, "dte_pp_um", (0.0, false), MAX_DTE_UM)?;
             let sd_um = sd_col
-                .map(|c| row.within(c, SD_COLUMN, (0.0, true), MAX_DTE_UM))
+                .map(|c| row.within(c, SD_COLUMN, (MIN_NOISE_UM, false), MAX_DTE_UM))
                 .transpose()?;
             let curve = groups
                 .curve_of(load_n)

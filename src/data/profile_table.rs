@@ -14,8 +14,9 @@
 //! deviation. The model does not know this file: it gets the points ([`ProfilePoints`]).
 
 use super::csv_curves::CsvTable;
-use crate::error::Result;
-use std::path::Path;
+use super::errors::data_error;
+use crate::error::{GearError, Result};
+use std::path::{Path, PathBuf};
 
 /// The header the table expects.
 pub const PROFILE_HEADER: &str = "gear,diameter_mm,relief_um";
@@ -34,6 +35,44 @@ pub struct ProfilePoints {
     pub pinion: Vec<(f64, f64)>,
     /// Gear flank.
     pub gear: Vec<(f64, f64)>,
+    /// The table the points were read from, with each point's line, so that a point the
+    /// geometry refuses is named where it was written (`None`: points given in code).
+    pub source: Option<TableLines>,
+}
+
+/// Where a profile table's points were written.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct TableLines {
+    pub file: PathBuf,
+    /// Line of each pinion point, then of each gear point.
+    pub pinion: Vec<usize>,
+    pub gear: Vec<usize>,
+}
+
+impl ProfilePoints {
+    /// The error for point `point` of `gear` ("pinion" or "gear"; `None`: its rows as a whole,
+    /// named at its last row): located in the table when it was read from one.
+    pub fn error_at(&self, gear: &str, point: Option<usize>, message: String) -> GearError {
+        let Some(src) = &self.source else {
+            return GearError::Unsupported(message);
+        };
+        let lines = if gear == "pinion" {
+            &src.pinion
+        } else {
+            &src.gear
+        };
+        let line = point
+            .and_then(|i| lines.get(i))
+            .or(lines.last())
+            .copied()
+            .unwrap_or(0);
+        let field = if point.is_some() {
+            "diameter_mm"
+        } else {
+            "gear"
+        };
+        data_error(&src.file, line, field, message)
+    }
 }
 
 /// Read a profile-modification table. Errors name the file, line and column: a missing column,
@@ -45,6 +84,10 @@ pub fn load_profile_table(path: &Path) -> Result<ProfilePoints> {
     let d_col = table.require("diameter_mm", PROFILE_HEADER)?;
     let r_col = table.require("relief_um", PROFILE_HEADER)?;
     let mut points = ProfilePoints::default();
+    let mut lines = TableLines {
+        file: path.to_path_buf(),
+        ..TableLines::default()
+    };
     let mut rows = 0;
     let mut last_line = 0;
     while let Some(row) = table.next_row()? {
@@ -57,9 +100,9 @@ pub fn load_profile_table(path: &Path) -> Result<ProfilePoints> {
             ));
         }
         let which = row.text(gear_col);
-        let list = match which.as_str() {
-            "pinion" => &mut points.pinion,
-            "gear" => &mut points.gear,
+        let (list, at) = match which.as_str() {
+            "pinion" => (&mut points.pinion, &mut lines.pinion),
+            "gear" => (&mut points.gear, &mut lines.gear),
             _ => return Err(row.error("gear", format!("'{which}': expected pinion or gear"))),
         };
         let d = row.within(d_col, "diameter_mm", (0.0, true), MAX_DIAMETER_MM)?;
@@ -76,10 +119,11 @@ pub fn load_profile_table(path: &Path) -> Result<ProfilePoints> {
             }
         }
         list.push((d, r));
+        at.push(row.line);
     }
     for (name, list) in [("pinion", &points.pinion), ("gear", &points.gear)] {
         if list.len() == 1 {
-            return Err(super::errors::data_error(
+            return Err(data_error(
                 path,
                 last_line,
                 "gear",
@@ -87,5 +131,6 @@ pub fn load_profile_table(path: &Path) -> Result<ProfilePoints> {
             ));
         }
     }
+    points.source = Some(lines);
     Ok(points)
 }

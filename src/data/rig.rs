@@ -7,8 +7,8 @@ use super::geometry::GearGeometry;
 use super::same_load::same_load;
 use super::source::Source;
 use super::toml_doc::TomlDoc;
-use crate::error::{GearError, Result, WHOLE_FILE};
-use crate::model::{MAX_DTE_UM, MAX_LOAD_N};
+use crate::error::{readable, GearError, Result, WHOLE_FILE};
+use crate::model::{Dimensional, MAX_DTE_UM, MAX_FORCE, MAX_LOAD_N};
 use serde::{Deserialize, Serialize};
 use std::path::Path;
 
@@ -23,15 +23,15 @@ pub struct Rig {
     pub pinion_teeth: u32,
     /// Number of teeth of the gear, >= 5.
     pub gear_teeth: u32,
-    /// Module in millimetres (25.4 / diametral pitch in 1/in), > 0.
+    /// Module in millimetres (25.4 / diametral pitch in 1/in), in [0.05, 100].
     pub module_mm: f64,
     /// Pressure angle in degrees, in (10, 35).
     pub pressure_angle_deg: f64,
-    /// Face width in millimetres, > 0.
+    /// Face width in millimetres, in [0.1, 2000].
     pub face_width_mm: f64,
     /// Design load in newtons (mean force F_bar_m transmitted at the design point), > 0.
     pub design_load_n: f64,
-    /// Total backlash 2b in millimetres, > 0.
+    /// Total backlash 2b in millimetres, in [0.001, 10].
     pub backlash_mm: f64,
     /// Mesh stiffness k_h in N/um if known; otherwise estimated (see `model::Dimensional`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -56,6 +56,19 @@ pub(crate) struct RigProblem {
     pub key: &'static str,
     pub value: f64,
     pub reason: &'static str,
+}
+
+impl std::fmt::Display for RigProblem {
+    /// "key = value: reason", as a located error's message.
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {}: {}",
+            self.key,
+            readable(self.value),
+            self.reason
+        )
+    }
 }
 
 /// `Some(problem)` unless `ok(value)`.
@@ -88,6 +101,23 @@ pub(super) fn at_most(
     require(key, value, value.is_nan() || value <= hi, reason)
 }
 
+/// At least `lo` (NaN passes: [`positive`] reports it first).
+pub(super) fn at_least(
+    key: &'static str,
+    value: f64,
+    lo: f64,
+    reason: &'static str,
+) -> Option<RigProblem> {
+    require(key, value, value.is_nan() || value >= lo, reason)
+}
+
+/// Smallest module, mm: the finest instrument and watch gears (ISO 54 starts at 0.05 mm).
+pub const MIN_MODULE_MM: f64 = 0.05;
+/// Smallest face width, mm.
+pub const MIN_FACE_WIDTH_MM: f64 = 0.1;
+/// Smallest backlash 2b, mm (1 um): below the flanks' roughness and profile errors.
+pub const MIN_BACKLASH_MM: f64 = 0.001;
+
 /// Tooth counts above this are a typing mistake (4294967295 teeth were accepted).
 const MANY_TEETH: &str = "more than 1000 teeth: not a practical spur gear";
 
@@ -102,7 +132,24 @@ pub(super) fn optional(
 impl Rig {
     /// The first out-of-range value, if any (see each field for its range).
     pub(crate) fn first_problem(&self) -> Option<RigProblem> {
-        self.gear_problem().or_else(|| self.stated_problem())
+        self.gear_problem()
+            .or_else(|| self.stated_problem())
+            .or_else(|| self.scale_problem())
+    }
+
+    /// The design load's dimensionless mean force F_m = W / (k_h b) above the model's
+    /// [`MAX_FORCE`]: each value in range, together they leave the backlash negligible.
+    fn scale_problem(&self) -> Option<RigProblem> {
+        // A contact ratio below 1 fails here; `Rig::dimensional` reports it.
+        let dim = Dimensional::new(&self.gear_spec()).ok()?;
+        require(
+            "design_load_n",
+            self.design_load_n,
+            dim.mean_force(self.design_load_n) <= MAX_FORCE,
+            "over the mesh stiffness times half the backlash this load is a mean force F_m above \
+             1e9: the backlash is negligible beside the teeth's deflection (raise backlash_mm or \
+             mesh_stiffness_n_per_um, or check the load's unit)",
+        )
     }
 
     /// The first out-of-range value of the gears, the design load and the backlash.
@@ -123,6 +170,15 @@ impl Rig {
         .or_else(|| require("gear_teeth", z2, self.gear_teeth <= 1000, MANY_TEETH))
         .or_else(|| positive("module_mm", self.module_mm))
         .or_else(|| {
+            at_least(
+                "module_mm",
+                self.module_mm,
+                MIN_MODULE_MM,
+                "a module below 0.05 mm (the finest instrument gears) gives teeth too small for \
+                 their tip relief, stiffness and backlash to mean anything: a unit mistake?",
+            )
+        })
+        .or_else(|| {
             at_most(
                 "module_mm",
                 self.module_mm,
@@ -139,6 +195,15 @@ impl Rig {
             )
         })
         .or_else(|| positive("face_width_mm", self.face_width_mm))
+        .or_else(|| {
+            at_least(
+                "face_width_mm",
+                self.face_width_mm,
+                MIN_FACE_WIDTH_MM,
+                "a face narrower than 0.1 mm is not a gear's (its stiffness, the load over it, \
+                 would deflect the teeth by millimetres): a unit mistake?",
+            )
+        })
         .or_else(|| {
             at_most(
                 "face_width_mm",
@@ -157,6 +222,16 @@ impl Rig {
             )
         })
         .or_else(|| positive("backlash_mm", self.backlash_mm))
+        .or_else(|| {
+            at_least(
+                "backlash_mm",
+                self.backlash_mm,
+                MIN_BACKLASH_MM,
+                "a backlash below 0.001 mm (1 um) is finer than the flanks' roughness and profile \
+                 errors, and the model's forces scale with its inverse: state at least 0.001 mm \
+                 (a unit mistake?)",
+            )
+        })
         .or_else(|| {
             at_most(
                 "backlash_mm",
@@ -332,8 +407,8 @@ impl SteTable {
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct StatedNoise {
-    /// Noise floor: standard deviation of a reading (um) independent of its level; > 0,
-    /// finite and below 1000 um (a larger floor is a unit mistake, not a DTE measurement), and
+    /// Noise floor: standard deviation of a reading (um) independent of its level; in
+    /// [0.001, 1000) um (a larger floor is a unit mistake, not a DTE measurement), and
     /// not below `reading_um` where both are given.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub floor_um: Option<f64>,
@@ -354,6 +429,9 @@ pub struct StatedNoise {
 
 /// Largest plausible noise level in micrometres (a DTE noise of a millimetre is a unit mistake).
 const NOISE_MAX_UM: f64 = 1000.0;
+/// Smallest stated noise (floor or per point) in micrometres: 1 nm, finer than any
+/// transmission-error measurement resolves; a smaller weight makes one point outweigh a curve.
+pub const MIN_NOISE_UM: f64 = 1e-3;
 
 impl StatedNoise {
     /// The first out-of-range value, if any (see each field for its range).
@@ -370,8 +448,8 @@ impl StatedNoise {
             require(
                 "floor_um",
                 v,
-                v.is_finite() && v > 0.0 && v < NOISE_MAX_UM,
-                "must be a finite number of micrometres in (0, 1000): a stated noise needs a floor (with the relative part alone a reading at zero level would have no noise)",
+                v.is_finite() && (MIN_NOISE_UM..NOISE_MAX_UM).contains(&v),
+                "must be a finite number of micrometres in [0.001, 1000): a stated noise needs a floor (with the relative part alone a reading at zero level would have no noise), and one below 1 nm is finer than any transmission-error measurement resolves (a unit mistake?)",
             )
         };
         let below_reading = |v: f64| {
@@ -428,21 +506,13 @@ impl RigFile {
     /// Check every table; errors are located in `doc`.
     fn check(&self, doc: &TomlDoc) -> Result<()> {
         if let Some(p) = self.rig.first_problem() {
-            return Err(doc.error(
-                "rig",
-                p.key,
-                format!("{} = {}: {}", p.key, p.value, p.reason),
-            ));
+            return Err(doc.error("rig", p.key, p.to_string()));
         }
         if let Some(ste) = &self.ste {
             ste.check(doc)?;
         }
         if let Some(p) = self.noise.as_ref().and_then(StatedNoise::first_problem) {
-            return Err(doc.error(
-                "noise",
-                p.key,
-                format!("{} = {}: {}", p.key, p.value, p.reason),
-            ));
+            return Err(doc.error("noise", p.key, p.to_string()));
         }
         self.source.check(doc)
     }
@@ -551,11 +621,7 @@ fn load_rig_toml(path: &Path) -> Result<(RigFile, GearGeometry)> {
     rig.check(&doc)?;
     let geometry = t.geometry.unwrap_or_default();
     if let Some(p) = geometry.first_problem() {
-        return Err(doc.error(
-            "geometry",
-            p.key,
-            format!("{} = {}: {}", p.key, p.value, p.reason),
-        ));
+        return Err(doc.error("geometry", p.key, p.to_string()));
     }
     Ok((rig, geometry))
 }
@@ -574,11 +640,7 @@ pub fn load_gear_pair(path: &Path) -> Result<(Rig, Option<SteTable>)> {
     let doc = TomlDoc::new(path, &text);
     let t: GearPairToml = toml::from_str(&text).map_err(|e| parse_error(&doc, &text, &e))?;
     if let Some(p) = t.rig.first_problem() {
-        return Err(doc.error(
-            "rig",
-            p.key,
-            format!("{} = {}: {}", p.key, p.value, p.reason),
-        ));
+        return Err(doc.error("rig", p.key, p.to_string()));
     }
     if let Some(ste) = &t.ste {
         ste.check(&doc)?;
@@ -606,6 +668,31 @@ pub fn rig_key_error(dir: &Path, table: &str, key: &str, message: impl Into<Stri
     let path = dir.join("rig.toml");
     let text = std::fs::read_to_string(&path).unwrap_or_default();
     TomlDoc::new(&path, &text).error(table, key, message)
+}
+
+/// Tables of rig.toml whose keys an out-of-range parameter may be named by (`geometry.`...).
+const RIG_TABLES: [&str; 4] = ["rig", "geometry", "ste", "noise"];
+
+/// `e` located in the rig file `path` when it is an out-of-range parameter named by a rig.toml
+/// key with its table (`geometry.pinion_bore_diameter_mm`, `rig.pressure_angle_deg`): the same
+/// message at that key's line (line 0 when the key is left at its default). Other errors are
+/// returned as they are.
+pub fn locate_rig_key(path: &Path, e: GearError) -> GearError {
+    let GearError::InvalidParameter {
+        name,
+        value,
+        reason,
+    } = e
+    else {
+        return e;
+    };
+    let (table, key) = match name.split_once('.') {
+        Some((t, k)) if RIG_TABLES.contains(&t) => (t, k),
+        _ => return GearError::param(name, value, reason),
+    };
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    let message = RigProblem { key, value, reason }.to_string();
+    TomlDoc::new(path, &text).error(table, key, message)
 }
 
 /// Validate `rig` and write it as TOML to `path` (used by `geardyn synth`). An invalid rig is

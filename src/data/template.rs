@@ -48,11 +48,11 @@ const RIG_HEAD: &str = r##"# rig.toml of a geardyn data set: the test gear pair 
 # name = "Four-square rig, gear lab"    # REQUIRED. text, not blank: name of the rig
 # pinion_teeth = 32        # REQUIRED. integer in [5, 1000]: teeth of the pinion (mesh frequency = pinion_teeth x rpm / 60); typical 15-100
 # gear_teeth = 32          # REQUIRED. integer in [5, 1000]: teeth of the gear
-# module_mm = 6.35         # REQUIRED. mm in (0, 100]: module (25.4 / diametral pitch in 1/in); typical 1-20
+# module_mm = 6.35         # REQUIRED. mm in [0.05, 100]: module (25.4 / diametral pitch in 1/in); typical 1-20
 # pressure_angle_deg = 20.0    # REQUIRED. degrees in (10, 35): pressure angle; typical 20
-# face_width_mm = 12.7     # REQUIRED. mm in (0, 2000]: face width; typical 5-200
+# face_width_mm = 12.7     # REQUIRED. mm in [0.1, 2000]: face width; typical 5-200
 # design_load_n = 3780.0   # REQUIRED. N in (0, 1e8]: mean force along the line of action at the design point (torque / base radius); validate munro fits the curve at this load
-# backlash_mm = 0.1        # REQUIRED. mm in (0, 10]: total backlash 2b along the line of action; typical 0.02-0.5
+# backlash_mm = 0.1        # REQUIRED. mm in [0.001, 10]: total backlash 2b along the line of action; typical 0.02-0.5
 # mesh_stiffness_n_per_um = 250.0   # OPTIONAL. N/um in [0.01, 1e5]: mean mesh stiffness k_h (steel spur gears 5-2000, about 14-20 N/um per mm of face width); ISO 6336-1 estimate when absent
 # contact_ratio = 1.65     # OPTIONAL. dimensionless in [1, 3]: transverse contact ratio; computed for standard full-depth teeth when absent
 # zeta = 0.02              # OPTIONAL. dimensionless in (0, 1): damping ratio (typical 0.01-0.1). validate kubo: fixed with omega_n_hz; validate munro fits it and refuses a given value; sweep, simulate ... --rig: the default --zeta
@@ -64,7 +64,7 @@ const RIG_HEAD: &str = r##"# rig.toml of a geardyn data set: the test gear pair 
 # amplitude_um = [0.3, 2.5]      # um, each in (0, 1000]: STE amplitude (its first harmonic; half its peak-to-peak if sinusoidal), one per load
 
 # [noise]                  # OPTIONAL table: the measurement noise of the curve values, as you know it (else estimated from the data)
-# floor_um = 0.2           # um in (0, 1000), not below reading_um: standard deviation of a reading, independent of its level
+# floor_um = 0.2           # um in [0.001, 1000), not below reading_um: standard deviation of a reading, independent of its level
 # relative = 0.02          # dimensionless in [0, 1): standard deviation as a fraction of the reading
 # reading_um = 0.1         # um in [0, 1000): how finely a digitized value can be read off its figure (lower bound of the fitted floor)
 # correlation_rpm = 100.0  # rpm in [0, 1e6): correlation length of the errors along speed within a curve (0: independent; else estimated when the data say so)
@@ -102,7 +102,7 @@ const MUNRO_CSV: &str = r#"# Peak-to-peak dynamic transmission error against spe
 #                                    design_load_n is fitted, the other loads are predicted
 #   speed_rpm     rpm  [0.01, 1e6]   pinion speed (or a column mesh_freq_hz, Hz, instead)
 #   dte_pp_um     um   [0, 1000]     peak-to-peak dynamic transmission error
-#   dte_pp_sd_um  um   (0, 1000]     OPTIONAL column: standard deviation of each dte_pp_um
+#   dte_pp_sd_um  um   [0.001, 1000]   OPTIONAL column: standard deviation of each dte_pp_um
 # Within a curve, list the points by increasing speed; no speed twice in a curve. The fit needs
 # the design-load curve with at least 6 points, better 30 or more through the resonance.
 load_n,speed_rpm,dte_pp_um

@@ -13,7 +13,8 @@ use crate::numeric::min_max;
 use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, Branch, State, SteadyOptions};
 use crate::validate::{
-    flow_with_rtol, noise_setting, up_sweep_neighbour_starts, MunroNoise, TestRun,
+    check_design_levels, flow_with_rtol, noise_setting, up_sweep_neighbour_starts, MunroNoise,
+    TestRun,
 };
 use rayon::prelude::*;
 
@@ -107,9 +108,12 @@ impl Setup {
         }
     }
 
-    /// From a loaded Munro-style set: at least 8 points per load on increasing speeds.
+    /// From a loaded Munro-style set: at least 8 points per load on increasing speeds, the
+    /// design-load curve neither flat nor in another unit (as `validate munro` requires).
     pub fn from_munro(data: &MunroData) -> Result<Self> {
         let dim = data.rig.rig.dimensional()?;
+        let design = data.rig.rig.design_load_n;
+        check_design_levels(design, &data.curve(design))?;
         let mut curves = Vec::new();
         for load in data.loads() {
             let c = data.curve(load);

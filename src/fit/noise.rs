@@ -170,6 +170,11 @@ pub fn restricted_term(
     let keep: Vec<usize> = (0..jacobian.ncols())
         .filter(|&c| jacobian.column(c).norm() > 0.0)
         .collect();
+    // No parameter moves the curve here (e.g. a trial step where the model's curve is flat
+    // in every parameter): there is nothing for the restriction to take out.
+    if keep.is_empty() {
+        return 0.0;
+    }
     let mut g = DMatrix::from_fn(jacobian.nrows(), keep.len(), |i, c| {
         jacobian[(i, keep[c])] / scales[i]
     });

@@ -168,7 +168,7 @@ fn check_body(b: &GearBody, [tip, bore, root]: [&'static str; 3]) -> Result<()> 
 /// Contact on the involutes (above the base circle and the root circle of each gear: otherwise
 /// the tip of one gear digs into the other's fillet), and a transverse contact ratio of at
 /// least 1.
-fn check_contact(geo: &GearPairGeometry) -> Result<()> {
+fn check_contact(geo: &GearPairGeometry, centre_distance_mm: Option<f64>) -> Result<()> {
     let (s_a, s_e) = (geo.start_of_contact(), geo.end_of_contact());
     let lowest = |b: &GearBody| {
         let r = b.root_radius_m.max(b.base_radius_m);
@@ -186,13 +186,22 @@ fn check_contact(geo: &GearPairGeometry) -> Result<()> {
         2e3 * geo.pinion.tip_radius_m,
         "the pinion's tip reaches below the gear's involute (interference)",
     )?;
-    check(
-        geo.contact_ratio() >= 1.0,
-        "geometry.contact_ratio",
-        geo.contact_ratio(),
-        "transverse contact ratio below 1: the mesh would lose contact between pairs",
-    )?;
-    Ok(())
+    // A stated centre distance is what pulled the tips apart; else the teeth and angles did.
+    match centre_distance_mm {
+        Some(a_mm) => check(
+            geo.contact_ratio() >= 1.0,
+            "geometry.centre_distance_mm",
+            a_mm,
+            "leaves the tip circles overlapping too little (a transverse contact ratio below 1, \
+             or none at all): the mesh would lose contact between pairs",
+        ),
+        None => check(
+            geo.contact_ratio() >= 1.0,
+            "geometry.contact_ratio",
+            geo.contact_ratio(),
+            "transverse contact ratio below 1: the mesh would lose contact between pairs",
+        ),
+    }
 }
 
 impl GearPairGeometry {
@@ -222,12 +231,23 @@ impl GearPairGeometry {
         let rho = g.root_fillet_coefficient.unwrap_or(0.38);
         // The rack's tip, pi/4 - h_f* tan(alpha) half wide, must hold the two tip radii.
         let rho_max = (PI / 4.0 - hf * alpha.tan()) * alpha.cos() / (1.0 - alpha.sin());
-        check(
-            rho <= rho_max,
-            "geometry.root_fillet_coefficient",
-            rho,
-            "is too large for the rack's tooth tip at this dedendum and pressure angle",
-        )?;
+        // The fillet left at its default, the pressure angle is what the user chose to change.
+        match g.root_fillet_coefficient {
+            Some(_) => check(
+                rho <= rho_max,
+                "geometry.root_fillet_coefficient",
+                rho,
+                "is too large for the rack's tooth tip at this dedendum and pressure angle",
+            )?,
+            None => check(
+                rho <= rho_max,
+                "rig.pressure_angle_deg",
+                rig.pressure_angle_deg,
+                "leaves the generating rack's tooth tip too narrow for the default root fillet \
+                 (0.38 module; with the default dedendum 1.25 about 23 degrees at most): lower \
+                 it, or state a smaller [geometry] root_fillet_coefficient",
+            )?,
+        }
         check(
             hf > ha,
             "geometry.dedendum_coefficient",
@@ -283,7 +303,7 @@ impl GearPairGeometry {
             youngs_modulus_pa: g.youngs_modulus_gpa.unwrap_or(206.0) * 1e9,
             poisson_ratio: g.poisson_ratio.unwrap_or(0.3),
         };
-        check_contact(&geo)?;
+        check_contact(&geo, g.centre_distance_mm)?;
         Ok(geo)
     }
 

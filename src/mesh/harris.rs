@@ -67,7 +67,19 @@ pub fn design_relief(
             .ste_pp_um())
     };
     let bare = model.waveform(design_load_n, &TipRelief::none(), samples)?;
-    let top = 3e-6 * bare.ste_um.iter().fold(0.0_f64, |m, &x| m.max(x));
+    let deflection = 1e-6 * bare.ste_um.iter().fold(0.0_f64, |m, &x| m.max(x));
+    let deepest = TipRelief::max_amount_m(&model.geometry);
+    if deflection > deepest {
+        return Err(GearError::param(
+            "tip_relief_design_load_n",
+            design_load_n,
+            "deflects the teeth further than a tip relief can be deep (a tenth of the module, at \
+             most 1000 um): the load is too large for these teeth (rig.toml face_width_mm, \
+             module_mm)",
+        ));
+    }
+    // The best relief is about the deflection; the search looks up to three times further.
+    let top = (3.0 * deflection).min(deepest);
     let grid: Vec<f64> = (0..=GRID).map(|i| top * i as f64 / GRID as f64).collect();
     let values = grid.iter().map(|&a| pp(a)).collect::<Result<Vec<_>>>()?;
     let best = (0..values.len())

@@ -9,11 +9,27 @@
 //! action (the normal to the involute), positive for material removed.
 
 use super::geometry::GearPairGeometry;
-use crate::error::{GearError, Result};
 use serde::Serialize;
 
 /// Slack in the coverage check, metres of roll distance (a diameter read to 0.01 mm).
 const COVER_SLACK_M: f64 = 1e-5;
+
+/// Why a table's points do not fit the pair: which gear, which of its points (`None`: its points
+/// as a whole) and the reason, so that the caller can name the table's line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TableProblem {
+    /// "pinion" or "gear".
+    pub gear: &'static str,
+    /// Index of the point among that gear's, or `None`.
+    pub point: Option<usize>,
+    pub reason: String,
+}
+
+impl std::fmt::Display for TableProblem {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "profile table: {}", self.reason)
+    }
+}
 
 /// Relief against roll distance on each gear, metres both.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
@@ -27,39 +43,47 @@ pub struct ProfileDeviation {
 impl ProfileDeviation {
     /// From each gear's (diameter mm, relief um) points in increasing diameter (none: no
     /// deviation of that gear). Every point must lie outside the base circle, and a gear's
-    /// points must cover the part of its flank in contact ([`GearError::Unsupported`] naming the
-    /// diameters otherwise).
+    /// points must cover the part of its flank in contact ([`TableProblem`] naming the point or
+    /// the diameters otherwise).
     pub fn from_diameters(
         geo: &GearPairGeometry,
         pinion: &[(f64, f64)],
         gear: &[(f64, f64)],
-    ) -> Result<Self> {
+    ) -> std::result::Result<Self, TableProblem> {
         let (sa, se) = (geo.start_of_contact(), geo.end_of_contact());
         let t = geo.line_of_action_length();
-        let convert = |name: &str, rb: f64, pts: &[(f64, f64)], need: (f64, f64)| {
+        let convert = |name: &'static str, rb: f64, pts: &[(f64, f64)], need: (f64, f64)| {
             let mut out = Vec::with_capacity(pts.len());
-            for &(d_mm, a_um) in pts {
+            for (i, &(d_mm, a_um)) in pts.iter().enumerate() {
                 let r = d_mm * 1e-3 / 2.0;
                 if !r.is_finite() || r <= rb {
-                    return Err(GearError::Unsupported(format!(
-                        "profile table: the {name} point at {d_mm} mm lies inside its base circle \
-                         ({:.3} mm), where there is no involute",
-                        2e3 * rb
-                    )));
+                    return Err(TableProblem {
+                        gear: name,
+                        point: Some(i),
+                        reason: format!(
+                            "the {name} point at {d_mm} mm lies inside its base circle ({:.3} \
+                             mm), where there is no involute",
+                            2e3 * rb
+                        ),
+                    });
                 }
                 out.push(((r * r - rb * rb).sqrt(), a_um * 1e-6));
             }
             if let (Some(first), Some(last)) = (out.first(), out.last()) {
                 if first.0 > need.0 + COVER_SLACK_M || last.0 < need.1 - COVER_SLACK_M {
                     let d = |rho: f64| 2e3 * (rho * rho + rb * rb).sqrt();
-                    return Err(GearError::Unsupported(format!(
-                        "profile table: the {name} rows cover diameters {:.3} to {:.3} mm, but its \
-                         flank is in contact from {:.3} to {:.3} mm: extend the table",
-                        d(first.0),
-                        d(last.0),
-                        d(need.0),
-                        d(need.1)
-                    )));
+                    return Err(TableProblem {
+                        gear: name,
+                        point: None,
+                        reason: format!(
+                            "the {name} rows cover diameters {:.3} to {:.3} mm, but its flank is \
+                             in contact from {:.3} to {:.3} mm: extend the table",
+                            d(first.0),
+                            d(last.0),
+                            d(need.0),
+                            d(need.1)
+                        ),
+                    });
                 }
             }
             Ok(out)

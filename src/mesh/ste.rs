@@ -59,6 +59,9 @@ pub struct TipRelief {
     pub shape: ReliefShape,
 }
 
+/// Depth a tip relief stays below, metres (1 mm: a deeper one is a unit mistake).
+const MAX_RELIEF_M: f64 = 1e-3;
+
 impl TipRelief {
     /// No profile modification.
     pub fn none() -> Self {
@@ -75,14 +78,30 @@ impl TipRelief {
         geo.path_of_contact() - geo.base_pitch()
     }
 
-    /// Check the amount (finite, >= 0, below 1 mm) and, for a non-zero amount, the length (in
-    /// (0, g_alpha / 2], so that the two tips' reliefs do not overlap).
+    /// The deepest relief the model takes on `geo`'s teeth, metres: below 1 mm and at most a
+    /// tenth of the module (deeper, it takes off the tip rather than modifying the profile; tip
+    /// reliefs are a few hundredths of the module).
+    pub fn max_amount_m(geo: &GearPairGeometry) -> f64 {
+        (0.1 * geo.module_m).min(MAX_RELIEF_M)
+    }
+
+    /// Check the amount (finite, >= 0, at most [`TipRelief::max_amount_m`]) and, for a non-zero
+    /// amount, the length (in (0, g_alpha / 2], so that the two tips' reliefs do not overlap).
     pub fn validate(&self, geo: &GearPairGeometry) -> Result<()> {
-        if !(self.amount_m.is_finite() && (0.0..1e-3).contains(&self.amount_m)) {
+        if !(self.amount_m.is_finite() && (0.0..MAX_RELIEF_M).contains(&self.amount_m)) {
             return Err(GearError::param(
                 "tip_relief_um",
                 self.amount_m * 1e6,
                 "tip relief must be a finite depth in [0, 1000) um",
+            ));
+        }
+        if self.amount_m > Self::max_amount_m(geo) {
+            return Err(GearError::param(
+                "tip_relief_um",
+                self.amount_m * 1e6,
+                "tip relief deeper than a tenth of the module (rig.toml module_mm) takes off the \
+                 tooth's tip rather than modifying its profile: not a case the tooth-contact model \
+                 is built for",
             ));
         }
         let half = geo.path_of_contact() / 2.0;
@@ -254,8 +273,8 @@ impl MeshModel {
     /// The pair of `geometry` with the flanks' profile table `profile` (diameters and reliefs,
     /// [`ProfileDeviation::from_diameters`]; empty: none).
     pub fn with_profile(geometry: GearPairGeometry, profile: &ProfilePoints) -> Result<Self> {
-        let deviation =
-            ProfileDeviation::from_diameters(&geometry, &profile.pinion, &profile.gear)?;
+        let deviation = ProfileDeviation::from_diameters(&geometry, &profile.pinion, &profile.gear)
+            .map_err(|p| profile.error_at(p.gear, p.point, p.to_string()))?;
         Ok(Self::new(geometry).with_deviation(deviation))
     }
 

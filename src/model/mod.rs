@@ -13,4 +13,4 @@ pub use dimensional::{Dimensional, GearSpec, StiffnessSource, ISO6336_C_PRIME};
 pub use excitation::Harmonic;
 pub use mesh::{dead_zone, Impact, Region};
 pub use operating_point::{OperatingPoint, MAX_DTE_UM, MAX_LOAD_N};
-pub use params::{GearPair, Term};
+pub use params::{GearPair, Term, MAX_FORCE};

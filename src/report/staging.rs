@@ -113,7 +113,7 @@ impl Staged {
         }
         track_unfinished(&tmp);
         // The error names the folder the user gave, not the internal staging name.
-        std::fs::create_dir_all(&tmp).map_err(GearError::io(parent))?;
+        std::fs::create_dir_all(&tmp).map_err(GearError::io(dest))?;
         Ok(Staged {
             tmp,
             dest: dest.to_path_buf(),

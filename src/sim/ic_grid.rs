@@ -20,6 +20,9 @@ pub struct IcGrid {
     pub n: usize,
 }
 
+/// Largest |q0| or |v0| of a grid of initial conditions.
+const MAX_IC: f64 = 1e4;
+
 impl IcGrid {
     /// Validated grid.
     pub fn new(lo: f64, hi: f64, n: usize) -> Result<Self> {
@@ -28,6 +31,14 @@ impl IcGrid {
                 "ic-grid",
                 if lo.is_finite() { hi } else { lo },
                 "grid bounds must be finite",
+            ));
+        }
+        if lo.abs().max(hi.abs()) > MAX_IC {
+            return Err(GearError::param(
+                "ic-grid",
+                if lo.abs() > MAX_IC { lo } else { hi },
+                "initial conditions (q0 in half backlashes, v0 in its rate) must lie in \
+                 [-10000, 10000]: further out no gear moves, and the solvers' bounds overflow",
             ));
         }
         if hi < lo {
@@ -80,7 +91,13 @@ impl IcGrid {
         if n > 1 && hi <= lo {
             return Err(bad("HI must exceed LO when N > 1 (N values from LO to HI)"));
         }
-        IcGrid::new(lo, hi, n)
+        IcGrid::new(lo, hi, n).map_err(|e| match e {
+            GearError::InvalidParameter { value, reason, .. } => GearError::Unsupported(format!(
+                "--ic-grid '{text}': {} is refused: {reason}",
+                crate::error::readable(value)
+            )),
+            other => other,
+        })
     }
 
     /// The values along one axis.

@@ -20,7 +20,7 @@ use super::geometry_ste::{
 };
 use super::kubo_swept::SWEPT_ZETA_FLOOR;
 use super::synth::flow_with_rtol;
-use crate::data::{rig_key_error, MunroData, MunroPoint};
+use crate::data::{locate_rig_key, rig_key_error, MunroData, MunroPoint};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel, Robust};
 use crate::model::{Dimensional, GearPair};
@@ -237,7 +237,7 @@ const MIN_DESIGN_PEAK_UM: f64 = 0.01;
 /// A design-load curve that can show a resonance: not flat (every value the same, zero
 /// included: the noise could not be estimated and zeta ran off to thousands) and not so small
 /// that its values must be in another unit.
-fn check_design_levels(design: f64, curve: &[&MunroPoint]) -> Result<()> {
+pub(crate) fn check_design_levels(design: f64, curve: &[&MunroPoint]) -> Result<()> {
     let (lo, hi) = curve.iter().fold((f64::INFINITY, 0.0_f64), |(a, b), p| {
         (a.min(p.dte_pp_um), b.max(p.dte_pp_um))
     });
@@ -343,6 +343,40 @@ pub fn usable_design_fit(data: &MunroData, fit: DesignLoadFit) -> Result<DesignL
     usable(data, "design-load fit", fit)
 }
 
+/// A failed design-load fit (`cause`) whose STE was held at the value rig.toml states: located
+/// at `[ste] amplitude_um`, with the curve's level at its lowest speed beside the twice-STE that
+/// the model's quasi-static DTE must reach there. Other errors, and any error when the STE was
+/// fitted, are returned as they are.
+fn stated_ste_failure(data: &MunroData, curve: &[&MunroPoint], cause: GearError) -> GearError {
+    let design = data.rig.rig.design_load_n;
+    let (Some(ste), Some(first)) = (ste_from_rig(data, design), curve.first()) else {
+        return cause;
+    };
+    if !matches!(cause, GearError::Numerical(_) | GearError::FitFailed { .. }) {
+        return cause;
+    }
+    let why = match &cause {
+        GearError::FitFailed { reason, .. } => reason.clone(),
+        other => other.to_string(),
+    };
+    rig_key_error(
+        &data.dir,
+        "ste",
+        "amplitude_um",
+        format!(
+            "the design-load curve ({design} N) cannot be fitted with its STE held at the stated \
+             {ste} um ({why}): at its lowest speed ({} rpm) the curve reads {} um peak to peak, \
+             where an STE of {ste} um gives about {} um (the quasi-static DTE is twice the STE \
+             amplitude). Check that amplitude_um is the first harmonic's amplitude in um (half \
+             the peak-to-peak of a sinusoidal STE), or leave the design load out of [ste] so \
+             that the fit estimates it",
+            first.speed_rpm,
+            first.dte_pp_um,
+            2.0 * ste
+        ),
+    )
+}
+
 /// The STE of a load whose curve has fewer than 3 low-speed points in contact: half the pp DTE
 /// at its lowest speed over the linear gain there (quasi-static DTE equals STE). A zero reading
 /// there would give a zero STE and an infinite force ratio: it is an error naming the point.
@@ -401,8 +435,9 @@ pub fn validate_munro(
     let dim = rig.dimensional()?;
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
-    let (fit, ste_given) = fit_munro_design_load(data, (opts.robust, opts.correlation))?;
-    let fit = usable_design_fit(data, fit)?;
+    let (fit, ste_given) = fit_munro_design_load(data, (opts.robust, opts.correlation))
+        .and_then(|(fit, ste)| Ok((usable_design_fit(data, fit)?, ste)))
+        .map_err(|e| stated_ste_failure(data, &design_curve, e))?;
     let (zeta, wn, ste_design) = fit.values(ste_given);
     let design_source = if ste_given.is_some() {
         SteSource::RigToml
@@ -488,7 +523,7 @@ fn validate_geometry(
 ) -> Result<GeometryValidation> {
     let rig = &data.rig.rig;
     let (dim, design, curve) = design_curve(data)?;
-    let mesh = GearMesh::new(rig, g)?;
+    let mesh = GearMesh::new(rig, g).map_err(|e| locate_rig_key(&data.dir.join("rig.toml"), e))?;
     let (start_um, fit_depth) = match g.relief {
         ReliefRule::DesignRule => (mesh.design_rule_um(design)?, false),
         ReliefRule::Given { amount_um } => (amount_um, false),
