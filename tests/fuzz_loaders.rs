@@ -1,15 +1,22 @@
-//! Fuzzing of the data loaders (issue 22) with proptest: valid Munro and Kubo data sets mutated
-//! byte by byte and token by token (numbers at the edges of f64, separators, quotes, BOMs, TOML
-//! syntax, duplicated and swapped lines, random bytes). Every input must load or fail with one
-//! located error (`GearError::Data` naming rig.toml or the CSV, a line within the file and a
-//! field), never panic, and take well under a second.
+//! Fuzzing of the data loaders (issue 22) with proptest: valid Munro and Kubo data sets and a
+//! profile-modification table mutated byte by byte and token by token (numbers at the edges of
+//! f64, separators, quotes, BOMs, TOML syntax, duplicated and swapped lines, random bytes), the
+//! rig's mutations spread over the whole file or focused on one of its tables (`[rig]`, `[ste]`,
+//! `[noise]`, `[geometry]`). Every input must load or fail with one located error
+//! (`GearError::Data` naming rig.toml, the CSV or the profile table, a line within the file and a
+//! field), never panic, and take well under a second. Beyond the loaders, what reads the tables
+//! runs too: the rig's dimensional scales, the noise setting of `[noise]`, the gear pair of
+//! `[geometry]` with its cross-checks, and the profile table on that pair with an STE waveform.
 //!
 //! The suite runs 256 inputs (a few seconds). The long mode runs for GEARDYN_FUZZ_SECS seconds
 //! and prints the counts, panics and the slowest input:
 //!
 //!     GEARDYN_FUZZ_SECS=600 cargo test --release --test fuzz_loaders -- --ignored --nocapture
 
-use geardyn::data::{load_kubo, load_munro, load_rig_with_geometry};
+use geardyn::data::{
+    load_kubo, load_munro, load_profile_table, load_rig_with_geometry, locate_rig_key,
+};
+use geardyn::mesh::{GearPairGeometry, MeshModel, TipRelief};
 use geardyn::GearError;
 use proptest::prelude::*;
 use proptest::strategy::ValueTree;
@@ -52,6 +59,9 @@ uncertainty = "+-0.1 um"
 
 const MUNRO: &str = "load_n,speed_rpm,dte_pp_um,dte_pp_sd_um\n# design load\n3780,1000,0.67,0.05\n\
 3780,1050,0.65,0.05\n3780,1100,0.70,0.05\n1890,1000,2.31,0.08\n1890,1050,2.52,0.08\n";
+/// Munro's gears (base diameter 190.95 mm, contact from 194.74 to 215.9 mm): a long tip relief.
+const PROFILE: &str = "gear,diameter_mm,relief_um\npinion,194.0,0.0\npinion,205.4,0.0\n\
+pinion,215.9,20.0\ngear,194.0,0.0\ngear,205.4,0.0\ngear,215.9,20.0\n";
 const KUBO: &str =
     "mesh_freq_hz,dynamic_factor_min,dynamic_factor_max\n500,1.00,1.05\n1000,0.90,1.30\n";
 
@@ -107,7 +117,58 @@ const TOKENS: &[&str] = &[
     "2024-05-17",
     ",,,",
     "  ",
+    "1e-300",
+    "1e-9",
+    "0.001",
+    "1e6",
+    "-1",
+    "1000",
+    "pinion",
+    "gear",
+    "diameter_mm",
+    "relief_um",
+    "floor_um = ",
+    "relative = ",
+    "reading_um = ",
+    "correlation_rpm = ",
+    "amplitude_um = [",
+    "load_n = [",
+    "centre_distance_mm = ",
+    "root_fillet_coefficient = ",
+    "pinion_tip_diameter_mm = ",
 ];
+
+/// The part of the rig file the rig's mutations act on.
+#[derive(Clone, Copy, Debug)]
+enum Focus {
+    Whole,
+    Table(&'static str),
+}
+
+fn focus() -> impl Strategy<Value = Focus> {
+    prop_oneof![
+        2 => Just(Focus::Whole),
+        1 => Just(Focus::Table("[rig]")),
+        1 => Just(Focus::Table("[ste]")),
+        1 => Just(Focus::Table("[noise]")),
+        1 => Just(Focus::Table("[geometry]")),
+    ]
+}
+
+/// `muts` applied to the focused table of `text` alone (from its header to the next table).
+fn apply_in(text: &str, focus: Focus, muts: &[Mutation]) -> Vec<u8> {
+    let Focus::Table(name) = focus else {
+        return apply(text.as_bytes(), muts);
+    };
+    let start = text.find(name).expect("the table is in the rig");
+    let end = text[start + 1..]
+        .find("\n[")
+        .map_or(text.len(), |i| start + 2 + i);
+    let mut out = text.as_bytes()[..start].to_vec();
+    out.extend(apply(&text.as_bytes()[start..end], muts));
+    out.extend_from_slice(&text.as_bytes()[end..]);
+    out
+}
 
 #[derive(Clone, Debug)]
 enum Mutation {
@@ -199,25 +260,45 @@ fn apply(text: &[u8], muts: &[Mutation]) -> Vec<u8> {
     t
 }
 
-/// One fuzz input: which CSV, and the mutations of the rig and of the CSV.
+/// One fuzz input: which CSV, where the rig's mutations act, and the mutations of the rig, the
+/// CSV and the profile table.
 #[derive(Clone, Debug)]
 struct Input {
     kubo: bool,
+    focus: Focus,
     rig: Vec<Mutation>,
     csv: Vec<Mutation>,
+    profile: Vec<Mutation>,
 }
 
 fn input() -> impl Strategy<Value = Input> {
     (
         any::<bool>(),
+        focus(),
         prop::collection::vec(mutation(), 0..4),
         prop::collection::vec(mutation(), 0..6),
+        prop::collection::vec(mutation(), 0..3),
     )
-        .prop_map(|(kubo, rig, csv)| Input { kubo, rig, csv })
+        .prop_map(|(kubo, focus, rig, csv, profile)| Input {
+            kubo,
+            focus,
+            rig,
+            csv,
+            profile,
+        })
+}
+
+/// The three files of an input: rig.toml, c.csv and the profile table.
+fn files_of(inp: &Input) -> [Vec<u8>; 3] {
+    [
+        apply_in(RIG, inp.focus, &inp.rig),
+        apply(if inp.kubo { KUBO } else { MUNRO }.as_bytes(), &inp.csv),
+        apply(PROFILE.as_bytes(), &inp.profile),
+    ]
 }
 
 /// Check that a loader's error is one located data error in `dir`'s files.
-fn located<T>(r: geardyn::Result<T>, dir: &Path, files: &[(&str, &[u8])]) -> Result<(), String> {
+fn located<T>(r: &geardyn::Result<T>, dir: &Path, files: &[(&str, &[u8])]) -> Result<(), String> {
     let e = match r {
         Ok(_) => return Ok(()),
         Err(e) => e,
@@ -240,10 +321,15 @@ fn located<T>(r: geardyn::Result<T>, dir: &Path, files: &[(&str, &[u8])]) -> Res
                 return Err(format!("error names a file outside the set: {text}"));
             }
             let lines = body.iter().filter(|&&c| c == b'\n').count() + 1;
-            if line > lines + 1 {
+            if *line > lines + 1 {
                 return Err(format!("line {line} beyond the {lines} lines: {text}"));
             }
-            if field.is_empty() || !text.contains(&format!("{name}:{line}")) {
+            // Line 0: a key left at its default (or the file as a whole), named without a line.
+            let at = match line {
+                0 => format!("{name}: field '{field}'"),
+                n => format!("{name}:{n}"),
+            };
+            if field.is_empty() || !text.contains(&at) {
                 return Err(format!("error without file:line or field: {text}"));
             }
             Ok(())
@@ -252,18 +338,45 @@ fn located<T>(r: geardyn::Result<T>, dir: &Path, files: &[(&str, &[u8])]) -> Res
     }
 }
 
-/// Load one input with every loader; the error (if any) of each must be located.
+/// Load one input with every loader, and run what reads the tables; the error (if any) of each
+/// must be located.
 fn check(inp: &Input) -> Result<(), String> {
-    let rig = apply(RIG.as_bytes(), &inp.rig);
-    let csv = apply(if inp.kubo { KUBO } else { MUNRO }.as_bytes(), &inp.csv);
+    let [rig, csv, profile] = files_of(inp);
     let dir = tempfile::tempdir().map_err(|e| e.to_string())?;
     let d = dir.path();
-    std::fs::write(d.join("rig.toml"), &rig).map_err(|e| e.to_string())?;
+    let rig_path = d.join("rig.toml");
+    // Beside the data set, not in it: the data loaders read every CSV of the folder.
+    let table_path = d.join("profile").join("p.csv");
+    std::fs::create_dir(d.join("profile")).map_err(|e| e.to_string())?;
+    std::fs::write(&rig_path, &rig).map_err(|e| e.to_string())?;
     std::fs::write(d.join("c.csv"), &csv).map_err(|e| e.to_string())?;
-    let files: [(&str, &[u8]); 2] = [("rig.toml", &rig), ("c.csv", &csv)];
-    located(load_munro(d), d, &files)?;
-    located(load_kubo(d), d, &files)?;
-    located(load_rig_with_geometry(&d.join("rig.toml")), d, &files)?;
+    std::fs::write(&table_path, &profile).map_err(|e| e.to_string())?;
+    let files: [(&str, &[u8]); 3] = [("rig.toml", &rig), ("c.csv", &csv), ("p.csv", &profile)];
+    if let Ok(data) = load_munro(d) {
+        located(&geardyn::validate::noise_setting(&data), d, &files)?;
+    }
+    located(&load_munro(d), d, &files)?;
+    located(&load_kubo(d), d, &files)?;
+    located(&load_rig_with_geometry(&rig_path), d, &files)?;
+    let table = load_profile_table(&table_path);
+    located(&table, d, &files)?;
+    let Ok((rig_file, geometry)) = load_rig_with_geometry(&rig_path) else {
+        return Ok(());
+    };
+    located(&rig_file.rig.dimensional(), d, &files)?;
+    let in_rig = |e: GearError| locate_rig_key(&rig_path, e);
+    let pair = GearPairGeometry::from_rig(&rig_file.rig, &geometry).map_err(in_rig);
+    located(&pair, d, &files)?;
+    if let (Ok(pair), Ok(table)) = (pair, table) {
+        let model = MeshModel::with_profile(pair, &table).map_err(in_rig);
+        located(&model, d, &files)?;
+        if let Ok(model) = model {
+            let waveform = model
+                .waveform(rig_file.rig.design_load_n, &TipRelief::none(), 64)
+                .map_err(in_rig);
+            located(&waveform, d, &files)?;
+        }
+    }
     Ok(())
 }
 
@@ -294,7 +407,13 @@ fn long_fuzz_run() {
     let start = Instant::now();
     let (mut runs, mut panics, mut unlocated, mut slow) = (0u64, 0u64, 0u64, 0u64);
     let mut max = (Duration::ZERO, 0usize);
-    let mut first_problem: Option<String> = None;
+    // The first input of each kind of problem (panic, or the error's first words), up to five.
+    let mut problems: Vec<(String, String)> = Vec::new();
+    let mut note = |kind: String, what: String| {
+        if problems.len() < 5 && !problems.iter().any(|(k, _)| *k == kind) {
+            problems.push((kind, what));
+        }
+    };
     let hook = std::panic::take_hook();
     std::panic::set_hook(Box::new(|_| {}));
     while start.elapsed() < Duration::from_secs(secs) {
@@ -302,11 +421,7 @@ fn long_fuzz_run() {
             .new_tree(&mut runner)
             .expect("generate an input")
             .current();
-        let size = {
-            let rig = apply(RIG.as_bytes(), &inp.rig);
-            let csv = apply(if inp.kubo { KUBO } else { MUNRO }.as_bytes(), &inp.csv);
-            rig.len() + csv.len()
-        };
+        let size: usize = files_of(&inp).iter().map(Vec::len).sum();
         let t = Instant::now();
         let r = std::panic::catch_unwind(AssertUnwindSafe(|| check(&inp)));
         let dt = t.elapsed();
@@ -320,11 +435,12 @@ fn long_fuzz_run() {
         match r {
             Err(_) => {
                 panics += 1;
-                first_problem.get_or_insert_with(|| format!("panic on {inp:?}"));
+                note("panic".into(), format!("panic on {inp:?}"));
             }
             Ok(Err(e)) => {
                 unlocated += 1;
-                first_problem.get_or_insert_with(|| format!("{e} on {inp:?}"));
+                let kind: String = e.chars().take(60).collect();
+                note(kind, format!("{e} on {inp:?}"));
             }
             Ok(Ok(())) => {}
         }
@@ -340,6 +456,10 @@ fn long_fuzz_run() {
     assert!(
         panics == 0 && unlocated == 0 && slow == 0,
         "{}",
-        first_problem.unwrap_or_default()
+        problems
+            .iter()
+            .map(|(_, w)| w.as_str())
+            .collect::<Vec<_>>()
+            .join("\n")
     );
 }

@@ -20,7 +20,7 @@ pub struct Args {
     #[command(flatten)]
     frequency: Frequency,
     /// Grid of initial conditions q(0), q'(0) (dimensionless: half backlashes): LO:HI:N (N
-    /// values per axis, at most 501).
+    /// values per axis, at most 501; LO and HI in [-1e4, 1e4]).
     #[arg(long, default_value = "-2:2:21", allow_hyphen_values = true)]
     ic_grid: String,
     #[command(flatten)]

@@ -42,7 +42,8 @@ pub struct Args {
     #[arg(long, value_enum, default_value_t = Mode::Both)]
     mode: Mode,
     /// Grid of initial conditions q(0), q'(0) at each value (dimensionless: half backlashes):
-    /// LO:HI:N (at most 501 per axis and 2000000 initial conditions over all values).
+    /// LO:HI:N (LO and HI in [-1e4, 1e4]; at most 501 per axis and 2000000 initial conditions
+    /// over all values).
     #[arg(long, default_value = super::common::SWEEP_IC_GRID, allow_hyphen_values = true)]
     ic_grid: String,
     /// Poincaré points drawn per non-periodic set, 10 to 2000.

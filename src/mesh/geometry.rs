@@ -132,6 +132,10 @@ fn working_centre_distance(
     })
 }
 
+/// Largest root-to-bore ratio h_f = r_f / r_bore the fillet-foundation polynomial is used at
+/// (the default bore, a third of the root, is 3): its compliance terms grow as h_f^2 beyond 10.
+const MAX_ROOT_OVER_BORE: f64 = 10.0;
+
 /// A gear's circles in order (base below tip, root above zero, bore below root) and a tooth
 /// that does not come to a point below its tip; an error names the tip-diameter, bore-diameter
 /// or profile-shift key given.
@@ -154,6 +158,14 @@ fn check_body(b: &GearBody, [tip, bore, root]: [&'static str; 3]) -> Result<()> 
         2e3 * b.bore_radius_m,
         "bore must be smaller than the root circle",
     )?;
+    check(
+        b.root_radius_m <= MAX_ROOT_OVER_BORE * b.bore_radius_m,
+        bore,
+        2e3 * b.bore_radius_m,
+        "bore below a tenth of the root diameter: the fillet-foundation formula (Sainsot et al. \
+         2004) grows as (root / bore)^2 beyond, which would make a solid gear softer than a rim; \
+         give at least a tenth of the root diameter",
+    )?;
     // The tooth must be thicker than zero at the tip: half angle at r_a positive.
     let phi_a = (b.base_radius_m / b.tip_radius_m).acos();
     check(
@@ -168,7 +180,7 @@ fn check_body(b: &GearBody, [tip, bore, root]: [&'static str; 3]) -> Result<()> 
 /// Contact on the involutes (above the base circle and the root circle of each gear: otherwise
 /// the tip of one gear digs into the other's fillet), and a transverse contact ratio of at
 /// least 1.
-fn check_contact(geo: &GearPairGeometry, centre_distance_mm: Option<f64>) -> Result<()> {
+fn check_contact(geo: &GearPairGeometry, g: &GearGeometry, pressure_angle_deg: f64) -> Result<()> {
     let (s_a, s_e) = (geo.start_of_contact(), geo.end_of_contact());
     let lowest = |b: &GearBody| {
         let r = b.root_radius_m.max(b.base_radius_m);
@@ -186,22 +198,20 @@ fn check_contact(geo: &GearPairGeometry, centre_distance_mm: Option<f64>) -> Res
         2e3 * geo.pinion.tip_radius_m,
         "the pinion's tip reaches below the gear's involute (interference)",
     )?;
-    // A stated centre distance is what pulled the tips apart; else the teeth and angles did.
-    match centre_distance_mm {
-        Some(a_mm) => check(
-            geo.contact_ratio() >= 1.0,
-            "geometry.centre_distance_mm",
-            a_mm,
-            "leaves the tip circles overlapping too little (a transverse contact ratio below 1, \
-             or none at all): the mesh would lose contact between pairs",
-        ),
-        None => check(
-            geo.contact_ratio() >= 1.0,
-            "geometry.contact_ratio",
-            geo.contact_ratio(),
-            "transverse contact ratio below 1: the mesh would lose contact between pairs",
-        ),
-    }
+    // The first stated value that shortens the path of contact is blamed; with none stated,
+    // the pressure angle (with the teeth) is what made it short.
+    const SHORT: &str = "leaves a transverse contact ratio below 1 (the tip circles overlap too \
+                         little, or not at all): the mesh would lose contact between pairs";
+    let (key, value) = [
+        ("geometry.centre_distance_mm", g.centre_distance_mm),
+        ("geometry.pinion_tip_diameter_mm", g.pinion_tip_diameter_mm),
+        ("geometry.gear_tip_diameter_mm", g.gear_tip_diameter_mm),
+        ("geometry.addendum_coefficient", g.addendum_coefficient),
+    ]
+    .into_iter()
+    .find_map(|(k, v)| v.map(|v| (k, v)))
+    .unwrap_or(("rig.pressure_angle_deg", pressure_angle_deg));
+    check(geo.contact_ratio() >= 1.0, key, value, SHORT)
 }
 
 impl GearPairGeometry {
@@ -303,7 +313,7 @@ impl GearPairGeometry {
             youngs_modulus_pa: g.youngs_modulus_gpa.unwrap_or(206.0) * 1e9,
             poisson_ratio: g.poisson_ratio.unwrap_or(0.3),
         };
-        check_contact(&geo, g.centre_distance_mm)?;
+        check_contact(&geo, g, rig.pressure_angle_deg)?;
         Ok(geo)
     }
 

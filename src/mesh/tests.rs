@@ -355,7 +355,20 @@ fn bad_geometry_and_relief_are_named_errors() {
     let e = GearPairGeometry::from_rig(&rig, &short_tips)
         .unwrap_err()
         .to_string();
-    assert!(e.contains("contact_ratio"), "{e}");
+    // The stated tips shortened the path of contact: the first of them is named.
+    assert!(
+        e.contains("geometry.pinion_tip_diameter_mm") && e.contains("contact ratio below 1"),
+        "{e}"
+    );
+    // A bore below a tenth of the root diameter is outside the fillet-foundation formula.
+    let pinhole = GearGeometry {
+        pinion_bore_diameter_mm: Some(1e-300),
+        ..GearGeometry::default()
+    };
+    let e = GearPairGeometry::from_rig(&rig, &pinhole)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("geometry.pinion_bore_diameter_mm"), "{e}");
     let inside = GearGeometry {
         pinion_tip_diameter_mm: Some(190.0),
         ..GearGeometry::default()

@@ -57,6 +57,9 @@ pub struct Resolution {
     pub basin_n: usize,
     /// Omega step of the comparisons of Figs 11-13.
     pub omega_step: f64,
+    /// Omega step of S3-07's scan for periodic windows over 1.0-1.5 (the period-3 window of
+    /// Fig. 4's parameters is about 0.08 wide).
+    pub window_step: f64,
     /// Initial conditions per axis of the comparisons' attractor search.
     pub compare_ic_n: usize,
     /// Frequencies of the studies' grids (`None`: each study's default).
@@ -75,6 +78,7 @@ impl Resolution {
             ic_n: 21,
             basin_n: 101,
             omega_step: 0.01,
+            window_step: 0.01,
             compare_ic_n: 11,
             study_points: None,
             munro: MunroOptions::default(),
@@ -89,6 +93,7 @@ impl Resolution {
             ic_n: 9,
             basin_n: 21,
             omega_step: 0.05,
+            window_step: 0.04,
             compare_ic_n: 3,
             study_points: Some(57),
             munro: MunroOptions {
@@ -129,8 +134,9 @@ pub struct Reproduction {
 
 /// Number of progress units of a run.
 pub fn progress_units(res: &Resolution) -> Result<u64> {
-    // Searches, one DOP853 stage, two comparisons, the studies, two validations.
-    Ok(sec3::plan(res)?.len() as u64 + 1 + 2 + StudyName::ALL.len() as u64 + 2)
+    // Searches, one DOP853 stage, S3-07's window scan, two comparisons, the studies, two
+    // validations.
+    Ok(sec3::plan(res)?.len() as u64 + 1 + 1 + 2 + StudyName::ALL.len() as u64 + 2)
 }
 
 /// Compute every figure and claim of the paper.

@@ -7,7 +7,7 @@ use super::attractor_set::{
     search, Expected, Horizon, Point,
 };
 use super::claims::{agree_if, Claim, ReportTable, Verdict};
-use super::sec3_transients::{chaos_claim, chaos_range_claim, sets_table};
+use super::sec3_transients::{chaos_claim, chaos_range_claim, sets_table, window_omegas};
 use super::steady_figures::{orbit_samples, periods_to_draw, steady_figures};
 use super::Resolution;
 use crate::error::Result;
@@ -286,9 +286,20 @@ pub(crate) fn build(
     let specs = specs();
     let confirmations = confirm(&found, &specs)?;
     progress.advance(1);
-    let (claims, table) = claims_and_table(&found, &specs, &confirmations)?;
+    let scan = window_scan(&found.ic, res.window_step)?;
+    progress.advance(1);
+    let (claims, table) = claims_and_table(&found, &specs, &confirmations, &scan)?;
     let figs = figures(&found)?;
     Ok((claims, figs, confirmations, vec![table]))
+}
+
+/// S3-07's scan of Fig. 4's parameters over 1.0 <= Omega <= 1.5, the non-periodic sets
+/// followed to their escape.
+fn window_scan(grid: &IcGrid, step: f64) -> Result<Vec<(f64, AttractorMap)>> {
+    window_omegas(step)
+        .par_iter()
+        .map(|&w| Ok((w, search(&light(w), grid, false, Horizon::Followed)?)))
+        .collect()
 }
 
 /// Which initial-condition grid a search covered.
@@ -368,6 +379,7 @@ fn claims_and_table(
     found: &Found,
     specs: &[Spec],
     confirmations: &Confirmations,
+    scan: &[(f64, AttractorMap)],
 ) -> Result<(Vec<Claim>, ReportTable)> {
     let mut claims = Vec::new();
     for s in specs {
@@ -380,6 +392,7 @@ fn claims_and_table(
             .iter()
             .map(|&w| found.both(light(w)).map(|m| (w, m)))
             .collect::<Result<Vec<_>>>()?,
+        scan,
     ));
     claims.push(heavy_period_one_claim(
         &HEAVY_OMEGAS[..6]

@@ -108,8 +108,92 @@ pub(crate) fn chaos_claim(
     )
 }
 
-/// S3-07: non-periodic steady states over 1.0 <= Omega_h <= 1.5.
-pub(crate) fn chaos_range_claim(maps: &[(f64, (&AttractorMap, &AttractorMap))]) -> Claim {
+/// The frequencies of S3-07's scan: 1.0 to 1.5 (or just below) in steps of `step`.
+pub(crate) fn window_omegas(step: f64) -> Vec<f64> {
+    let n = (0.5 / step + 1e-9).floor() as usize;
+    (0..=n)
+        .map(|i| crate::numeric::to_significant(1.0 + i as f64 * step, 6))
+        .collect()
+}
+
+/// What the search at one frequency of the scan found.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Steady {
+    /// Only non-periodic sets.
+    NonPeriodic,
+    /// Periodic attractors beside a non-periodic set.
+    Both,
+    /// Only periodic attractors: the paper's "non-periodic" fails here.
+    Periodic,
+}
+
+/// The class of a followed search: its attractors (transient sets left out) by periodicity.
+fn steady_of(m: &AttractorMap) -> Steady {
+    let attractors = || m.attractors.iter().filter(|a| a.kind == SetKind::Attractor);
+    let periodic = attractors().any(|a| a.steady.period.is_some());
+    let other = attractors().any(|a| a.steady.period.is_none());
+    match (periodic, other) {
+        (true, true) => Steady::Both,
+        (true, false) => Steady::Periodic,
+        _ => Steady::NonPeriodic,
+    }
+}
+
+/// The periodic orbits at the scan frequencies of class `class`, each kind with the runs of
+/// consecutive frequencies it was found at: "period-3 double-sided at 1.36-1.45, 1.47-1.49".
+fn windows_of(scan: &[(f64, AttractorMap)], class: Steady) -> Vec<String> {
+    let mut kinds: Vec<(String, Vec<usize>)> = Vec::new();
+    for (i, (_, m)) in scan.iter().enumerate() {
+        if steady_of(m) != class {
+            continue;
+        }
+        let periodic = m
+            .attractors
+            .iter()
+            .filter(|a| a.kind == SetKind::Attractor && a.steady.period.is_some());
+        for a in periodic {
+            let k = format!(
+                "period-{} {}",
+                a.steady.period.unwrap_or(0),
+                impact_name(a.steady.impact)
+            );
+            match kinds.iter_mut().find(|(name, _)| *name == k) {
+                Some((_, at)) if at.last() != Some(&i) => at.push(i),
+                Some(_) => {}
+                None => kinds.push((k, vec![i])),
+            }
+        }
+    }
+    kinds
+        .iter()
+        .map(|(k, at)| {
+            let mut runs: Vec<(usize, usize)> = Vec::new();
+            for &i in at {
+                match runs.last_mut() {
+                    Some((_, b)) if *b + 1 == i => *b = i,
+                    _ => runs.push((i, i)),
+                }
+            }
+            let text: Vec<String> = runs
+                .iter()
+                .map(|&(a, b)| match a == b {
+                    true => format!("{:.2}", scan[a].0),
+                    false => format!("{:.2}-{:.2}", scan[a].0, scan[b].0),
+                })
+                .collect();
+            format!("{k} at {}", text.join(", "))
+        })
+        .collect()
+}
+
+/// S3-07: non-periodic steady states throughout 1.0 <= Omega_h <= 1.5. `maps` are the three
+/// frequencies searched at the paper's time scale and followed; `scan` the whole range on a
+/// grid of `Resolution::window_step`, its non-periodic sets followed: a frequency whose only attractors are
+/// periodic contradicts "throughout" (a chaotic transient there is not a steady state).
+pub(crate) fn chaos_range_claim(
+    maps: &[(f64, (&AttractorMap, &AttractorMap))],
+    scan: &[(f64, AttractorMap)],
+) -> Claim {
     let parts: Vec<String> = maps
         .iter()
         .map(|(w, (paper, m))| {
@@ -120,30 +204,56 @@ pub(crate) fn chaos_range_claim(maps: &[(f64, (&AttractorMap, &AttractorMap))]) 
             )
         })
         .collect();
-    let seen = maps
-        .iter()
-        .filter(|(_, (p, _))| dominant(p).is_some_and(|d| d.steady.period.is_none()))
-        .count();
-    let transient: Vec<f64> = maps
-        .iter()
-        .filter(|(_, (_, m))| chaotic(m).is_some_and(|c| c.kind == SetKind::ChaoticTransient))
-        .map(|(w, _)| *w)
-        .collect();
-    let all_seen = seen == maps.len();
-    let verdict = if all_seen && !transient.is_empty() {
-        Verdict::BeyondPaper
-    } else {
-        agree_if(all_seen)
+    let count = |c: Steady| scan.iter().filter(|(_, m)| steady_of(m) == c).count();
+    let step = match scan {
+        [a, b, ..] => crate::numeric::to_significant(b.0 - a.0, 3),
+        _ => 0.0,
     };
-    let mut expl = format!(
-        "dominant set non-periodic after the default transient at {seen} of {} frequencies checked",
-        maps.len()
+    let (periodic, both) = (
+        windows_of(scan, Steady::Periodic),
+        windows_of(scan, Steady::Both),
     );
-    if !transient.is_empty() {
+    let transient: Vec<String> = scan
+        .iter()
+        .filter(|(_, m)| chaotic(m).is_some_and(|c| c.kind == SetKind::ChaoticTransient))
+        .map(|(w, _)| format!("{w:.2}"))
+        .collect();
+    let mut expl = format!(
+        "on an Omega grid of step {step} ({} frequencies, each non-periodic set followed to its \
+         escape) the attractors are non-periodic only at {}, periodic beside a chaotic \
+         attractor at {}, and periodic only at {}",
+        scan.len(),
+        count(Steady::NonPeriodic),
+        count(Steady::Both),
+        count(Steady::Periodic)
+    );
+    if !periodic.is_empty() {
         expl.push_str(&format!(
-            "; followed, the chaos is a transient at Omega {transient:?} (the steady state there is periodic, row S3-06) and a chaotic attractor at the others"
+            "; the paper's \"throughout\" fails in the periodic windows, where the only \
+             attractors are {}",
+            periodic.join("; ")
         ));
     }
+    if !both.is_empty() {
+        expl.push_str(&format!(
+            "; beside a chaotic attractor the search finds {}",
+            both.join("; ")
+        ));
+    }
+    if !transient.is_empty() {
+        expl.push_str(&format!(
+            "; the chaos seen at the paper's time scale is a transient at Omega {} (row S3-06 at \
+             1.0)",
+            transient.join(", ")
+        ));
+    }
+    let verdict = if !periodic.is_empty() {
+        Verdict::Differ
+    } else if !transient.is_empty() {
+        Verdict::BeyondPaper
+    } else {
+        agree_if(count(Steady::NonPeriodic) + count(Steady::Both) == scan.len())
+    };
     Claim::new(
         "S3-07",
         "3",
