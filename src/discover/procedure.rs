@@ -607,7 +607,7 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
         fit_stop(),
         None,
     ) {
-        Ok(Profiled::Interval(p)) => Some(p.ends()),
+        Ok(Profiled::Interval(p)) => Some(p),
         _ => None,
     };
     let mapped = |(lo, hi): (Option<f64>, Option<f64>)| {
@@ -616,18 +616,9 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
             hi.map(|v| c.estimate_of_profiled(v)),
         )
     };
-    // A 95% profile interval holds its estimate well inside (the ratio is 0 there and about
-    // 3.84 two standard errors away): a side that ends within a hundredth of Wald's width of
-    // the estimate is one whose inner fits failed next to it (a failed fit counts as outside),
-    // and that side is Wald's.
-    let (wlo, whi) = polar.ci95[k];
-    let failed = |e: Option<f64>| e.is_some_and(|v| (v - u).abs() <= 0.01 * (whi - wlo).abs());
-    let (ci95, method) = match profile {
-        Some((lo, hi)) => {
-            let patched = failed(lo) || failed(hi);
-            let lo = if failed(lo) { Some(wlo) } else { lo };
-            let hi = if failed(hi) { Some(whi) } else { hi };
-            let (lo, hi) = mapped((lo, hi));
+    let (ci95, method) = match &profile {
+        Some(p) => {
+            let (lo, hi) = mapped(p.ends());
             (
                 Some((
                     lo.unwrap_or(if c.profiled_is_amplitude() {
@@ -637,8 +628,10 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
                     }),
                     hi.unwrap_or(f64::INFINITY),
                 )),
-                if patched {
-                    "profile likelihood, one side Wald's: its profile failed next to the estimate"
+                // A side whose profile steps, or whose inner fits fail, ends at Wald's end
+                // (fit::profile); the method says so.
+                if p.stepped.contains(&true) {
+                    "profile likelihood, a side at Wald's end (its profile steps or cannot be fitted there)"
                 } else {
                     "profile likelihood"
                 },
@@ -646,7 +639,7 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
         }
         None => (Some(wald), "Wald"),
     };
-    let profile_mapped = profile.map(mapped);
+    let profile_mapped = profile.map(|p| mapped(p.ends()));
     let phase = c.has_phase().then(|| {
         let (lo, hi) = polar.ci95[k + 1];
         (

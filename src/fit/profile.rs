@@ -55,8 +55,9 @@ pub struct ProfileInterval {
     /// [`Param::profile_floor`].
     pub lower: Option<f64>,
     pub upper: Option<f64>,
-    /// For the lower and the upper end: the profile steps there rather than rises (see the
-    /// module's notes), so that end is the Wald end, or the step where that is farther.
+    /// For the lower and the upper end: that end is not where the ratio crosses its threshold
+    /// (the profile steps there rather than rises, or its inner fits fail beyond it; see the
+    /// module's notes), so it is the Wald end, or the step or failure where that is farther.
     pub stepped: [bool; 2],
 }
 
@@ -354,6 +355,8 @@ where
         };
         let (distance, stepped) = match search_side(self, self.others.clone(), dir, options)? {
             SideEnd::At { distance, stepped } => (distance, stepped && self.se_known),
+            // No ratio end where the fits fail: as at a step, Wald's end if farther.
+            SideEnd::Failed { distance } => (distance, self.se_known),
             SideEnd::Limit | SideEnd::Open => return Ok(Ended::End(None)),
             SideEnd::Better { u, fitted } => {
                 self.abandoned.store(true, Ordering::Relaxed);

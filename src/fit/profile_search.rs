@@ -21,6 +21,10 @@
 //! no farther than its own (the estimate, at first): a start from a point outside may have
 //! crossed a step of the sum of squares.
 //!
+//! Where the inner fits fail beyond some distance (a model that cannot be evaluated there), the
+//! halving closes on the last point fitted and the side ends as [`SideEnd::Failed`]: not a
+//! ratio end either, and the caller decides.
+//!
 //! A step that no start avoids is not a confidence bound: it says on which side of one
 //! measured speed a jump falls, not how far the parameter may move. The search reports whether
 //! its end is such a step (the profile rises by more than q^2 between the last point inside and
@@ -101,6 +105,10 @@ pub enum SideEnd<S> {
     Open,
     /// A point that fits better than the estimate, at signed distance `u`.
     Better { u: f64, fitted: S },
+    /// The inner fit fails just beyond `distance` (the farthest point fitted inside, within the
+    /// root search's tolerance of the failures): the ratio cannot be followed to q there, so
+    /// this is no likelihood-ratio end.
+    Failed { distance: f64 },
 }
 
 /// What an evaluation found: r - q (capped), or a better fit.
@@ -217,8 +225,12 @@ impl<F: InnerFit> Side<'_, F> {
             };
             let width = d_out - inner.0;
             // A failed fit outside gives Brent's interpolation nothing to go on: it is
-            // halved towards until the bracket is within the tolerance.
-            let failed = e_out >= self.cap() && width > o.tolerance;
+            // halved towards until the bracket is within the tolerance, and if the fits still
+            // fail there, the side ends at a failure, not at r = q.
+            if e_out >= self.cap() && width <= o.tolerance {
+                return Ok(SideEnd::Failed { distance: inner.0 });
+            }
+            let failed = e_out >= self.cap();
             let next = match o.bracket_width {
                 _ if failed => 0.5 * (inner.0 + d_out),
                 Some(w) if width > w * o.se => 0.5 * (inner.0 + d_out),
@@ -306,8 +318,12 @@ impl<F: InnerFit> Side<'_, F> {
 /// minimum) steps up by more than `rise` (the threshold's height) between the last point
 /// inside and the first outside, these closer than `width`: a jump, not a rise.
 fn steps_up(evaluated: &[(f64, f64)], width: f64, rise: f64) -> bool {
+    // The estimate (distance 0, rise 0) is inside: a profile can step at the estimate itself
+    // (a jump on a measured speed there), and no other point inside is evaluated then.
+    let estimate = [(0.0, 0.0)];
     let inside = evaluated
         .iter()
+        .chain(&estimate)
         .filter(|(_, p)| *p <= rise)
         .max_by(|a, b| a.0.total_cmp(&b.0));
     let outside = evaluated
@@ -442,9 +458,9 @@ mod tests {
     }
 
     #[test]
-    fn a_failed_fit_counts_as_outside() {
-        // Fits fail beyond 0.015 (r would reach 1.96 only at 0.0196): the end is found by the
-        // root search towards the failure, within the budget.
+    fn a_side_whose_fits_fail_ends_as_failed_at_the_last_fitted_point() {
+        // Fits fail beyond 0.015 (r would reach 1.96 only at 0.0196): the halving closes on
+        // the failure and the side ends there as a failure, not as a ratio end.
         let failing = |u: f64| {
             let d = u.abs();
             if d > 0.015 {
@@ -453,10 +469,14 @@ mod tests {
                 d / 0.01
             }
         };
+        match end(&failing, 1.0, converged(0.01)) {
+            SideEnd::Failed { distance } => assert!((distance - 0.015).abs() < 1e-6, "{distance}"),
+            _ => panic!("expected a failed side"),
+        }
+        // With its fits spent before the bracket closes, the side takes the root search's
+        // estimate between the last point inside and the failure.
         let d = at(end(&failing, 1.0, budgeted(0.0196, None)));
         assert!(d > 0.012 && d < 0.0155, "{d}");
-        let d = at(end(&failing, 1.0, converged(0.01)));
-        assert!((d - 0.015).abs() < 1e-6, "{d}");
     }
 
     #[test]
@@ -494,5 +514,16 @@ mod tests {
             end(&r, 1.0, converged(0.01)),
             SideEnd::At { stepped: false, .. }
         ));
+    }
+
+    #[test]
+    fn a_step_at_the_estimate_itself_is_a_step() {
+        // The profile is 69 sigma^2 up at any distance on this side (the estimate sits on a
+        // jump at a measured speed): no point inside is evaluated, and the end is flagged.
+        let ledge = |u: f64| if u == 0.0 { 0.0 } else { 69.0_f64.sqrt() };
+        match end(&ledge, 1.0, converged(0.01)) {
+            SideEnd::At { distance, stepped } => assert!(stepped && distance < 1e-5, "{distance}"),
+            _ => panic!("no end"),
+        }
     }
 }
