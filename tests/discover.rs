@@ -10,7 +10,7 @@
 mod common;
 use common::geardyn;
 use geardyn::data::load_munro;
-use geardyn::discover::{discover, DiscoverOptions, Discovery, NoiseOrigin};
+use geardyn::discover::{discover, Candidate, DiscoverOptions, Discovery, Effect, NoiseOrigin};
 use geardyn::fit::Distribution;
 use geardyn::progress::NoProgress;
 use geardyn::validate::{synth_munro, HiddenEffects, MunroTruth, NoiseFamily, SpeedGrid};
@@ -615,7 +615,7 @@ fn stated_noise_is_used_as_stated() {
         &column,
         &DiscoverOptions {
             noise_um: Some(0.3),
-            ..opts
+            ..opts.clone()
         },
     );
     assert_eq!(d.noise.origin, NoiseOrigin::StatedOption);
@@ -728,4 +728,33 @@ fn a_set_without_the_design_load_says_so() {
     let d = run(&dir);
     assert_eq!(d.training_loads_n, vec![2835.0]);
     assert!(d.design_load_missing());
+}
+
+/// The power bound a study asks for: on a null set, a damping law's test at gamma -0.6 has
+/// hardly more power than its level (M0's zeta and STEs make most of its change), and a
+/// stronger law more; the power never falls below the level.
+#[test]
+#[ignore = "two discover runs, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
+fn the_power_bound_grows_with_the_effect() {
+    let tmp = tempfile::tempdir().unwrap();
+    make_set(tmp.path(), HiddenEffects::default(), 3);
+    let power = |gamma: f64| {
+        let opts = DiscoverOptions {
+            bootstrap: BOOTSTRAP,
+            power_at: Some(Effect::of(Candidate::DampingLaw, vec![gamma])),
+            ..DiscoverOptions::default()
+        };
+        let p = run_with(tmp.path(), &opts)
+            .power_bound
+            .expect("a power bound");
+        assert_eq!(p.candidate, "damping_law");
+        assert!((p.level - 0.01).abs() < 1e-12, "{}", p.level);
+        assert!(p.power >= p.level - 1e-9 && p.power <= 1.0, "{p:?}");
+        (p.noncentrality, p.power)
+    };
+    let (weak, strong) = (power(-0.6), power(-3.0));
+    assert!(
+        strong.0 > weak.0 && strong.1 > weak.1,
+        "gamma -0.6: {weak:?}; gamma -3: {strong:?}"
+    );
 }

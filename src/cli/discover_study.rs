@@ -156,6 +156,12 @@ fn summary_text(s: &StudySummary) -> String {
             100.0 * s.false_positive_upper95.unwrap_or(1.0)
         ));
     }
+    if let Some(p) = s.power_bound_mean {
+        msg.push_str(&format!(
+            "power of the hidden effect's test, first order (mean over seeds): {:.1}%: what a test of these data can reach\n",
+            100.0 * p
+        ));
+    }
     if let Some((c, n)) = s.coverage {
         msg.push_str(&format!(
             "true value {:?} inside the 95% interval in {c}/{n} correctly named seeds\n",

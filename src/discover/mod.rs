@@ -28,7 +28,7 @@ pub use noise::{DiscoveryNoise, NoiseOrigin, TailChoice};
 pub use procedure::{discover, discover_setup};
 pub use result::{
     check_options, least_bootstrap, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
-    Gap, GapSet, PredictionCheck, ResidualCurve, TestResult, MAX_BOOTSTRAP,
+    Gap, GapSet, PowerBound, PredictionCheck, ResidualCurve, TestResult, MAX_BOOTSTRAP,
 };
 pub use training::Correlation;
 pub use windows::{windows, Window, HALF_WIDTH as WINDOW_HALF_WIDTH};

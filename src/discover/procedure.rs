@@ -11,7 +11,7 @@ use super::effects::{Candidate, Effect, LIBRARY};
 use super::forward::{aperiodic_pp_range, predict, CurvePrediction, Globals, Setup};
 use super::noise::{DiscoveryNoise, NoiseOrigin, Scales};
 use super::result::{
-    check_options, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints, GapSet,
+    check_options, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints, GapSet, PowerBound,
     PredictionCheck, TestResult,
 };
 use super::start::{fit_ste, linear_start, ste_from_low_speed};
@@ -24,7 +24,7 @@ use crate::fit::{
     neg_log_likelihood, profile_interval_or_better, Distribution, Estimate, EstimateOptions,
     NoiseModel, NoiseSetting, Profiled, Robust, Stop,
 };
-use crate::numeric::min_max;
+use crate::numeric::{chi_square_power, min_max};
 use crate::progress::Progress;
 use crate::validate::MunroNoise;
 use nalgebra::DMatrix;
@@ -408,6 +408,38 @@ fn probe_all(
             })
         })
         .collect()
+}
+
+/// The power of the test of `effect` against M0 at `level` ([`PowerBound`]): the effect set on
+/// M0's fit, its change of the training curves whitened by M0's noise, and what of it M0's own
+/// parameters cannot make, to first order ([`M0Directions::off`]). None for M0 itself, or where
+/// the model cannot be evaluated there.
+fn power_bound(null: &NullFit, effect: &Effect, level: f64) -> Option<PowerBound> {
+    let c = effect.candidate?;
+    let curves = Curves::new(
+        null.curves.setup,
+        &null.curves.idx,
+        null.curves.mask,
+        EffectParams::Delta(c),
+    );
+    let (_, ste, _) = null.curves.unpack(&null.est.params);
+    let f0 = null.curves.model(&null.est.params).ok()?;
+    let f = curves
+        .model(&curves.pack(null.globals, &ste, effect))
+        .ok()?;
+    let change: Vec<f64> = f.iter().zip(&f0).map(|(a, b)| a - b).collect();
+    let lambda: f64 = M0Directions::of(null)
+        .off(null, &change)
+        .iter()
+        .map(|x| x * x)
+        .sum();
+    Some(PowerBound {
+        candidate: c.name().to_string(),
+        delta: effect.delta.clone(),
+        noncentrality: lambda,
+        level,
+        power: chi_square_power(c.dim() as f64, lambda, level)?,
+    })
 }
 
 /// Candidate `c` fitted from M0 (delta 0) or its best probe (the one of
@@ -798,6 +830,10 @@ pub fn discover_setup(
         excluded,
         origin,
         misfit: if best.is_none() { misfit } else { None },
+        power_bound: opts
+            .power_at
+            .as_ref()
+            .and_then(|e| power_bound(&null, e, opts.alpha / LIBRARY.len() as f64)),
     }))
 }
 
@@ -1129,6 +1165,7 @@ struct Assembly<'a> {
     excluded: Vec<ExcludedPoints>,
     origin: NoiseOrigin,
     misfit: Option<String>,
+    power_bound: Option<PowerBound>,
 }
 
 fn assemble(a: Assembly) -> Discovery {
@@ -1200,6 +1237,7 @@ fn assemble(a: Assembly) -> Discovery {
         residuals_after: residual_curves(setup, train, &after_preds, mask, &omega),
         windows: ws,
         bootstrap: a.opts.bootstrap,
+        power_bound: a.power_bound,
         noise_correlation: null.est.noise.correlation.clone(),
         prediction_check: a.check,
     }

@@ -2,7 +2,7 @@
 //! test and size, M0's fit and errors, and the gaps before and after on training and held-out
 //! loads. Immutable once made; `crate::report::write_discovery` writes it.
 
-use super::effects::Candidate;
+use super::effects::{Candidate, Effect};
 use super::forward::MIN_ZETA;
 use super::noise::{DiscoveryNoise, TailChoice};
 use super::training::Correlation;
@@ -30,6 +30,9 @@ pub struct DiscoverOptions {
     /// |cos| between two passing candidates' changes of the training curves (whitened by M0's
     /// noise) above which they are ambiguous.
     pub collinear_cos: f64,
+    /// An effect of the library at a given size (a study's hidden truth) whose test's power the
+    /// run states ([`PowerBound`]); None states none.
+    pub power_at: Option<Effect>,
 }
 
 impl Default for DiscoverOptions {
@@ -42,6 +45,7 @@ impl Default for DiscoverOptions {
             correlation: Correlation::Auto,
             alpha: 0.05,
             collinear_cos: 0.95,
+            power_at: None,
         }
     }
 }
@@ -231,6 +235,25 @@ pub struct ExcludedPoints {
     pub outside_model_range: usize,
 }
 
+/// The power a candidate's likelihood-ratio test has against an effect of a given size, to
+/// first order and asymptotically (Cox & Hinkley 1974, Sec. 9.3): its statistic is then
+/// non-central chi-square with the candidate's degrees of freedom, non-centrality the squared
+/// change of the training curves (whitened by M0's noise) that M0's own parameters cannot make.
+/// An effect whose change M0 absorbs cannot be detected by a test of these data: the power is
+/// what a study's rate is compared with.
+#[derive(Clone, Debug, Serialize)]
+pub struct PowerBound {
+    pub candidate: String,
+    /// The effect's parameters (the candidate's coordinates).
+    pub delta: Vec<f64>,
+    /// Non-centrality lambda.
+    pub noncentrality: f64,
+    /// The test's level: alpha over the candidates (Holm's first step).
+    pub level: f64,
+    /// P(chi'^2_k(lambda) > the chi^2_k point at 1 - level).
+    pub power: f64,
+}
+
 /// Everything a discovery run found.
 #[derive(Clone, Debug, Serialize)]
 pub struct Discovery {
@@ -271,6 +294,8 @@ pub struct Discovery {
     pub residuals_before: Vec<ResidualCurve>,
     pub residuals_after: Vec<ResidualCurve>,
     pub bootstrap: usize,
+    /// The power of the test of [`DiscoverOptions::power_at`], when asked for and computable.
+    pub power_bound: Option<PowerBound>,
 }
 
 impl Discovery {

@@ -4,7 +4,7 @@
 //! afterwards). Rates come with Wilson 95% intervals.
 
 use crate::data::load_munro;
-use crate::discover::{discover, Candidate, DiscoverOptions, Discovery};
+use crate::discover::{discover, Candidate, DiscoverOptions, Discovery, Effect};
 use crate::error::{GearError, Result};
 use crate::numeric::{clopper_pearson_upper95, ks_from_uniform, wilson95, Rng};
 use crate::progress::Progress;
@@ -111,6 +111,18 @@ impl Hidden {
         };
         (h, truth)
     }
+
+    /// The hidden effect in the candidate's coordinates, for its power bound: the load
+    /// exponent gamma of a damping law. The phase-carrying effects and the backlash are left
+    /// out (their coordinates are not the synthetic set's).
+    fn power_effect(self, truth: Option<f64>) -> Option<Effect> {
+        match (self, truth) {
+            (Hidden::Library(Candidate::DampingLaw), Some(gamma)) => {
+                Some(Effect::of(Candidate::DampingLaw, vec![gamma]))
+            }
+            _ => None,
+        }
+    }
 }
 
 /// One seed's outcome (its default: nothing answered, nothing estimated).
@@ -148,6 +160,8 @@ pub struct SeedOutcome {
     /// The run's error, when `discover` failed on this set (`effect` is then "error" and the
     /// seed counts as not answered correctly).
     pub error: Option<String>,
+    /// The first-order power of the hidden effect's test on this set, where stated.
+    pub power_bound: Option<f64>,
 }
 
 /// How often one test's raw p-value fell below 0.05 and 0.01 over the seeds, with Wilson 95%
@@ -200,6 +214,10 @@ pub struct StudySummary {
     pub warned: usize,
     /// Seeds on which `discover` failed, with the error (counted as not correct).
     pub failed: Vec<(u64, String)>,
+    /// The mean over the seeds of the first-order power of the hidden effect's test
+    /// ([`crate::discover::PowerBound`]), where the study states one: what a test of these data
+    /// can reach, to first order, to compare `correct_rate` with.
+    pub power_bound_mean: Option<f64>,
     /// Per test (detection and candidates), its raw p-values over the seeds.
     pub calibration: Vec<TestCalibration>,
     pub outcomes: Vec<SeedOutcome>,
@@ -300,6 +318,7 @@ pub fn run_study(
         let start = std::time::Instant::now();
         let mut dopts = opts.discover.clone();
         dopts.seed = opts.discover.seed.wrapping_add(seed);
+        dopts.power_at = hidden.power_effect(truth);
         let truth_of_seed = SeedTruth {
             seed,
             hidden,
@@ -436,6 +455,7 @@ fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
         held_out_rms_before_um: d.gap_before.held_out.as_ref().map(|g| g.rms_um),
         held_out_rms_after_um: d.gap_after.held_out.as_ref().map(|g| g.rms_um),
         excluded_far_outside: d.excluded_far_outside(),
+        power_bound: d.power_bound.as_ref().map(|p| p.power),
         closest_candidate: d.closest_candidate.clone(),
         effect: d.effect.clone(),
         p_values,
@@ -511,6 +531,10 @@ fn summarise(
             .filter_map(|o| o.error.clone().map(|e| (o.seed, e)))
             .collect(),
         calibration: calibration(&outcomes),
+        power_bound_mean: {
+            let powers: Vec<f64> = outcomes.iter().filter_map(|o| o.power_bound).collect();
+            (!powers.is_empty()).then(|| powers.iter().sum::<f64>() / powers.len() as f64)
+        },
         outcomes,
     }
 }

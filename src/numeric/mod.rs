@@ -13,6 +13,6 @@ mod roots;
 
 pub use format::to_significant;
 pub use min_max::min_max;
-pub use rates::{clopper_pearson_upper95, ks_from_uniform, wilson95};
+pub use rates::{chi_square_power, clopper_pearson_upper95, ks_from_uniform, wilson95};
 pub use rng::Rng;
 pub(crate) use roots::{brent, sign_changes};

@@ -25,6 +25,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "misfit": d.misfit,
         "goodness_of_fit": d.goodness_of_fit,
         "prediction_check": d.prediction_check,
+        "power_bound": d.power_bound,
         "candidates": d.candidates.iter().map(|c| json!({
             "name": c.name,
             "estimate": c.estimate,
