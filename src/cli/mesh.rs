@@ -45,7 +45,7 @@ fn parse_loads(text: &str) -> anyhow::Result<Vec<f64>> {
                 "--load-n '{text}': {what} '{s}' is not a number; expected START:STOP:STEP"
             )
         })?;
-        if !(v.is_finite() && v > 0.0 && v <= geardyn::model::MAX_LOAD_N) {
+        if !geardyn::model::valid_load(v) {
             anyhow::bail!(
                 "--load-n '{text}': {what} {v} must be in (0, 1e8] N, as every load input of geardyn"
             );

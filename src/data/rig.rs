@@ -665,9 +665,13 @@ pub fn load_rig_with_geometry(path: &Path) -> Result<(RigFile, GearGeometry)> {
 /// key's line (the table's line when the key is absent, 0 when the file cannot be read again):
 /// for checks made after loading (e.g. a key that one pipeline cannot use).
 pub fn rig_key_error(dir: &Path, table: &str, key: &str, message: impl Into<String>) -> GearError {
-    let path = dir.join("rig.toml");
-    let text = std::fs::read_to_string(&path).unwrap_or_default();
-    TomlDoc::new(&path, &text).error(table, key, message)
+    key_error_in(&dir.join("rig.toml"), table, key, message)
+}
+
+/// An error about `[table] key` of the rig file `path`, located as [`rig_key_error`]'s.
+fn key_error_in(path: &Path, table: &str, key: &str, message: impl Into<String>) -> GearError {
+    let text = std::fs::read_to_string(path).unwrap_or_default();
+    TomlDoc::new(path, &text).error(table, key, message)
 }
 
 /// Tables of rig.toml whose keys an out-of-range parameter may be named by (`geometry.`...).
@@ -690,9 +694,8 @@ pub fn locate_rig_key(path: &Path, e: GearError) -> GearError {
         Some((t, k)) if RIG_TABLES.contains(&t) => (t, k),
         _ => return GearError::param(name, value, reason),
     };
-    let text = std::fs::read_to_string(path).unwrap_or_default();
     let message = RigProblem { key, value, reason }.to_string();
-    TomlDoc::new(path, &text).error(table, key, message)
+    key_error_in(path, table, key, message)
 }
 
 /// Validate `rig` and write it as TOML to `path` (used by `geardyn synth`). An invalid rig is

@@ -360,6 +360,12 @@ impl M0Directions {
         }
     }
 
+    /// The sum of squares of [`M0Directions::off`]: for a change of the curves, the
+    /// likelihood ratio's non-centrality; for residuals, what no move of M0's parameters fits.
+    fn squares_off(&self, null: &NullFit, v: &[f64]) -> f64 {
+        self.off(null, v).iter().map(|x| x * x).sum()
+    }
+
     /// The whitened vector `v` (M0's innovations of a change of the curves) with its
     /// projection on M0's whitened Jacobian removed: what no change of M0's own parameters can
     /// do.
@@ -394,7 +400,6 @@ fn probe_all(
 ) -> Vec<Probe> {
     let y = curves.data();
     let f0 = null.curves.model(&null.est.params).unwrap_or_default();
-    let squares = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>();
     c.probes()
         .into_par_iter()
         .filter_map(|delta| {
@@ -403,8 +408,8 @@ fn probe_all(
             let r: Vec<f64> = y.iter().zip(&f).map(|(y, f)| y - f).collect();
             Some(Probe {
                 delta,
-                moved: squares(&m0.off(null, &off)).sqrt(),
-                rss: squares(&m0.off(null, &r)),
+                moved: m0.squares_off(null, &off).sqrt(),
+                rss: m0.squares_off(null, &r),
             })
         })
         .collect()
@@ -416,23 +421,14 @@ fn probe_all(
 /// the model cannot be evaluated there.
 fn power_bound(null: &NullFit, effect: &Effect, level: f64) -> Option<PowerBound> {
     let c = effect.candidate?;
-    let curves = Curves::new(
-        null.curves.setup,
-        &null.curves.idx,
-        null.curves.mask,
-        EffectParams::Delta(c),
-    );
+    let curves = null.curves.with_effect(EffectParams::Delta(c));
     let (_, ste, _) = null.curves.unpack(&null.est.params);
     let f0 = null.curves.model(&null.est.params).ok()?;
     let f = curves
         .model(&curves.pack(null.globals, &ste, effect))
         .ok()?;
     let change: Vec<f64> = f.iter().zip(&f0).map(|(a, b)| a - b).collect();
-    let lambda: f64 = M0Directions::of(null)
-        .off(null, &change)
-        .iter()
-        .map(|x| x * x)
-        .sum();
+    let lambda = M0Directions::of(null).squares_off(null, &change);
     Some(PowerBound {
         candidate: c.name().to_string(),
         delta: effect.delta.clone(),
@@ -445,12 +441,7 @@ fn power_bound(null: &NullFit, effect: &Effect, level: f64) -> Option<PowerBound
 /// Candidate `c` fitted from M0 (delta 0) or its best probe (the one of
 /// [`Candidate::probes`] that fits the training curves best at M0's other parameters).
 fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis) -> CandidateFit {
-    let curves = Curves::new(
-        null.curves.setup,
-        &null.curves.idx,
-        null.curves.mask,
-        EffectParams::Delta(c),
-    );
+    let curves = null.curves.with_effect(EffectParams::Delta(c));
     let (_, ste, _) = null.curves.unpack(&null.est.params);
     let at = |delta: Vec<f64>| curves.pack(null.globals, &ste, &Effect::of(c, delta));
     let m0 = M0Directions::of(null);
@@ -513,11 +504,7 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
 /// is its own fit and the largest likelihood is kept: the engine's first fit of several starts
 /// compares them under equal weights, which an estimated noise does not have yet.
 fn starts_of(null: &NullFit, m0: &M0Directions, probes: &[Probe], c: Candidate) -> Vec<Vec<f64>> {
-    let m0_rss: f64 = m0
-        .off(null, &null.est.residuals)
-        .iter()
-        .map(|x| x * x)
-        .sum();
+    let m0_rss = m0.squares_off(null, &null.est.residuals);
     let mut better: Vec<&Probe> = probes.iter().filter(|p| p.rss < m0_rss).collect();
     better.sort_by(|a, b| a.rss.total_cmp(&b.rss));
     let Some(first) = better.first() else {
@@ -603,19 +590,9 @@ struct Size {
 }
 
 fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
-    let delta_curves = Curves::new(
-        null.curves.setup,
-        &null.curves.idx,
-        null.curves.mask,
-        EffectParams::Delta(c),
-    );
+    let delta_curves = null.curves.with_effect(EffectParams::Delta(c));
     let (g, ste, effect) = delta_curves.unpack(&est.params);
-    let curves = Curves::new(
-        null.curves.setup,
-        &null.curves.idx,
-        null.curves.mask,
-        EffectParams::Profiled(c),
-    );
+    let curves = null.curves.with_effect(EffectParams::Profiled(c));
     let polar = curves.fit(
         vec![curves.pack(g, &ste, &effect)],
         &null.family,
@@ -1087,12 +1064,7 @@ fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Re
         .est
         .as_ref()
         .map_err(|e| GearError::Numerical(e.clone()))?;
-    let curves = Curves::new(
-        null.curves.setup,
-        &null.curves.idx,
-        null.curves.mask,
-        EffectParams::Delta(f.candidate),
-    );
+    let curves = null.curves.with_effect(EffectParams::Delta(f.candidate));
     let (g, _, effect) = curves.unpack(&est.params);
     let mut preds = null.preds.clone();
     for (k, p) in curves.predictions(&est.params)?.into_iter().enumerate() {

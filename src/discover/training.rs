@@ -55,6 +55,12 @@ impl<'a> Curves<'a> {
         }
     }
 
+    /// The same curves and kept points with the effect as `effect` says (M0's curves in a
+    /// candidate's coordinates).
+    pub fn with_effect(&self, effect: EffectParams) -> Curves<'a> {
+        Curves::new(self.setup, &self.idx, self.mask, effect)
+    }
+
     /// The STE of curve `i` alone, zeta, omega_n and the effect held at `g`, `effect`.
     pub fn ste_of(setup: &'a Setup, i: usize, mask: &'a Mask, g: Globals, effect: Effect) -> Self {
         Curves {

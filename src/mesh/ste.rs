@@ -23,7 +23,7 @@ use super::profile_deviation::ProfileDeviation;
 use super::tooth_stiffness::StiffnessTable;
 use crate::data::ProfilePoints;
 use crate::error::{GearError, Result};
-use crate::model::MAX_LOAD_N;
+use crate::model::valid_load;
 use serde::Serialize;
 
 /// Shape of a tip relief over its length.
@@ -308,7 +308,7 @@ impl MeshModel {
     /// The loaded STE over one mesh period at `load_n` (> 0) with `relief`, at `samples`
     /// (>= 8) equally spaced positions.
     pub fn waveform(&self, load_n: f64, relief: &TipRelief, samples: usize) -> Result<SteWaveform> {
-        if !(load_n.is_finite() && load_n > 0.0 && load_n <= MAX_LOAD_N) {
+        if !valid_load(load_n) {
             return Err(GearError::param(
                 "load_n",
                 load_n,

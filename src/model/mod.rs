@@ -12,5 +12,5 @@ pub(crate) use dimensional::munro_spec;
 pub use dimensional::{Dimensional, GearSpec, StiffnessSource, ISO6336_C_PRIME};
 pub use excitation::Harmonic;
 pub use mesh::{dead_zone, Impact, Region};
-pub use operating_point::{OperatingPoint, MAX_DTE_UM, MAX_LOAD_N};
+pub use operating_point::{valid_load, OperatingPoint, MAX_DTE_UM, MAX_LOAD_N};
 pub use params::{GearPair, Term, MAX_FORCE};

@@ -12,6 +12,11 @@ use serde::Serialize;
 
 /// Largest plausible load, N (a unit mistake beyond).
 pub const MAX_LOAD_N: f64 = 1e8;
+
+/// Whether `load_n` is a load geardyn takes: in (0, [`MAX_LOAD_N`]] newtons (NaN is not).
+pub fn valid_load(load_n: f64) -> bool {
+    load_n > 0.0 && load_n <= MAX_LOAD_N
+}
 /// Largest plausible transmission error, um (a peak-to-peak DTE and its standard deviation, an
 /// STE amplitude): a millimetre of transmission error is a unit mistake, not a measurement.
 pub const MAX_DTE_UM: f64 = 1000.0;
@@ -45,7 +50,7 @@ impl OperatingPoint {
             (
                 "load_n",
                 load_n,
-                load_n > 0.0 && load_n <= MAX_LOAD_N,
+                valid_load(load_n),
                 "mean load must be in (0, 1e8] N",
             ),
             (

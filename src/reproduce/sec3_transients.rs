@@ -127,11 +127,15 @@ enum Steady {
     Periodic,
 }
 
-/// The class of a followed search: its attractors (transient sets left out) by periodicity.
+/// The attractors of a followed search (its transient sets left out).
+fn attractors_of(m: &AttractorMap) -> impl Iterator<Item = &Attractor> {
+    m.attractors.iter().filter(|a| a.kind == SetKind::Attractor)
+}
+
+/// The class of a followed search: its attractors by periodicity.
 fn steady_of(m: &AttractorMap) -> Steady {
-    let attractors = || m.attractors.iter().filter(|a| a.kind == SetKind::Attractor);
-    let periodic = attractors().any(|a| a.steady.period.is_some());
-    let other = attractors().any(|a| a.steady.period.is_none());
+    let periodic = attractors_of(m).any(|a| a.steady.period.is_some());
+    let other = attractors_of(m).any(|a| a.steady.period.is_none());
     match (periodic, other) {
         (true, true) => Steady::Both,
         (true, false) => Steady::Periodic,
@@ -147,11 +151,7 @@ fn windows_of(scan: &[(f64, AttractorMap)], class: Steady) -> Vec<String> {
         if steady_of(m) != class {
             continue;
         }
-        let periodic = m
-            .attractors
-            .iter()
-            .filter(|a| a.kind == SetKind::Attractor && a.steady.period.is_some());
-        for a in periodic {
+        for a in attractors_of(m).filter(|a| a.steady.period.is_some()) {
             let k = format!(
                 "period-{} {}",
                 a.steady.period.unwrap_or(0),
