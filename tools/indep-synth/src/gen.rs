@@ -1,6 +1,6 @@
 //! One Munro-layout set: noise-free up-sweeps per load, noise, rig.toml + dte.csv, truth JSON.
 
-use crate::model::Excitation;
+use crate::model::{Contact, Excitation};
 use crate::noise::{self, FloorStats, NoiseSpec};
 use crate::rig::Rig;
 use crate::sim::{steady_state, Carried, SimConfig};
@@ -35,6 +35,11 @@ pub enum Effect {
         ratio: f64,
         phase_rad: f64,
     },
+    /// Contact force c (q - 1)^exponent instead of q - 1, the local stiffness 1 at the design
+    /// load's mean deflection (outside geardyn's library: the stiffness grows with the load).
+    ContactLaw {
+        exponent: f64,
+    },
 }
 
 impl Effect {
@@ -44,6 +49,7 @@ impl Effect {
             Effect::MeshStiffnessVariation { .. } => "mesh_stiffness_variation",
             Effect::SteHarmonics { .. } => "ste_harmonics",
             Effect::TorqueRipple { .. } => "torque_ripple",
+            Effect::ContactLaw { .. } => "contact_law",
         }
     }
     pub fn strength(&self) -> Option<f64> {
@@ -52,6 +58,7 @@ impl Effect {
             Effect::MeshStiffnessVariation { eps, .. } => Some(eps),
             Effect::SteHarmonics { r2, .. } => Some(r2),
             Effect::TorqueRipple { ratio, .. } => Some(ratio),
+            Effect::ContactLaw { exponent } => Some(exponent),
         }
     }
 }
@@ -165,6 +172,7 @@ fn excitation(spec: &SetSpec, load: f64, ste: f64, rpm: f64) -> Excitation {
         psi_t: 0.0,
         eps: 0.0,
         psi_k: 0.0,
+        contact: Contact::LINEAR,
     };
     match spec.effect {
         Effect::None => {}
@@ -179,6 +187,9 @@ fn excitation(spec: &SetSpec, load: f64, ste: f64, rpm: f64) -> Excitation {
         Effect::TorqueRipple { ratio, phase_rad } => {
             ex.fat = ratio * rig.design_load_n / (b * kh);
             ex.psi_t = phase_rad;
+        }
+        Effect::ContactLaw { exponent } => {
+            ex.contact = Contact::stiff_at(exponent, rig.design_load_n / (b * kh));
         }
     }
     ex
@@ -195,7 +206,7 @@ pub fn clean_curve(
     let t0 = Instant::now();
     let b = spec.rig.b_um();
     let ex0 = excitation(spec, load, ste, speeds[0]);
-    let mut carried = Carried::new(1.0 + ex0.fm, 0.0);
+    let mut carried = Carried::new(1.0 + ex0.contact.deflection(ex0.fm), 0.0);
     let mut points = Vec::with_capacity(speeds.len());
     let mut steps = 0;
     for &rpm in speeds {

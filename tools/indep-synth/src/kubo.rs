@@ -308,6 +308,7 @@ pub fn dl_curve(
             psi_t: 0.0,
             eps: 0.0,
             psi_k: 0.0,
+            contact: crate::model::Contact::LINEAR,
         };
         let sp = steady_state(&ex, &mut carried, sim)
             .map_err(|e| format!("STE {ste_um} um, {rpm} rpm: integration failed: {e}"))?;
@@ -495,7 +496,10 @@ pub fn write_kubo_set(
     let mut env = Vec::with_capacity(speeds.len());
     for (i, &rpm) in speeds.iter().enumerate() {
         let lo = readings.iter().map(|r| r[i]).fold(f64::INFINITY, f64::min);
-        let hi = readings.iter().map(|r| r[i]).fold(f64::NEG_INFINITY, f64::max);
+        let hi = readings
+            .iter()
+            .map(|r| r[i])
+            .fold(f64::NEG_INFINITY, f64::max);
         // Round both edges to the printed digits first so that min <= max holds as printed.
         let _ = writeln!(csv, "{},{:.*},{:.*}", fmt_num(rpm), digits, lo, digits, hi);
         env.push(json!({"speed_rpm": rpm, "min": lo, "max": hi}));

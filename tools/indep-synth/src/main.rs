@@ -146,6 +146,11 @@ struct SetArgs {
     torque_ripple_ratio: f64,
     #[arg(long, default_value_t = 0.0)]
     torque_ripple_phase: f64,
+    /// Hidden contact law outside geardyn's library: f(q) = c (q - 1)^n in contact (Hertz's
+    /// line contact is nearer 1.1, a point contact 1.5), c such that the local stiffness is 1 at
+    /// the design load's mean deflection; the stiffness then grows as load^((n-1)/n).
+    #[arg(long, default_value_t = 1.0)]
+    contact_exponent: f64,
     /// Noise family: constant, relative, student-t, quantized, correlated, or none
     #[arg(long, default_value = "constant")]
     noise: String,
@@ -530,6 +535,7 @@ fn run_set(a: SetArgs) -> Result<(), String> {
         a.stiffness_eps > 0.0,
         a.ste2_ratio > 0.0,
         a.torque_ripple_ratio > 0.0,
+        a.contact_exponent != 1.0,
     ];
     if effects.iter().filter(|&&x| x).count() > 1 {
         return Err("give at most one hidden effect".into());
@@ -543,6 +549,16 @@ fn run_set(a: SetArgs) -> Result<(), String> {
         Effect::SteHarmonics {
             r2: a.ste2_ratio,
             phase_rad: a.ste2_phase,
+        }
+    } else if a.contact_exponent != 1.0 {
+        if !(a.contact_exponent > 1.0 && a.contact_exponent <= 2.0) {
+            return Err(format!(
+                "--contact-exponent {}: must lie in (1, 2] (1 is the linear contact of eq. 3c)",
+                a.contact_exponent
+            ));
+        }
+        Effect::ContactLaw {
+            exponent: a.contact_exponent,
         }
     } else if a.torque_ripple_ratio > 0.0 {
         Effect::TorqueRipple {
@@ -680,7 +696,10 @@ fn run_kubo_batch(a: BatchArgs) -> Result<(), String> {
         a.common.speed_range.as_deref().unwrap_or("2000:10000"),
         "--speed-range",
     )?;
-    let (zl, zh) = parse_pair(a.zeta_range.as_deref().unwrap_or("0.06:0.16"), "--zeta-range")?;
+    let (zl, zh) = parse_pair(
+        a.zeta_range.as_deref().unwrap_or("0.06:0.16"),
+        "--zeta-range",
+    )?;
     let (wl, wh) = parse_pair(
         a.omega_n_range.as_deref().unwrap_or("2200:2900"),
         "--omega-n-range",
@@ -689,7 +708,11 @@ fn run_kubo_batch(a: BatchArgs) -> Result<(), String> {
     let pairs_cycle: Vec<usize> = a
         .tooth_pairs_cycle
         .split(',')
-        .map(|x| x.trim().parse::<usize>().map_err(|e| format!("--tooth-pairs-cycle: {e}")))
+        .map(|x| {
+            x.trim()
+                .parse::<usize>()
+                .map_err(|e| format!("--tooth-pairs-cycle: {e}"))
+        })
         .collect::<Result<_, _>>()?;
     let (fams, correlation) = kubo_families(&a)?;
     let relative = a.common.noise_relative.unwrap_or(0.02);
@@ -811,7 +834,11 @@ fn run_kubo_batch(a: BatchArgs) -> Result<(), String> {
     if !errs.is_empty() {
         return Err(errs.join("\n"));
     }
-    eprintln!("batch of {} SYNTHETIC Kubo sets in {}", specs.len(), out.display());
+    eprintln!(
+        "batch of {} SYNTHETIC Kubo sets in {}",
+        specs.len(),
+        out.display()
+    );
     Ok(())
 }
 

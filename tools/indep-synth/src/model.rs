@@ -6,6 +6,8 @@
 //!   k(t) = 1 + eps cos(W t + psi_k)
 //!   f(q) = q - 1 (q > 1), 0 (|q| <= 1), q + 1 (q < -1)
 //!
+//! or, as an effect outside geardyn's library, a contact force c |q -+ 1|^n in place of q -+ 1.
+//!
 //! with t = omega_n t_bar, q = q_bar / b (b = half backlash), W = mesh frequency / natural
 //! frequency. The dynamic transmission error is x = q + e/b with
 //! e/b = F_ah sin(W t) + F_ah2 sin(2 W t + phi_2); its peak-to-peak times b is `dte_pp_um`.
@@ -29,9 +31,60 @@ pub struct Excitation {
     /// Mesh stiffness variation k = 1 + eps cos(W t + psi_k).
     pub eps: f64,
     pub psi_k: f64,
+    pub contact: Contact,
+}
+
+/// The contact force c |d|^n sign(d) of a penetration d = q - 1 (or q + 1 on the back flank);
+/// n = 1, c = 1 is eq. 3c's linear law. For n > 1 it is smooth through d = 0 (slope 0), so a
+/// region's branch extended past its boundary stays smooth for the integrator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    pub c: f64,
+    pub n: f64,
+}
+
+impl Contact {
+    pub const LINEAR: Contact = Contact { c: 1.0, n: 1.0 };
+
+    /// The law of exponent `n` whose local stiffness is 1 at the mean deflection of the
+    /// mean force `fm_design`: c n d^(n-1) = 1 and c d^n = fm_design give d = n fm_design.
+    pub fn stiff_at(n: f64, fm_design: f64) -> Contact {
+        Contact {
+            c: (n * fm_design).powf(1.0 - n) / n,
+            n,
+        }
+    }
+
+    /// Force and its derivative at penetration d.
+    #[inline]
+    pub fn force(&self, d: f64) -> (f64, f64) {
+        if self.n == 1.0 {
+            return (self.c * d, self.c);
+        }
+        let a = d.abs();
+        (
+            self.c * a.powf(self.n) * d.signum(),
+            self.c * self.n * a.powf(self.n - 1.0),
+        )
+    }
+
+    /// The static penetration under a mean force fm: (fm / c)^(1/n).
+    pub fn deflection(&self, fm: f64) -> f64 {
+        (fm / self.c).powf(1.0 / self.n)
+    }
 }
 
 impl Excitation {
+    /// The region's branch of the contact force and its slope in q (0 in the free region).
+    #[inline]
+    fn contact_force(&self, q: f64, region: i8) -> (f64, f64) {
+        match region {
+            1 => self.contact.force(q - 1.0),
+            -1 => self.contact.force(q + 1.0),
+            _ => (0.0, 0.0),
+        }
+    }
+
     /// e(t)/b: the static transmission error in half backlashes.
     #[inline]
     pub fn ste(&self, t: f64) -> f64 {
@@ -85,11 +138,7 @@ impl Excitation {
     /// the segment is stopped at the boundary crossing (event) and the region switched there.
     #[inline]
     pub fn accel(&self, t: f64, q: f64, v: f64, region: i8) -> f64 {
-        let fq = match region {
-            1 => q - 1.0,
-            -1 => q + 1.0,
-            _ => 0.0,
-        };
+        let (fq, _) = self.contact_force(q, region);
         let k = if fq == 0.0 { 1.0 } else { self.stiffness(t) };
         self.force(t) - 2.0 * self.zeta * v - k * fq
     }
@@ -101,11 +150,7 @@ impl Excitation {
     /// D_L = (2 zeta q' + f(q)) / F_m).
     #[inline]
     pub fn mesh_force(&self, t: f64, q: f64, v: f64, region: i8) -> f64 {
-        let fq = match region {
-            1 => q - 1.0,
-            -1 => q + 1.0,
-            _ => 0.0,
-        };
+        let (fq, _) = self.contact_force(q, region);
         let k = if fq == 0.0 { 1.0 } else { self.stiffness(t) };
         2.0 * self.zeta * v + k * fq
     }
@@ -114,14 +159,10 @@ impl Excitation {
     #[inline]
     pub fn mesh_force_dot(&self, t: f64, q: f64, v: f64, region: i8) -> f64 {
         let a = self.accel(t, q, v, region);
-        let (fq, dfq) = match region {
-            1 => (q - 1.0, 1.0),
-            -1 => (q + 1.0, 1.0),
-            _ => (0.0, 0.0),
-        };
+        let (fq, dfq) = self.contact_force(q, region);
         let mut d = 2.0 * self.zeta * a;
-        if dfq != 0.0 {
-            d += self.stiffness(t) * v;
+        if region != 0 {
+            d += self.stiffness(t) * dfq * v;
             if self.eps != 0.0 {
                 d -= self.eps * self.omega * (self.omega * t + self.psi_k).sin() * fq;
             }

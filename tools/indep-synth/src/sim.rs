@@ -500,7 +500,16 @@ pub fn steady_state(
                 break;
             }
         }
-        one_period(ex, c, period, cfg, false, &mut dummy, &mut dummy_f, &mut steps)?;
+        one_period(
+            ex,
+            c,
+            period,
+            cfg,
+            false,
+            &mut dummy,
+            &mut dummy_f,
+            &mut steps,
+        )?;
         k += 1;
         hist.push_back(c.y);
         if hist.len() > cfg.max_period + 1 {
@@ -562,7 +571,16 @@ pub fn steady_state(
         // converged period-p orbit is (64 mod p) periods.
         let extra = (cfg.window_periods.saturating_sub(p) + cfg.carry_shift) % p;
         for _ in 0..extra {
-            one_period(ex, c, period, cfg, false, &mut dummy, &mut dummy_f, &mut steps)?;
+            one_period(
+                ex,
+                c,
+                period,
+                cfg,
+                false,
+                &mut dummy,
+                &mut dummy_f,
+                &mut steps,
+            )?;
         }
     }
     Ok(SteadyPoint {

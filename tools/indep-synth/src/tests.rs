@@ -19,6 +19,7 @@ fn ex(omega: f64) -> Excitation {
         psi_t: 0.0,
         eps: 0.0,
         psi_k: 0.0,
+        contact: crate::model::Contact::LINEAR,
     }
 }
 
@@ -275,7 +276,16 @@ fn kubo_dynamic_factor_in_contact_matches_closed_form() {
     for &(zeta, fn_hz) in &[(0.1, 2500.0), (0.15, 2800.0)] {
         // Speeds where the linear solution keeps contact (below and above the resonance).
         let speeds = [2000.0, 3500.0, 4500.0, 8000.0, 10000.0];
-        let c = dl_curve(&rig, zeta, fn_hz, 2000.0, 3.0, &speeds, &SimConfig::default()).unwrap();
+        let c = dl_curve(
+            &rig,
+            zeta,
+            fn_hz,
+            2000.0,
+            3.0,
+            &speeds,
+            &SimConfig::default(),
+        )
+        .unwrap();
         for p in &c.points {
             let (exact, contact) = linear_dl(zeta, p.omega, fm, fah);
             assert!(contact, "W {} not in contact", p.omega);
@@ -351,7 +361,9 @@ fn kubo_reading_errors_have_the_stated_sd() {
         if fam == KFamily::Quantized {
             // Sheppard: rounding to a grid q adds q^2 / 12 to the variance.
             want = (want * want + 0.02f64.powi(2) / 12.0).sqrt();
-            assert!(y.iter().all(|v| ((v / 0.02) - (v / 0.02).round()).abs() < 1e-9));
+            assert!(y
+                .iter()
+                .all(|v| ((v / 0.02) - (v / 0.02).round()).abs() < 1e-9));
         }
         let tol = if fam == KFamily::StudentT { 0.08 } else { 0.01 };
         assert!((sd / want - 1.0).abs() < tol, "{fam:?}: sd {sd} vs {want}");
@@ -728,7 +740,9 @@ fn kubo_correlated_readings_share_one_ar1_path_per_envelope() {
             }
         }
         // The pairs keep their order, so min <= max and the edges are the noise-free edges' readings.
-        assert!(r.windows(2).all(|w| w[0].iter().zip(&w[1]).all(|(a, b)| b > a)));
+        assert!(r
+            .windows(2)
+            .all(|w| w[0].iter().zip(&w[1]).all(|(a, b)| b > a)));
         lag1.extend((1..speeds.len()).map(|k| (z[k], z[k - 1])));
     }
     let n = lag1.len();
@@ -916,4 +930,25 @@ fn correlated_set_records_its_noise_in_rig_toml_and_truth() {
     assert_eq!(z.len(), 2);
     assert!(z.iter().all(|c| c.as_array().map(|v| v.len()) == Some(5)));
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The contact law outside geardyn's library: at the design load's mean force its local
+/// stiffness is 1 (the linear model's there), at a quarter of it (1/4)^((n-1)/n), and the
+/// linear law is eq. 3c's.
+#[test]
+fn the_contact_law_is_stiff_as_the_linear_one_at_the_design_load() {
+    use crate::model::Contact;
+    let fm = 0.2833;
+    for n in [1.2, 1.5, 2.0] {
+        let c = Contact::stiff_at(n, fm);
+        let d = c.deflection(fm);
+        let (f, k) = c.force(d);
+        assert!((f - fm).abs() < 1e-12 && (k - 1.0).abs() < 1e-12, "{n}: {f} {k}");
+        let (_, k4) = c.force(c.deflection(fm / 4.0));
+        let expected = 0.25f64.powf((n - 1.0) / n);
+        assert!((k4 - expected).abs() < 1e-12, "{n}: {k4} vs {expected}");
+        // Odd in the penetration, so the back flank's branch mirrors the drive flank's.
+        assert_eq!(c.force(-d).0, -f);
+    }
+    assert_eq!(Contact::LINEAR.force(0.3), (0.3, 1.0));
 }
