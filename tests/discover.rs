@@ -258,6 +258,25 @@ fn the_independent_second_harmonic_set_is_named() {
     assert!(after < 0.5 * before, "held-out RMS {before} -> {after}");
 }
 
+/// An effect outside the library, from the independent generator: a contact force
+/// c (q - 1)^1.2 (the mesh stiffening with load, tests/data/independent-discover/truth.toml).
+/// No candidate passes; M0, fitted to the training loads, predicts the held-out ones worse
+/// than its errors allow, so the answer is "unexplained", never a name, and the candidate of
+/// the largest likelihood ratio is refitted to show the gap it leaves.
+#[test]
+#[ignore = "about 90 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
+fn an_effect_outside_the_library_is_unexplained() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/independent-discover/contact-law-1.2");
+    let d = run(&dir);
+    let summary = geardyn::report::discovery_summary(&d);
+    assert_eq!(d.effect, "unexplained", "{summary}");
+    let check = d.held_out_prediction.as_ref().expect("held-out loads");
+    assert!(check.p_holm.is_some_and(|p| p < 0.05), "{summary}");
+    assert!(d.closest_candidate.is_some(), "{summary}");
+    assert!(d.gap_after_model.starts_with("M0 + "), "{}", d.gap_after_model);
+}
+
 /// A model-exact set whose errors drift along speed (0.15 um + 3%, AR(1) along speed with
 /// correlation 0.6 between neighbouring speeds, made by DOP853; study seed 3): "none". The
 /// previous procedure, whose noise came from second differences and whose tests assumed

@@ -60,6 +60,76 @@ pub struct Replicate {
     pub chi_square: f64,
     /// 2 (log L_c - log L_0) per candidate of the run's columns (None: its fit failed).
     pub lr: Vec<Option<f64>>,
+    /// -2 log L of M0's prediction of the held-out loads ([`HeldLinear`]), where there are any.
+    pub held_deviance: Option<f64>,
+}
+
+/// M0's prediction of the held-out loads, linearised at its fit: values `f0` at their compared
+/// points, derivatives along zeta and omega_n (`globals`, um per unit) and along each held-out
+/// load's STE (`ste`, one column per load, zero off its curve), the points' speed axis, and how
+/// their scales follow a fit's noise: `stated` per point, else the noise model at `f0`. A
+/// replicate draws the held-out errors as the training ones, moves zeta and omega_n as its M0
+/// fit moved them, fits each held-out STE alone by weighted least squares under that fit's noise
+/// (as the data's held-out fits are made) and takes -2 log L: the data's predictive deviance
+/// under M0, with the training fit's uncertainty and the noise's estimation in it.
+pub struct HeldLinear {
+    pub f0: Vec<f64>,
+    pub globals: DMatrix<f64>,
+    pub ste: DMatrix<f64>,
+    pub axis: Axis,
+    pub stated: Option<Vec<f64>>,
+    /// Scales of the draws: M0's data fit's noise at these points.
+    pub draw_scales: Vec<f64>,
+}
+
+impl HeldLinear {
+    /// The scales of the compared points under a fit's noise `model`.
+    fn scales(&self, model: &crate::fit::NoiseModel) -> Vec<f64> {
+        match &self.stated {
+            Some(s) => s.clone(),
+            None => self.f0.iter().map(|&f| model.scale(f)).collect(),
+        }
+    }
+
+    /// -2 log L at errors `e` after the training loads' M0 fit moved zeta and omega_n by
+    /// `moved` and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted
+    /// least squares, decorrelated along speed), the likelihood under `model`'s distribution.
+    pub fn deviance(&self, e: &[f64], moved: [f64; 2], model: &crate::fit::NoiseModel) -> f64 {
+        let scales = self.scales(model);
+        let correlation = Correlation {
+            axis: &self.axis,
+            length: model.correlation_length,
+        };
+        let whiten = |v: &[f64]| -> Vec<f64> {
+            let z: Vec<f64> = v.iter().zip(&scales).map(|(v, s)| v / s).collect();
+            if model.correlation_length > 0.0 {
+                correlation.innovations(&z)
+            } else {
+                z
+            }
+        };
+        let mut r: Vec<f64> = e.to_vec();
+        for (k, dk) in moved.iter().enumerate() {
+            for (ri, jk) in r.iter_mut().zip(self.globals.column(k).iter()) {
+                *ri -= jk * dk;
+            }
+        }
+        // The columns lie on separate curves, whose innovations are separate: each load's
+        // least-squares step is its own projection.
+        let w = whiten(&r);
+        for k in 0..self.ste.ncols() {
+            let col: Vec<f64> = self.ste.column(k).iter().copied().collect();
+            let c = whiten(&col);
+            let cc: f64 = c.iter().map(|x| x * x).sum();
+            if cc > 0.0 {
+                let step = c.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>() / cc;
+                for (ri, ck) in r.iter_mut().zip(&col) {
+                    *ri -= ck * step;
+                }
+            }
+        }
+        2.0 * neg_log_likelihood(model.distribution, &r, &scales, Some(correlation))
+    }
 }
 
 /// How a replicate's errors are drawn: M0's fitted scale of each point, distribution and
@@ -132,6 +202,7 @@ pub fn replicates(
     null: &NullModel,
     columns: &[Columns],
     errors: &ErrorModel,
+    held: Option<&HeldLinear>,
     (b, seed): (usize, u64),
 ) -> Vec<Replicate> {
     let axis = errors.axis;
@@ -175,10 +246,67 @@ pub fn replicates(
                         .map(|e| 2.0 * (log_likelihood(&e, axis) - l0))
                 })
                 .collect();
+            // Drawn after the training errors, so that those are the same with or without it.
+            let held_deviance = held.map(|h| {
+                let e = ErrorModel {
+                    scales: &h.draw_scales,
+                    axis: &h.axis,
+                    ..*errors
+                }
+                .draw(&mut rng);
+                let moved = [m0.params[0] - null.p0[0], m0.params[1] - null.p0[1]];
+                h.deviance(&e, moved, &m0.noise.model)
+            });
             Some(Replicate {
                 chi_square: m0.chi_square,
                 lr,
+                held_deviance,
             })
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::HeldLinear;
+    use crate::fit::{Axis, NoiseModel};
+    use nalgebra::DMatrix;
+
+    /// Two held-out curves of three points, noise 0.5 um: an error along a curve's STE column
+    /// is that STE's fit and leaves no deviance beyond the constant; a move of zeta that the
+    /// STEs cannot follow leaves exactly its whitened square.
+    #[test]
+    fn the_held_out_deviance_fits_each_ste_and_keeps_what_the_globals_moved() {
+        let axis = Axis::new(vec![0, 0, 0, 1, 1, 1], vec![1.0, 2.0, 3.0, 1.0, 2.0, 3.0]).unwrap();
+        let ste = DMatrix::from_row_slice(
+            6,
+            2,
+            &[1.0, 0.0, 2.0, 0.0, 3.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0],
+        );
+        // Zeta moves the first point of each curve only (orthogonal to nothing in particular).
+        let globals = DMatrix::from_row_slice(
+            6,
+            2,
+            &[1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        );
+        let h = HeldLinear {
+            f0: vec![1.0; 6],
+            globals,
+            ste,
+            axis,
+            stated: None,
+            draw_scales: vec![0.5; 6],
+        };
+        let noise = NoiseModel::constant(0.5);
+        let constant = 2.0 * 6.0 * (0.5f64.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln());
+        let along_ste = [0.3, 0.6, 0.9, -0.2, -0.2, -0.2];
+        let d = h.deviance(&along_ste, [0.0, 0.0], &noise);
+        assert!((d - constant).abs() < 1e-9, "{d} vs {constant}");
+        // Zeta moved by 0.1: residual -0.1 at each curve's first point. Curve 1's STE column
+        // (1, 2, 3) takes its projection -0.1/14 (1, 2, 3): what is left has square
+        // 0.01 (1 - 1/14); curve 2's (1, 1, 1) leaves 0.01 (1 - 1/3). Whitened by 0.5^2.
+        let d = h.deviance(&[0.0; 6], [0.1, 0.0], &noise);
+        let expected = constant + (0.01 * (1.0 - 1.0 / 14.0) + 0.01 * (1.0 - 1.0 / 3.0)) / 0.25;
+        assert!((d - expected).abs() < 1e-9, "{d} vs {expected}");
+    }
 }

@@ -78,6 +78,39 @@ pub fn make_mask(
         .collect()
 }
 
+/// The points where the held-out curves `held` are compared: those `base` keeps and the mask
+/// of each model's predictions (`models`, every curve's) keeps, and of those only the points
+/// whose neighbours are kept too. A training curve's jumps and the edges of its chaotic
+/// ranges are fitted to the measured speeds; a held-out curve's are predicted, and a grid step
+/// is within the prediction's error (a stiffness variation of eps 0.2 on a 100 rpm grid put a
+/// held-out jump one speed off, and that one point decided the comparison). The other curves'
+/// rows are `base`'s.
+pub fn held_mask(
+    setup: &Setup,
+    held: &[usize],
+    models: &[&[CurvePrediction]],
+    noise: &DiscoveryNoise,
+    base: &Mask,
+) -> Result<Mask> {
+    let mut out = base.clone();
+    for preds in models {
+        let rows: Vec<CurvePrediction> = held.iter().map(|&i| preds[i].clone()).collect();
+        for (row, &i) in make_mask(setup, &rows, held, noise)?.into_iter().zip(held) {
+            for (kept, m) in out[i].iter_mut().zip(row) {
+                *kept &= m;
+            }
+        }
+    }
+    for &i in held {
+        let row = &out[i];
+        let n = row.len();
+        out[i] = (0..n)
+            .map(|j| row[j] && (j == 0 || row[j - 1]) && (j + 1 == n || row[j + 1]))
+            .collect();
+    }
+    Ok(out)
+}
+
 /// The RMS residual of `preds` about the curves `idx` at the kept points, per load and at the
 /// worst Omega window of `ws`.
 pub fn gap(
@@ -177,7 +210,7 @@ pub fn far_from(
 
 #[cfg(test)]
 mod tests {
-    use super::make_mask;
+    use super::{held_mask, make_mask};
     use crate::discover::forward::CurvePrediction;
 
     /// A jump from single-sided impacts (30 um) onto the back flank (157 um) drops the points
@@ -216,5 +249,46 @@ mod tests {
             m[0],
             vec![false, false, false, false, true, true, false, false, false]
         );
+    }
+
+    /// A held-out curve's comparison points: a point a model predicts non-period-1 is left out
+    /// with its neighbours; the training curve's row is the base mask's, untouched.
+    #[test]
+    fn held_out_points_leave_out_the_neighbours_of_a_left_out_point() {
+        use crate::discover::forward::{Curve, CurvePrediction, Setup};
+        let n = 7;
+        let flat = |period1: Vec<bool>| CurvePrediction {
+            dte_pp_um: vec![5.0; n],
+            period1,
+            separated: vec![false; n],
+            back_contact: vec![false; n],
+            aperiodic_start: vec![None; n],
+            neighbour_starts: Vec::new(),
+            sweep_model: None,
+        };
+        let curve = |load_n: f64| Curve {
+            load_n,
+            speeds_rpm: (0..n).map(|k| 1000.0 + 100.0 * k as f64).collect(),
+            dte_pp_um: vec![5.0; n],
+            sd_um: None,
+        };
+        let setup = Setup::new(
+            crate::data::munro_rig().dimensional().unwrap(),
+            3780.0,
+            vec![curve(3780.0), curve(2835.0)],
+            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
+        );
+        let noise = crate::discover::noise::DiscoveryNoise::stated(
+            crate::discover::noise::NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(0.15),
+        );
+        let mut base = vec![vec![true; n]; 2];
+        base[0][3] = false;
+        let mut chaotic = vec![true; n];
+        chaotic[4] = false;
+        let preds = vec![flat(vec![true; n]), flat(chaotic)];
+        let m = held_mask(&setup, &[1], &[&preds], &noise, &base).unwrap();
+        assert_eq!(m[0], base[0]);
+        assert_eq!(m[1], vec![true, true, true, false, false, false, true]);
     }
 }

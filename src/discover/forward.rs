@@ -41,7 +41,8 @@ pub const MIN_ZETA: f64 = 0.003;
 /// otherwise the step is rejected. A damping law fitted on a rattle-regime set wandered to
 /// gamma = 8, zeta 3e-7 at 945 N, where each sweep point runs its 20000-period transient
 /// limit through hundreds of impacts a period (12 s a curve, a refit of tens of minutes).
-/// Predictions of held-out loads are not bound by it: they are not fitted.
+/// A held-out load's prediction fits its STE through the same sweeps and is bound alike: a
+/// law that takes it below the floor does not predict it.
 pub fn fitted_damping_admissible(
     setup: &Setup,
     idx: &[usize],

@@ -165,6 +165,10 @@ pub struct TestResult {
     pub p_holm: Option<f64>,
 }
 
+/// How a candidate's note begins when its prediction of the held-out loads failed (the report's
+/// answer gives the reason).
+pub const PREDICTION_FAILED: &str = "its prediction of the held-out loads failed: ";
+
 /// The held-out loads' log-likelihood under M0 and under the best candidate (each with the
 /// loads' STE fitted alone, under the training loads' noise): a name must predict.
 #[derive(Clone, Debug, Serialize)]
@@ -269,6 +273,9 @@ pub struct Discovery {
     pub misfit: Option<String>,
     /// M0's chi-square of innovations against its bootstrap replicates'.
     pub goodness_of_fit: TestResult,
+    /// M0's prediction of the held-out loads against its bootstrap replicates (where there
+    /// are held-out loads): with Holm's family, it can make the answer "unexplained".
+    pub held_out_prediction: Option<TestResult>,
     pub candidates: Vec<CandidateResult>,
     /// Whether the best passing candidate predicts the held-out loads better than M0.
     pub prediction_check: Option<PredictionCheck>,

@@ -422,6 +422,11 @@ fn seed_outcome(d: &Discovery, truth: &SeedTruth, seconds: f64) -> SeedOutcome {
         .map(|p| (d.goodness_of_fit.name.clone(), p))
         .into_iter()
         .chain(
+            d.held_out_prediction
+                .as_ref()
+                .and_then(|h| Some((h.name.clone(), h.p_value?))),
+        )
+        .chain(
             d.candidates
                 .iter()
                 .filter_map(|c| c.p_value.map(|p| (format!("candidate_{}", c.name), p))),

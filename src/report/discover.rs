@@ -5,7 +5,9 @@
 
 use super::{correlation_text, data_kind_banner, Page, Staged};
 use crate::data::{DataKind, MunroData};
-use crate::discover::{CandidateResult, Discovery, Gap, NoiseOrigin, ResidualCurve, MIN_ZETA};
+use crate::discover::{
+    CandidateResult, Discovery, Gap, NoiseOrigin, ResidualCurve, MIN_ZETA, PREDICTION_FAILED,
+};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::numeric::min_max;
@@ -24,6 +26,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "closest_candidate": d.closest_candidate,
         "misfit": d.misfit,
         "goodness_of_fit": d.goodness_of_fit,
+        "held_out_prediction": d.held_out_prediction,
         "prediction_check": d.prediction_check,
         "power_bound": d.power_bound,
         "candidates": d.candidates.iter().map(|c| json!({
@@ -157,13 +160,21 @@ pub fn answer_text(d: &Discovery) -> String {
         )
     });
     match d.effect.as_str() {
-        "none" => "None: M0, the paper's model, explains the training loads; no candidate effect improves their likelihood beyond what the noise gives (bootstrap, Holm over the candidates at 5%).".to_string(),
+        "none" => format!(
+            "None: M0, the paper's model, explains the training loads{}; no candidate effect improves their likelihood beyond what the noise gives (bootstrap, Holm over the candidates at 5%).",
+            if d.held_out_prediction.is_some() { " and predicts the held-out ones within their noise" } else { "" }
+        ),
         "unexplained" => match (&d.closest_candidate, &d.misfit) {
-            (Some(c), None) => format!(
-                "Unexplained: {c} fits the training loads significantly better than M0, but it predicts the held-out loads worse, so it is not named.{check}"
-            ),
+            (Some(c), None) => match failed_prediction(d, c) {
+                Some(why) => format!(
+                    "Unexplained: {c} fits the training loads significantly better than M0, but it cannot predict the held-out loads ({why}), so it is not named."
+                ),
+                None => format!(
+                    "Unexplained: {c} fits the training loads significantly better than M0, but it predicts the held-out loads worse, so it is not named.{check}"
+                ),
+            },
             (c, Some(why)) => format!(
-                "Unexplained: M0 does not explain the training loads ({why}), and no candidate of the library passes its test{}.",
+                "Unexplained: {why}, and no candidate of the library passes its test{}.",
                 c.as_ref().map_or(String::new(), |c| format!("; the closest is {c}"))
             ),
             (None, None) => "Unexplained.".to_string(),
@@ -190,6 +201,16 @@ pub fn answer_text(d: &Discovery) -> String {
             None => d.effect.clone(),
         },
     }
+}
+
+/// Why candidate `name`'s prediction of the held-out loads failed, if it did (its note).
+fn failed_prediction<'a>(d: &'a Discovery, name: &str) -> Option<&'a str> {
+    d.candidates
+        .iter()
+        .find(|c| c.name == name)?
+        .note
+        .as_deref()
+        .and_then(|n| n.strip_prefix(PREDICTION_FAILED))
 }
 
 /// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
@@ -541,6 +562,14 @@ fn noise_section(page: &mut Page, d: &Discovery) {
         .collect();
     if let Some(c) = &d.noise_correlation {
         page.paragraph(&format!("{}.", correlation_text(c, &names)));
+    }
+    if let Some(h) = &d.held_out_prediction {
+        page.paragraph(&format!(
+            "M0's prediction of the held-out loads (each load's STE fitted alone, zeta and omega_n from the training loads) has deviance -2 log L = {:.1} under the training loads' noise; bootstrap p {}, {} after Holm's correction with the candidates. A small p says M0 predicts loads it did not see worse than its errors allow: an effect the training fit absorbed.",
+            h.statistic,
+            p_text(h.p_value),
+            p_text(h.p_holm)
+        ));
     }
     page.paragraph(&format!(
         "M0's chi-square of innovations (the standardized residuals decorrelated along speed) is {:.1}; bootstrap p {}{}.",
