@@ -1,5 +1,5 @@
 //! Calibrated intervals on data the fit did not make (a seeded subset of the `validate-study`
-//! runs in docs/validation-studies.md): design-load curves made by DOP853, not by the fit's
+//! runs in docs/calibrated-inference.md): design-load curves made by DOP853, not by the fit's
 //! closed form, with measurement noise whose scatter grows with the level (3% plus a 0.15 um
 //! floor). An unweighted fit with one estimated sigma covered the truth in about half the
 //! sets; the noise model estimated jointly with the fit must cover it at close to 95%.

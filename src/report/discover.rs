@@ -513,7 +513,7 @@ fn remarks(c: &CandidateResult) -> Option<String> {
 /// Every candidate's test, and the named one's estimate with its interval and phase.
 fn candidates_section(page: &mut Page, d: &Discovery) {
     page.heading("Candidates");
-    page.paragraph("Each candidate is M0 plus one effect, nested (its parameters at zero give M0), fitted to the training loads with the same noise model as M0, its scale refitted. LR is twice the gain in log-likelihood over M0; its p-value is the share of parametric bootstrap replicates (M0's curves plus errors drawn from M0's fitted noise model, correlation along speed included) whose LR is as large; Holm's correction runs over the candidates tested.");
+    page.paragraph("Each candidate is M0 plus one effect, nested (its parameters at zero give M0), fitted to the training loads with the same noise model as M0, its scale refitted. LR is twice the gain in log-likelihood over M0; its p-value is the share of parametric bootstrap replicates (M0's curves plus errors drawn from M0's fitted noise model, correlation along speed included) whose LR is as large; Holm's correction runs over the candidates tested and M0's checks that can answer \"unexplained\" (its prediction of the held-out loads; with a stated noise, its goodness of fit).");
     let rows: Vec<Vec<String>> = d
         .candidates
         .iter()
