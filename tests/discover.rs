@@ -274,7 +274,11 @@ fn an_effect_outside_the_library_is_unexplained() {
     let check = d.held_out_prediction.as_ref().expect("held-out loads");
     assert!(check.p_holm.is_some_and(|p| p < 0.05), "{summary}");
     assert!(d.closest_candidate.is_some(), "{summary}");
-    assert!(d.gap_after_model.starts_with("M0 + "), "{}", d.gap_after_model);
+    assert!(
+        d.gap_after_model.starts_with("M0 + "),
+        "{}",
+        d.gap_after_model
+    );
 }
 
 /// A model-exact set whose errors drift along speed (0.15 um + 3%, AR(1) along speed with

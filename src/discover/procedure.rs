@@ -273,19 +273,29 @@ fn fit_null<'a>(
         scales,
         held: None,
     };
+    // Where M0's held-out prediction cannot be made on the common points or linearised, the run
+    // goes on without its check (the report then shows none), as with any failed step.
     if !held.is_empty() {
-        let m0 = null.as_after(held);
-        let (held_points, mut fits) = held_fits_on_common_points(&null, held, &[&m0])?;
-        let fits = fits.remove(0);
-        let deviance = -2.0 * fits.iter().map(|h| h.log_likelihood).sum::<f64>();
-        let (held_ste, _) = place_held(fits, &mut null.preds);
-        for &(i, e) in &held_ste {
-            null.ste[i] = e;
-        }
-        let linear = held_linear(&null, held, &held_points, &held_ste)?;
-        null.held = Some(HeldPrediction { deviance, linear });
+        null.held = held_prediction(&mut null, held).ok();
     }
     Ok(null)
+}
+
+/// M0's prediction of the held-out loads on their compared points, each STE refitted there
+/// (`null`'s predictions and STEs of those loads updated), with its linearisation.
+fn held_prediction(null: &mut NullFit, held: &[usize]) -> Result<HeldPrediction> {
+    let m0 = null.as_after(held);
+    let (held_points, mut fits) = held_fits_on_common_points(null, held, &[&m0])?;
+    let fits = fits.remove(0);
+    let deviance = -2.0 * fits.iter().map(|h| h.log_likelihood).sum::<f64>();
+    let mut preds = null.preds.clone();
+    let (held_ste, _) = place_held(fits, &mut preds);
+    let linear = held_linear(null, held, &held_points, &held_ste)?;
+    null.preds = preds;
+    for &(i, e) in &held_ste {
+        null.ste[i] = e;
+    }
+    Ok(HeldPrediction { deviance, linear })
 }
 
 impl NullFit<'_> {
