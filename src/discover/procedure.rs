@@ -100,6 +100,19 @@ struct NullFit<'a> {
     scales: Scales,
     /// M0's prediction of the held-out loads, where there are any.
     held: Option<HeldPrediction>,
+    /// M0's held-out fits and the points each was made on.
+    held_fits: Vec<HeldFit>,
+}
+
+/// A held-out fit and the points of its curve it was made on: a comparison on the same points
+/// takes it as it is (the same start and points give the same fit).
+type HeldFit = (Vec<bool>, HeldOut);
+
+/// `fits` with the points of `mask` they were made on.
+fn with_points(fits: &[HeldOut], mask: &Mask) -> Vec<HeldFit> {
+    fits.iter()
+        .map(|h| (mask[h.curve].clone(), h.clone()))
+        .collect()
 }
 
 /// M0's prediction of the held-out loads on the points where they are compared
@@ -258,6 +271,7 @@ fn fit_null<'a>(
     for (k, &i) in train.iter().enumerate() {
         ste_all[i] = ste[k].abs();
     }
+    let first_fits = with_points(&held_fits, mask);
     let (held_ste, _) = place_held(held_fits, &mut preds);
     for &(i, e) in &held_ste {
         ste_all[i] = e;
@@ -272,6 +286,7 @@ fn fit_null<'a>(
         noise,
         scales,
         held: None,
+        held_fits: first_fits,
     };
     // Where M0's held-out prediction cannot be made on the common points or linearised, the run
     // goes on without its check (the report then shows none), as with any failed step.
@@ -288,10 +303,12 @@ fn held_prediction(null: &mut NullFit, held: &[usize]) -> Result<HeldPrediction>
     let (held_points, mut fits) = held_fits_on_common_points(null, held, &[&m0])?;
     let fits = fits.remove(0);
     let deviance = -2.0 * fits.iter().map(|h| h.log_likelihood).sum::<f64>();
+    let refitted = with_points(&fits, &held_points);
     let mut preds = null.preds.clone();
     let (held_ste, _) = place_held(fits, &mut preds);
     let linear = held_linear(null, held, &held_points, &held_ste)?;
     null.preds = preds;
+    null.held_fits = refitted;
     for &(i, e) in &held_ste {
         null.ste[i] = e;
     }
@@ -306,6 +323,7 @@ impl NullFit<'_> {
             held_ste: held.iter().map(|&i| (i, self.ste[i])).collect(),
             globals: self.globals,
             effect: Effect::none(),
+            held_fits: self.held_fits.clone(),
         }
     }
 }
@@ -323,16 +341,32 @@ fn held_fits_on_common_points(
     let fits = models
         .iter()
         .map(|m| {
-            held_out(
+            let made = |i: usize| {
+                m.held_fits
+                    .iter()
+                    .find(|(points, h)| h.curve == i && *points == mask[i])
+                    .map(|(_, h)| h.clone())
+            };
+            let todo: Vec<usize> = held
+                .iter()
+                .copied()
+                .filter(|&i| made(i).is_none())
+                .collect();
+            let mut new = held_out(
                 setup,
-                (held, &mask, &null.scales),
+                (&todo, &mask, &null.scales),
                 (m.globals, &m.effect),
                 (
                     &null.family.held_at(&null.est),
                     null.est.noise.model.distribution,
                 ),
                 Some(&m.held_ste),
-            )
+            )?
+            .into_iter();
+            Ok(held
+                .iter()
+                .filter_map(|&i| made(i).or_else(|| new.next()))
+                .collect())
         })
         .collect::<Result<_>>()?;
     Ok((mask, fits))
@@ -430,6 +464,7 @@ fn place_held(fits: Vec<HeldOut>, preds: &mut [CurvePrediction]) -> (Vec<(usize,
 }
 
 /// A held-out load predicted by a fitted model: its STE fitted alone.
+#[derive(Clone)]
 struct HeldOut {
     curve: usize,
     ste_um: f64,
@@ -1281,6 +1316,7 @@ struct After {
     held_ste: Vec<(usize, f64)>,
     globals: Globals,
     effect: Effect,
+    held_fits: Vec<HeldFit>,
 }
 
 fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Result<After> {
@@ -1304,12 +1340,14 @@ fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Re
         ),
         None,
     )?;
+    let held_fits = with_points(&fits, null.curves.mask);
     let (held_ste, _) = place_held(fits, &mut preds);
     Ok(After {
         preds,
         held_ste,
         globals: g,
         effect,
+        held_fits,
     })
 }
 
