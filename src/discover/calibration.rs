@@ -11,7 +11,7 @@ use super::effects::Candidate;
 use crate::error::Result;
 use crate::fit::{
     estimate, neg_log_likelihood, Axis, Correlation, Distribution, Estimate, EstimateOptions,
-    Param, Stop,
+    Param, Stop, Whitener,
 };
 use crate::numeric::Rng;
 use nalgebra::DMatrix;
@@ -100,14 +100,8 @@ impl HeldLinear {
             axis: &self.axis,
             length: model.correlation_length,
         };
-        let whiten = |v: &[f64]| -> Vec<f64> {
-            let z: Vec<f64> = v.iter().zip(&scales).map(|(v, s)| v / s).collect();
-            if model.correlation_length > 0.0 {
-                correlation.innovations(&z)
-            } else {
-                z
-            }
-        };
+        let whitener = Whitener::unit(scales.clone(), Some(&self.axis), model.correlation_length);
+        let whiten = |v: &[f64]| whitener.innovations(v);
         let mut r: Vec<f64> = e.to_vec();
         for (k, dk) in moved.iter().enumerate() {
             for (ri, jk) in r.iter_mut().zip(self.globals.column(k).iter()) {

@@ -272,7 +272,7 @@ fn fit_null<'a>(
         ste_all[i] = ste[k].abs();
     }
     let first_fits = with_points(&held_fits, mask);
-    let (held_ste, _) = place_held(held_fits, &mut preds);
+    let held_ste = place_held(held_fits, &mut preds);
     for &(i, e) in &held_ste {
         ste_all[i] = e;
     }
@@ -304,8 +304,8 @@ fn held_prediction(null: &mut NullFit, held: &[usize]) -> Result<HeldPrediction>
     let fits = fits.remove(0);
     let deviance = -2.0 * fits.iter().map(|h| h.log_likelihood).sum::<f64>();
     let refitted = with_points(&fits, &held_points);
-    let mut preds = null.preds.clone();
-    let (held_ste, _) = place_held(fits, &mut preds);
+    let mut preds = m0.preds;
+    let held_ste = place_held(fits, &mut preds);
     let linear = held_linear(null, held, &held_points, &held_ste)?;
     null.preds = preds;
     null.held_fits = refitted;
@@ -448,19 +448,14 @@ fn held_linear(
     })
 }
 
-/// The held-out loads' predictions put in place among `preds`; their STEs (curve, um) and the
-/// sum of their log-likelihoods.
-fn place_held(fits: Vec<HeldOut>, preds: &mut [CurvePrediction]) -> (Vec<(usize, f64)>, f64) {
-    let mut log_likelihood = 0.0;
-    let ste = fits
-        .into_iter()
+/// The held-out loads' predictions put in place among `preds`; their STEs (curve, um).
+fn place_held(fits: Vec<HeldOut>, preds: &mut [CurvePrediction]) -> Vec<(usize, f64)> {
+    fits.into_iter()
         .map(|h| {
             preds[h.curve] = h.prediction;
-            log_likelihood += h.log_likelihood;
             (h.curve, h.ste_um)
         })
-        .collect();
-    (ste, log_likelihood)
+        .collect()
 }
 
 /// A held-out load predicted by a fitted model: its STE fitted alone.
@@ -1341,7 +1336,7 @@ fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Re
         None,
     )?;
     let held_fits = with_points(&fits, null.curves.mask);
-    let (held_ste, _) = place_held(fits, &mut preds);
+    let held_ste = place_held(fits, &mut preds);
     Ok(After {
         preds,
         held_ste,
