@@ -191,7 +191,8 @@ fn null_set_gives_none_without_reading_the_truth() {
 /// solver did not make draw other windows than its prediction. On the shipped `data/munro`
 /// (made by an older solver build) the excluded 945 N points lie inside the pp M0 produces
 /// over its prediction's and 32 later windows (with the margin of 3 sigma + 10%): "none" and
-/// no warning.
+/// no warning. (Whether the later windows reach past the prediction's own depends on where on
+/// the chaotic orbit M0's fit to the last digit puts it: not asserted.)
 #[test]
 fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
     let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("data/munro");
@@ -208,9 +209,6 @@ fn chaotic_points_from_another_solver_stay_inside_m0s_window_range() {
         .iter()
         .find(|e| e.load_n == 945.0)
         .unwrap();
-    // The range starts from the prediction's own windows; the 32 later windows reach past
-    // them.
-    assert!(e.model_range_um.1 > e.predicted_range_um.1, "{e:?}");
     assert_eq!(e.outside_model_range, 0, "{e:?}");
 }
 
@@ -264,7 +262,7 @@ fn the_independent_second_harmonic_set_is_named() {
 /// than its errors allow, so the answer is "unexplained", never a name, and the candidate of
 /// the largest likelihood ratio is refitted to show the gap it leaves.
 #[test]
-#[ignore = "about 90 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
+#[ignore = "about 20 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
 fn an_effect_outside_the_library_is_unexplained() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/independent-discover/contact-law-1.2");
@@ -279,6 +277,13 @@ fn an_effect_outside_the_library_is_unexplained() {
         "{}",
         d.gap_after_model
     );
+    // Each candidate holds M0 (its effect at zero) and is fitted from M0's optimum at M0's
+    // weights, so it reaches M0's likelihood: its ratio is not below zero by more than the two
+    // models' restricted noise estimates can differ (about 0.5 here). Started from equal
+    // weights, three candidates ended 26-80 below it in a basin of their own.
+    for c in d.candidates.iter().filter(|c| c.identifiable) {
+        assert!(c.lr > -2.0, "{} LR {}: {summary}", c.name, c.lr);
+    }
 }
 
 /// A model-exact set whose errors drift along speed (0.15 um + 3%, AR(1) along speed with

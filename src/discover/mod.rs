@@ -29,7 +29,6 @@ pub use procedure::{discover, discover_setup};
 pub use result::{
     check_options, least_bootstrap, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints,
     Gap, GapSet, PowerBound, PredictionCheck, ResidualCurve, TestResult, MAX_BOOTSTRAP,
-    PREDICTION_FAILED,
 };
 pub use training::Correlation;
 pub use windows::{windows, Window, HALF_WIDTH as WINDOW_HALF_WIDTH};

@@ -14,7 +14,7 @@ use super::forward::{
 use super::noise::{DiscoveryNoise, NoiseOrigin, Scales};
 use super::result::{
     check_options, CandidateResult, DiscoverOptions, Discovery, ExcludedPoints, GapSet, PowerBound,
-    PredictionCheck, TestResult, PREDICTION_FAILED,
+    PredictionCheck, TestResult,
 };
 use super::start::{fit_ste, linear_start, ste_from_low_speed};
 use super::stats::{bootstrap_p, holm};
@@ -225,6 +225,7 @@ fn fit_null<'a>(
         vec![null_start(setup, train)?],
         &first,
         fit_stop(),
+        None,
     )?;
     let rough_noise = |est: &Estimate| discovery_noise(setup, origin.clone(), est.noise.model);
     let (g1, ste1, _) = Curves::new(setup, train, &all, EffectParams::None).unpack(&pass1.params);
@@ -234,6 +235,7 @@ fn fit_null<'a>(
         vec![pass1.params.clone()],
         family,
         fit_stop(),
+        Some(pass1.noise.model),
     )?;
     let (g2, ste2, _) =
         Curves::new(setup, train, &masks[0], EffectParams::None).unpack(&est.params);
@@ -247,6 +249,7 @@ fn fit_null<'a>(
             vec![est.params.clone()],
             family,
             fit_stop(),
+            Some(est.noise.model),
         )?;
         (&*m1_mask, refit)
     };
@@ -492,7 +495,7 @@ fn held_out(
                 }
             };
             let curves = Curves::ste_of(setup, i, mask, g, effect.clone());
-            let est = curves.fit(vec![vec![e]], family, Stop::converged(8))?;
+            let est = curves.fit(vec![vec![e]], family, Stop::converged(8), None)?;
             let ste_um = est.params[0].abs();
             let axis = curves.axis()?;
             Ok(HeldOut {
@@ -649,10 +652,12 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
             }
         )
     });
+    // Every start's fit begins at M0's weights: the candidate is fitted from where M0 ended.
+    let m0_noise = Some(null.est.noise.model);
     let fit = |starts: Vec<Vec<f64>>| -> Result<Estimate> {
         starts
             .into_par_iter()
-            .map(|d| curves.fit(vec![at(d)], &null.family, fit_stop()))
+            .map(|d| curves.fit(vec![at(d)], &null.family, fit_stop(), m0_noise))
             .reduce_with(|a, b| best_of(a, b, axis))
             .unwrap_or_else(|| Err(GearError::Numerical("no start".into())))
     };
@@ -784,6 +789,7 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
         vec![curves.pack(g, &ste, &effect)],
         &null.family,
         fit_stop(),
+        Some(est.noise.model),
     )?;
     let k = 2 + curves.idx.len();
     let u = polar.params[k];
@@ -939,19 +945,27 @@ pub fn discover_setup(
     let (best, rivals) = select(&null, &fits, &cands, opts);
     let misfit = misfit_of(&null, &gof, held_check.as_ref(), opts.alpha);
     // The best candidate's predictions, and whether they beat M0's on the held-out loads; where
-    // none passes but M0 misfits, the closest candidate's, to show its gap after.
-    let closest_fitted = largest_lr(&cands).and_then(|name| {
-        fits.iter()
-            .position(|f| f.candidate.name() == name && f.est.is_ok())
-    });
-    let shown = best.or(closest_fitted.filter(|_| misfit.is_some()));
-    // A prediction that fails (a damping law that takes a held-out load's zeta below the floor,
-    // a sweep that does not settle) is the candidate's note, and it is not named.
+    // none passes but M0 misfits, those of the closest candidate (by likelihood ratio) that can
+    // make them, to show its gap after. A prediction that fails (a damping law that takes a
+    // held-out load's zeta below the floor, a sweep that does not settle) is said with the
+    // candidate, which is not named.
+    let tried: Vec<usize> = match best {
+        Some(b) => vec![b],
+        None if misfit.is_some() => by_lr(&cands)
+            .into_iter()
+            .filter(|&k| fits[k].est.is_ok())
+            .collect(),
+        None => Vec::new(),
+    };
     let mut after = None;
-    if let Some(b) = shown {
+    let mut shown = None;
+    for &b in &tried {
         match candidate_predictions(&null, &fits[b], &held) {
-            Ok(a) => after = Some(a),
-            Err(e) => cands[b].note = Some(format!("{PREDICTION_FAILED}{e}")),
+            Ok(a) => {
+                (after, shown) = (Some(a), Some(b));
+                break;
+            }
+            Err(e) => cands[b].prediction_failed = Some(e.to_string()),
         }
     }
     let ambiguous_with = match (&after, best) {
@@ -971,7 +985,7 @@ pub fn discover_setup(
                     held_out_log_likelihood_candidate: l[1],
                 }),
                 Err(e) => {
-                    cands[b].note = Some(format!("{PREDICTION_FAILED}{e}"));
+                    cands[b].prediction_failed = Some(e.to_string());
                     None
                 }
             }
@@ -998,7 +1012,9 @@ pub fn discover_setup(
         (Some(b), false) => ("unexplained".to_string(), Some(cands[b].name.to_string())),
         (None, _) if misfit.is_some() => (
             "unexplained".to_string(),
-            largest_lr(&cands).map(str::to_string),
+            shown
+                .or(tried.first().copied())
+                .map(|k| cands[k].name.to_string()),
         ),
         (None, _) => ("none".to_string(), None),
     };
@@ -1163,13 +1179,14 @@ fn misfit_of(
     ))
 }
 
-/// The candidate with the largest likelihood ratio, if any was fitted.
-fn largest_lr(cands: &[CandidateResult]) -> Option<&'static str> {
-    cands
-        .iter()
-        .filter(|c| c.lr.is_finite())
-        .max_by(|a, b| a.lr.total_cmp(&b.lr))
-        .map(|c| c.name)
+/// The identifiable fitted candidates, largest likelihood ratio first (one that cannot change
+/// the curves gains only by moving M0's own parameters).
+fn by_lr(cands: &[CandidateResult]) -> Vec<usize> {
+    let mut k: Vec<usize> = (0..cands.len())
+        .filter(|&k| cands[k].identifiable && cands[k].lr.is_finite())
+        .collect();
+    k.sort_by(|&a, &b| cands[b].lr.total_cmp(&cands[a].lr));
+    k
 }
 
 /// The bootstrap replicates of M0 and every identifiable, fitted candidate.
@@ -1258,6 +1275,8 @@ fn replicate_options(family: &Family, fit: &Estimate, axis: &crate::fit::Axis) -
         },
         stop: Stop::converged(20),
         starts: Vec::new(),
+        // The replicates are drawn from about this model: their fits start at its weights.
+        noise_start: Some(model),
     }
 }
 

@@ -104,6 +104,9 @@ pub struct CandidateResult {
     /// Why its fit failed (a parameter leaving its range, a sweep that does not settle): it is
     /// reported "failed, because ..." and the run goes on with the others.
     pub failed: Option<String>,
+    /// Why its prediction of the held-out loads failed (a damping law that takes a held-out
+    /// load's zeta below the floor, a sweep that does not settle): it is then not named.
+    pub prediction_failed: Option<String>,
     /// 2 (log L of its fit - log L of M0's), each with its own noise.
     pub lr: f64,
     /// Bootstrap p-value of `lr` under M0, and Holm-adjusted across the tested candidates.
@@ -138,6 +141,7 @@ impl CandidateResult {
             identifiable,
             note: None,
             failed: None,
+            prediction_failed: None,
             lr: f64::NAN,
             p_value: None,
             p_holm: None,
@@ -164,10 +168,6 @@ pub struct TestResult {
     pub p_value: Option<f64>,
     pub p_holm: Option<f64>,
 }
-
-/// How a candidate's note begins when its prediction of the held-out loads failed (the report's
-/// answer gives the reason).
-pub const PREDICTION_FAILED: &str = "its prediction of the held-out loads failed: ";
 
 /// The held-out loads' log-likelihood under M0 and under the best candidate (each with the
 /// loads' STE fitted alone, under the training loads' noise): a name must predict.

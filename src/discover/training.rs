@@ -255,8 +255,15 @@ impl<'a> Curves<'a> {
     }
 
     /// Fit the model to the data from `starts` (full parameter vectors; the least-squares fit
-    /// runs from each and keeps the best) under the error family `family`.
-    pub fn fit(&self, starts: Vec<Vec<f64>>, family: &Family, stop: Stop) -> Result<Estimate> {
+    /// runs from each and keeps the best) under the error family `family`, its first weights
+    /// those of `noise_start` where given (a nested model's fitted noise: [`EstimateOptions`]).
+    pub fn fit(
+        &self,
+        starts: Vec<Vec<f64>>,
+        family: &Family,
+        stop: Stop,
+        noise_start: Option<NoiseModel>,
+    ) -> Result<Estimate> {
         let first = starts
             .first()
             .ok_or_else(|| GearError::Numerical("a fit needs a start".into()))?;
@@ -267,6 +274,7 @@ impl<'a> Curves<'a> {
             robust: family.robust,
             stop,
             starts,
+            noise_start,
         };
         let model = |p: &[f64]| self.model(p);
         let near = |p: &[f64], base: &[f64]| self.near(p, base);

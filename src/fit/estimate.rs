@@ -98,6 +98,12 @@ pub struct EstimateOptions {
     /// Starting values, each a full parameter vector; the first fit runs from each and keeps
     /// the best (the parameters' own `start` when empty).
     pub starts: Vec<Vec<f64>>,
+    /// A noise model to take the first weights from (its scales, correlation and robust
+    /// weights at the first start's curve): a nested model's fitted noise when a larger model
+    /// is fitted from its optimum, so that the fit starts where that model ended instead of at
+    /// equal weights, whose optimum may lie in another basin. None: equal weights, or the
+    /// stated noise's. Used where the noise is estimated ([`NoiseSetting::Estimate`]).
+    pub noise_start: Option<NoiseModel>,
 }
 
 impl NoiseSetting {
@@ -571,11 +577,12 @@ fn converge<M>(
     (setting, stop): (&NoiseSetting, Stop),
     (dist, length): (Distribution, Length),
     dof_free: bool,
+    first_weights: &Whitener,
 ) -> Result<Converged>
 where
     M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
 {
-    let mut whitener = initial_whitener(setting, w.y);
+    let mut whitener = first_weights.clone();
     let mut lm = w.fit(&restarted(params, start), &whitener, stop)?;
     let mut previous: Option<(Vec<f64>, NoiseModel)> = None;
     let mut previous_nll: Option<f64> = None;
@@ -633,6 +640,31 @@ fn noise_whitener(
         .map(|e| robust_weight(noise.distribution, *e))
         .collect();
     Whitener::new(scales, robust, axis, noise.correlation_length)
+}
+
+/// The least-squares map of noise model `m` at the curve of `start` (its residuals give the
+/// robust weights).
+fn start_whitener<M>(
+    w: &Weighted<M>,
+    m: &NoiseModel,
+    start: &[f64],
+    axis: Option<&Axis>,
+) -> Result<Whitener>
+where
+    M: Fn(&[f64]) -> Result<Vec<f64>> + Sync,
+{
+    let levels = (w.model)(start)?;
+    let residuals: Vec<f64> = w.y.iter().zip(&levels).map(|(y, f)| y - f).collect();
+    let scales = levels.iter().map(|l| m.scale(*l)).collect();
+    let m = NoiseModel {
+        correlation_length: if axis.is_some() {
+            m.correlation_length
+        } else {
+            0.0
+        },
+        ..*m
+    };
+    Ok(noise_whitener(&m, scales, &residuals, axis))
 }
 
 /// The least-squares map of the first fit: independent errors of the stated noise where there
@@ -695,7 +727,14 @@ where
     } else {
         opts.starts.clone()
     };
-    let whitener0 = initial_whitener(&opts.noise, y);
+    let axis = opts.correlation.axis();
+    let whitener0 = match (&opts.noise_start, &opts.noise) {
+        // A start whose curve cannot be computed begins at the usual first weights: its
+        // own fit will fail as a rejected start does.
+        (Some(m), NoiseSetting::Estimate(_)) => start_whitener(&w, m, &starts[0], axis)
+            .unwrap_or_else(|_| initial_whitener(&opts.noise, y)),
+        _ => initial_whitener(&opts.noise, y),
+    };
     let mut best: Option<LmFit> = None;
     let mut start_costs = Vec::new();
     for s in &starts {
@@ -718,9 +757,9 @@ where
             (&opts.noise, opts.stop),
             (dist, length),
             !matches!(opts.robust, Robust::StudentT(_)),
+            &whitener0,
         )
     };
-    let axis = opts.correlation.axis();
     // Independent errors first (or the stated length); then, where the length is to be
     // estimated, the correlated fit from there, kept as `Auto` says.
     let held = match opts.correlation {
@@ -762,11 +801,10 @@ where
     )?;
     let (g, length, correlation_lr) = match &opts.correlation {
         CorrelationSetting::Auto(a) | CorrelationSetting::Estimated(a) => {
-            let c = run(
-                &independent.lm.params,
-                Distribution::Gaussian,
-                Length::Free(a),
-            )?;
+            // From the first fit, as the independent one: each run begins at the first
+            // weights, and with correlated errors the independent fit's optimum can lie in a
+            // basin of its own.
+            let c = run(&first.params, Distribution::Gaussian, Length::Free(a))?;
             let lr = 2.0 * (independent.nll - c.nll);
             let keep = matches!(opts.correlation, CorrelationSetting::Estimated(_))
                 || lr > CORRELATION_LR_CRITICAL;
@@ -1225,6 +1263,7 @@ mod tests {
             robust: Robust::Off,
             stop: Stop::converged(50),
             starts: Vec::new(),
+            noise_start: None,
         };
         let plain = estimate(&model, &y, &params, &opts).unwrap();
         let warm = estimate_warm(&model, Some(&same), &y, &params, &opts).unwrap();
@@ -1260,6 +1299,7 @@ mod tests {
             robust: Robust::Off,
             stop: Stop::converged(50),
             starts: Vec::new(),
+            noise_start: None,
         };
         let e = estimate(&model, &y, &[Param::positive("a", 1.0)], &opts).unwrap();
         let se = a * s / (n as f64).sqrt();
@@ -1292,6 +1332,7 @@ mod tests {
             robust: Robust::Auto,
             stop: Stop::converged(50),
             starts: Vec::new(),
+            noise_start: None,
         };
         estimate(&model, y, &[Param::signed("a", 0.5, 1.0)], &opts).unwrap()
     }
@@ -1330,6 +1371,7 @@ mod tests {
             robust: Robust::Off,
             stop: Stop::converged(50),
             starts: Vec::new(),
+            noise_start: None,
         };
         let length = -10.0 / 0.6_f64.ln();
         let correlated = Correlation {

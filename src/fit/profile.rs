@@ -478,6 +478,7 @@ mod tests {
                 robust: Robust::Off,
                 stop: Stop::converged(100).central(),
                 starts: Vec::new(),
+                noise_start: None,
             },
         )
         .unwrap()
@@ -670,6 +671,7 @@ mod tests {
                 robust: Robust::On,
                 stop: Stop::converged(100).central(),
                 starts: Vec::new(),
+                noise_start: None,
             },
         )
         .unwrap();

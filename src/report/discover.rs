@@ -5,9 +5,7 @@
 
 use super::{correlation_text, data_kind_banner, Page, Staged};
 use crate::data::{DataKind, MunroData};
-use crate::discover::{
-    CandidateResult, Discovery, Gap, NoiseOrigin, ResidualCurve, MIN_ZETA, PREDICTION_FAILED,
-};
+use crate::discover::{CandidateResult, Discovery, Gap, NoiseOrigin, ResidualCurve, MIN_ZETA};
 use crate::error::{GearError, Result};
 use crate::fit::{Distribution, NoiseModel};
 use crate::numeric::min_max;
@@ -42,6 +40,7 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
             "identifiable": c.identifiable,
             "note": c.note,
             "failed": c.failed,
+            "prediction_failed": c.prediction_failed,
             "lr": c.lr.is_finite().then_some(c.lr),
             "delta": c.delta,
             "zeta": c.zeta,
@@ -203,14 +202,13 @@ pub fn answer_text(d: &Discovery) -> String {
     }
 }
 
-/// Why candidate `name`'s prediction of the held-out loads failed, if it did (its note).
+/// Why candidate `name`'s prediction of the held-out loads failed, if it did.
 fn failed_prediction<'a>(d: &'a Discovery, name: &str) -> Option<&'a str> {
     d.candidates
         .iter()
         .find(|c| c.name == name)?
-        .note
+        .prediction_failed
         .as_deref()
-        .and_then(|n| n.strip_prefix(PREDICTION_FAILED))
 }
 
 /// discovery.json as text with the data-kind notice as its first field (serde_json sorts the
@@ -502,11 +500,19 @@ fn summary_section(page: &mut Page, d: &Discovery) {
     }
 }
 
-/// What is said of a candidate beside its numbers: "failed, because ..." when it failed, and
-/// its note; None when neither.
+/// What is said of a candidate beside its numbers: "failed, because ..." when its fit failed,
+/// why its prediction of the held-out loads failed, and its note; None when none of them.
 fn remarks(c: &CandidateResult) -> Option<String> {
     let failed = c.failed.as_ref().map(|b| format!("failed, because {b}"));
-    let said: Vec<String> = failed.into_iter().chain(c.note.clone()).collect();
+    let prediction = c
+        .prediction_failed
+        .as_ref()
+        .map(|b| format!("its prediction of the held-out loads failed: {b}"));
+    let said: Vec<String> = failed
+        .into_iter()
+        .chain(prediction)
+        .chain(c.note.clone())
+        .collect();
     (!said.is_empty()).then(|| said.join("; "))
 }
 

@@ -326,6 +326,7 @@ impl Curves<'_> {
             robust: errors.robust,
             stop,
             starts,
+            noise_start: None,
         })
     }
 }

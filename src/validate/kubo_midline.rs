@@ -138,6 +138,7 @@ impl MidlineFit {
                 robust: Robust::Off,
                 stop: self.stop,
                 starts: starts.to_vec(),
+                noise_start: None,
             },
         )
     }
