@@ -652,24 +652,27 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
             }
         )
     });
-    // Every start's fit begins at M0's weights: the candidate is fitted from where M0 ended.
-    let m0_noise = Some(null.est.noise.model);
-    let fit = |starts: Vec<Vec<f64>>| -> Result<Estimate> {
+    // The probes' fits begin at equal weights, as M0's own first fit did (their basins are
+    // the probes'); the fit from M0 begins at M0's fitted noise, where M0 ended.
+    let fit = |starts: Vec<Vec<f64>>, noise_start: Option<NoiseModel>| -> Result<Estimate> {
         starts
             .into_par_iter()
-            .map(|d| curves.fit(vec![at(d)], &null.family, fit_stop(), m0_noise))
+            .map(|d| curves.fit(vec![at(d)], &null.family, fit_stop(), noise_start))
             .reduce_with(|a, b| best_of(a, b, axis))
             .unwrap_or_else(|| Err(GearError::Numerical("no start".into())))
     };
     let from_zero = starts.iter().all(|d| d.iter().all(|v| *v == 0.0));
-    let mut est = fit(starts);
-    // The candidate holds M0 (delta 0): its fit must reach M0's likelihood. Where the probes'
-    // starts ended below it (a fit held in a basin of its own), it is fitted from M0 too.
+    let mut est = fit(starts, None);
+    // The candidate holds M0 (delta 0): its fit must reach M0's likelihood. Where its starts
+    // ended below it (a fit held in a basin of its own), or began at M0 itself, it is fitted
+    // from M0 at M0's noise too, and the larger likelihood kept: with heavy tails the
+    // likelihood has several maxima, and either path can find the higher one.
     let short = est
         .as_ref()
         .map_or(true, |e| calibration::log_likelihood(e, axis) < l0);
-    if short && !from_zero {
-        est = best_of(est, fit(vec![vec![0.0; c.dim()]]), axis);
+    if short || from_zero {
+        let from_m0 = fit(vec![vec![0.0; c.dim()]], Some(null.est.noise.model));
+        est = best_of(est, from_m0, axis);
     }
     let est = est.map_err(|e| e.to_string());
     let lr = est.as_ref().map_or(f64::NAN, |e| {
