@@ -208,6 +208,31 @@ fn rough_predictions(
         .collect()
 }
 
+/// M0 on the points of `mask`, from the parameters of `previous`: from equal weights and from
+/// `previous`'s fitted noise, the larger likelihood kept. Where M0 misfits, its likelihood has
+/// several maxima, and which one a fit reaches depends on its first weights (as for the
+/// candidates, [`fit_candidate`]).
+fn fit_m0(
+    setup: &Setup,
+    train: &[usize],
+    mask: &Mask,
+    previous: &Estimate,
+    family: &Family,
+) -> Result<Estimate> {
+    let curves = Curves::new(setup, train, mask, EffectParams::None);
+    let axis = curves.axis()?;
+    let from = |noise_start: Option<NoiseModel>| {
+        curves.fit(
+            vec![previous.params.clone()],
+            family,
+            fit_stop(),
+            noise_start,
+        )
+    };
+    let (equal, previous_noise) = rayon::join(|| from(None), || from(Some(previous.noise.model)));
+    best_of(equal, previous_noise, &axis)
+}
+
 /// Fit M0: on every point under the first weights; the mask from that fit (points not
 /// period-1, jumps); again on the kept points under the run's family; the mask once more from
 /// that fit's noise, and a last fit if it moved.
@@ -231,12 +256,7 @@ fn fit_null<'a>(
     let (g1, ste1, _) = Curves::new(setup, train, &all, EffectParams::None).unpack(&pass1.params);
     let pre = rough_predictions(setup, train, g1, &ste1)?;
     masks[0] = make_mask(setup, &pre, &every, &rough_noise(&pass1))?;
-    let est = Curves::new(setup, train, &masks[0], EffectParams::None).fit(
-        vec![pass1.params.clone()],
-        family,
-        fit_stop(),
-        Some(pass1.noise.model),
-    )?;
+    let est = fit_m0(setup, train, &masks[0], &pass1, family)?;
     let (g2, ste2, _) =
         Curves::new(setup, train, &masks[0], EffectParams::None).unpack(&est.params);
     let pre = rough_predictions(setup, train, g2, &ste2)?;
@@ -245,12 +265,7 @@ fn fit_null<'a>(
     let (mask, est): (&'a Mask, Estimate) = if *m1_mask == *m0_mask {
         (&*m1_mask, est)
     } else {
-        let refit = Curves::new(setup, train, m1_mask, EffectParams::None).fit(
-            vec![est.params.clone()],
-            family,
-            fit_stop(),
-            Some(est.noise.model),
-        )?;
+        let refit = fit_m0(setup, train, m1_mask, &est, family)?;
         (&*m1_mask, refit)
     };
     let curves = Curves::new(setup, train, mask, EffectParams::None);
