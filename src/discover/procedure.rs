@@ -962,6 +962,56 @@ pub fn discover_setup(
     );
     let (best, rivals) = select(&null, &fits, &cands, opts);
     let misfit = misfit_of(&null, &gof, held_check.as_ref(), opts.alpha);
+    let answer = answer(
+        &null,
+        &fits,
+        &mut cands,
+        (best, &rivals),
+        misfit.is_some(),
+        &held,
+    );
+    progress.advance(1);
+    let excluded = excluded_points(setup, &null)?;
+    progress.advance(1);
+    progress.finish();
+    Ok(assemble(Assembly {
+        setup,
+        opts,
+        null: &null,
+        train: &train,
+        held: &held,
+        effect: answer.effect,
+        closest: answer.closest,
+        ambiguous_with: answer.ambiguous_with,
+        cands,
+        gof,
+        held_check,
+        check: answer.check,
+        after: answer.after,
+        excluded,
+        origin,
+        misfit: if best.is_none() { misfit } else { None },
+        power_bound: opts
+            .power_at
+            .as_ref()
+            .and_then(|e| power_bound(&null, e, opts.alpha / LIBRARY.len() as f64)),
+    }))
+}
+
+/// What the run answers, from its tests' outcome: the best passing candidate (`best`, with the
+/// passing ones that change the training curves like it, `rivals`) is named when its refit
+/// predicts the held-out loads better than M0, "ambiguous" when a rival predicts them about as
+/// well, "unexplained" when it predicts them worse; with none passing, "unexplained" where M0
+/// misfits (shown with the closest candidate whose prediction can be made), else "none". A
+/// candidate whose held-out prediction or interval fails says so in its result.
+fn answer(
+    null: &NullFit,
+    fits: &[CandidateFit],
+    cands: &mut [CandidateResult],
+    (best, rivals): (Option<usize>, &[usize]),
+    misfit: bool,
+    held: &[usize],
+) -> Answer {
     // The best candidate's predictions, and whether they beat M0's on the held-out loads; where
     // none passes but M0 misfits, those of the closest candidate (by likelihood ratio) that can
     // make them, to show its gap after. A prediction that fails (a damping law that takes a
@@ -969,7 +1019,7 @@ pub fn discover_setup(
     // candidate, which is not named.
     let tried: Vec<usize> = match best {
         Some(b) => vec![b],
-        None if misfit.is_some() => by_lr(&cands)
+        None if misfit => by_lr(cands)
             .into_iter()
             .filter(|&k| fits[k].est.is_ok())
             .collect(),
@@ -978,7 +1028,7 @@ pub fn discover_setup(
     let mut after = None;
     let mut shown = None;
     for &b in &tried {
-        match candidate_predictions(&null, &fits[b], &held) {
+        match candidate_predictions(null, &fits[b], held) {
             Ok(a) => {
                 (after, shown) = (Some(a), Some(b));
                 break;
@@ -987,16 +1037,15 @@ pub fn discover_setup(
         }
     }
     let ambiguous_with = match (&after, best) {
-        (Some(a), Some(_)) if !held.is_empty() => held_out_rivals(&null, &fits, &rivals, a, &held),
+        (Some(a), Some(_)) if !held.is_empty() => held_out_rivals(null, fits, rivals, a, held),
         _ => rivals
             .iter()
             .map(|&k| fits[k].candidate.name().to_string())
             .collect(),
     };
-    progress.advance(1);
     let check = match (&after, best) {
         (Some(a), Some(b)) if !held.is_empty() => {
-            match held_log_likelihoods(&null, &held, &[&null.as_after(&held), a]) {
+            match held_log_likelihoods(null, held, &[&null.as_after(held), a]) {
                 Ok(l) => Some(PredictionCheck {
                     candidate: fits[b].candidate.name(),
                     held_out_log_likelihood_m0: l[0],
@@ -1018,7 +1067,7 @@ pub fn discover_setup(
     };
     if let (Some(b), true) = (best, predicts) {
         if let Ok(est) = &fits[b].est {
-            match named_size(&null, fits[b].candidate, est) {
+            match named_size(null, fits[b].candidate, est) {
                 Ok(size) => fill_size(&mut cands[b], size),
                 Err(e) => cands[b].note = Some(format!("its interval failed: {e}")),
             }
@@ -1028,7 +1077,7 @@ pub fn discover_setup(
         (Some(b), true) if ambiguous_with.is_empty() => (cands[b].name.to_string(), None),
         (Some(b), true) => ("ambiguous".to_string(), Some(cands[b].name.to_string())),
         (Some(b), false) => ("unexplained".to_string(), Some(cands[b].name.to_string())),
-        (None, _) if misfit.is_some() => (
+        (None, _) if misfit => (
             "unexplained".to_string(),
             shown
                 .or(tried.first().copied())
@@ -1036,31 +1085,22 @@ pub fn discover_setup(
         ),
         (None, _) => ("none".to_string(), None),
     };
-    let excluded = excluded_points(setup, &null)?;
-    progress.advance(1);
-    progress.finish();
-    Ok(assemble(Assembly {
-        setup,
-        opts,
-        null: &null,
-        train: &train,
-        held: &held,
+    Answer {
         effect,
         closest,
         ambiguous_with,
-        cands,
-        gof,
-        held_check,
         check,
         after,
-        excluded,
-        origin,
-        misfit: if best.is_none() { misfit } else { None },
-        power_bound: opts
-            .power_at
-            .as_ref()
-            .and_then(|e| power_bound(&null, e, opts.alpha / LIBRARY.len() as f64)),
-    }))
+    }
+}
+
+/// The outcome of [`answer`].
+struct Answer {
+    effect: String,
+    closest: Option<String>,
+    ambiguous_with: Vec<String>,
+    check: Option<PredictionCheck>,
+    after: Option<After>,
 }
 
 /// Holm's adjustment of the tested candidates' p-values together with M0's checks that can
