@@ -274,3 +274,61 @@ fn profile_table_gives_the_relief_it_tabulates() {
         assert!((pt - pa).abs() < 0.01, "{}: {pt} vs {pa}", t["load_n"]);
     }
 }
+
+/// ISO 6336-1 honours the stated Young's modulus (issue 67): `geardyn mesh` on a 62/62 steel
+/// pair (module 2 mm, 20 deg, face 20 mm, bores 35 mm) at E 211 GPa prints method B's
+/// c_gamma_alpha b within 1% of ISO's formula at that modulus, computed here by hand: q' =
+/// 0.04723 + (0.15551 + 0.25791) / 62 (Table 8, z_n = z for spur gears), c' = (1 / q') C_M C_B
+/// (E / E_st) with C_M = 0.8, C_B = 0.975 (h_fP 1.25 m), E_st = 206 GPa (clause 9.3), eps_alpha
+/// = (2 sqrt(64^2 - (62 cos 20)^2) - 124 sin 20) / (2 pi cos 20), c_gamma_alpha = c' (0.75
+/// eps_alpha + 0.25), times 20 mm: 472.1 N/um (460.9 at steel's 206 GPa, which geardyn printed
+/// before). 1%: the formula is evaluated in the same way, so only a missing or wrong material
+/// factor (2.4% here) could move it.
+#[test]
+fn mesh_iso6336_estimate_takes_the_stated_youngs_modulus() {
+    let dir = tempfile::tempdir().unwrap();
+    let rig = dir.path().join("rig.toml");
+    let munro = std::fs::read_to_string("data/munro/rig.toml").unwrap();
+    let pair = munro
+        .replace("pinion_teeth = 32", "pinion_teeth = 62")
+        .replace("gear_teeth = 32", "gear_teeth = 62")
+        .replace("module_mm = 6.35", "module_mm = 2.0")
+        .replace("face_width_mm = 12.7", "face_width_mm = 20.0");
+    assert_ne!(pair, munro);
+    std::fs::write(
+        &rig,
+        format!(
+            "{pair}\n[geometry]\npinion_bore_diameter_mm = 35.0\ngear_bore_diameter_mm = 35.0\n\
+             youngs_modulus_gpa = 211.0\npoisson_ratio = 0.3\n"
+        ),
+    )
+    .unwrap();
+    let out = dir.path().join("mesh");
+    let v = geardyn_json(&[
+        "mesh",
+        "--rig",
+        rig.to_str().unwrap(),
+        "--load-n",
+        "2000",
+        "--tip-relief-um",
+        "0",
+        "--json",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let a = 20f64.to_radians();
+    let q = 0.04723 + (0.15551 + 0.25791) / 62.0;
+    let c_prime = (1.0 / q) * 0.8 * 0.975 * (211.0 / 206.0);
+    let (ra, rb) = (64.0_f64, 62.0 * a.cos());
+    let eps = (2.0 * (ra * ra - rb * rb).sqrt() - 124.0 * a.sin())
+        / (2.0 * std::f64::consts::PI * a.cos());
+    let expected = c_prime * (0.75 * eps + 0.25) * 20.0;
+    assert!((expected - 472.1).abs() < 0.05, "by hand: {expected}");
+    let iso = v["iso6336_mesh_stiffness_n_per_um"].as_f64().unwrap();
+    assert!(
+        (iso / expected - 1.0).abs() < 0.01,
+        "geardyn mesh: ISO 6336-1 {iso} N/um, ISO's formula at 211 GPa {expected}"
+    );
+    assert!((v["iso6336"]["material_factor"].as_f64().unwrap() - 211.0 / 206.0).abs() < 1e-12);
+    assert!((v["contact_ratio"].as_f64().unwrap() - eps).abs() < 1e-9);
+}

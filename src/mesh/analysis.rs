@@ -143,12 +143,15 @@ pub struct MeshAnalysis {
     pub contact_ratio: f64,
     /// Mean mesh stiffness with every pair in contact (no relief), N/um.
     pub mesh_stiffness_mean_n_per_um: f64,
-    /// ISO 6336-1 method B c_gamma_alpha x face width for this pair ([`IsoStiffness`]), N/um.
+    /// ISO 6336-1 method B c_gamma_alpha x face width for this pair at its Young's modulus
+    /// (c' scaled by E / E_st, E_st = 206 GPa: ISO 6336-1 clause 9.3; [`IsoStiffness`]), N/um.
     pub iso6336_mesh_stiffness_n_per_um: f64,
     /// The steps of that estimate (q', c'_th, C_B, c', c_gamma_alpha in N/(mm um)).
     pub iso6336: IsoStiffness,
     /// ISO 6336-1 c_gamma x face width with the typical c' = 14 N/(mm um) and this pair's
-    /// contact ratio, N/um: the estimate the model uses when the rig gives no stiffness.
+    /// contact ratio, N/um: the estimate the model uses when the rig gives no stiffness. It is
+    /// ISO's value for steel whatever `[geometry]` states for E, as the model's own is
+    /// (`Rig::dimensional` does not read `[geometry]`).
     pub iso6336_typical_mesh_stiffness_n_per_um: f64,
     /// Geometry of the pair.
     pub geometry: GeometrySummary,

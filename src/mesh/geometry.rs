@@ -356,7 +356,8 @@ impl GearPairGeometry {
         self.path_of_contact() / self.base_pitch()
     }
 
-    /// ISO 6336-1 method B stiffness of this (spur, solid) pair.
+    /// ISO 6336-1 method B stiffness of this (spur, solid) pair, scaled to its Young's modulus
+    /// by E / E_st (ISO 6336-1 clause 9.3; both gears of one material here, so E = E1 = E2).
     pub fn iso6336(&self) -> IsoStiffness {
         IsoStiffness::new(&IsoPair {
             teeth: (self.pinion.teeth, self.gear.teeth),
@@ -366,6 +367,7 @@ impl GearPairGeometry {
             rack_dedendum: self.rack_dedendum,
             contact_ratio: self.contact_ratio(),
             rim_factor: 1.0,
+            youngs_modulus_pa: (self.youngs_modulus_pa, self.youngs_modulus_pa),
         })
     }
 

@@ -6,16 +6,22 @@
 //! q'        = C1 + C2/z_n1 + C3/z_n2 + C4 x1 + C5 x1/z_n1 + C6 x2 + C7 x2/z_n2
 //!             + C8 x1^2 + C9 x2^2                           (mm um/N; eq. 64, Table 8)
 //! c'_th     = 1 / q'                                        (N/(mm um))
-//! c'        = c'_th C_M C_R C_B cos(beta)                   (eq. 62)
+//! c'        = c'_th C_M C_R C_B cos(beta) (E / E_st)        (eq. 62; E / E_st: clause 9.3)
 //! C_B       = (1 + 0.5 (1.2 - h_fP/m_n)) (1 - 0.02 (20 deg - alpha_n))   basic rack factor
+//! E         = 2 E1 E2 / (E1 + E2),  E_st = 206 000 N/mm^2
 //! c_gamma_alpha = c' (0.75 eps_alpha + 0.25)                (eq. 65)
 //! ```
 //!
 //! with z_n = z / (cos^2(beta_b) cos(beta)) the virtual numbers of teeth, C_M = 0.8 (the
-//! measured-over-theoretical correction for solid disc gears) and C_R = 1 (solid gears). The
-//! standard states c' for a line load F_t / b of at least 100 N/mm; below it c' is reduced in
-//! proportion ([`IsoStiffness::line_load_factor`]). Checked in the tests against ISO/TR
-//! 6336-30:2017, Example 1.
+//! measured-over-theoretical correction for solid disc gears) and C_R = 1 (solid gears).
+//!
+//! q' is stated for steel on steel. For other materials ISO 6336-1 (clause 9.3, method B)
+//! multiplies c', and so c_gamma, by E / E_st with E = 2 E1 E2 / (E1 + E2) the pair's equivalent
+//! modulus and E_st = 206 000 N/mm^2 ([`IsoStiffness::material_factor`]). The 2006 text was not
+//! at hand to check the equation number of this factor; third-party code cites it as eqs. 90-91
+//! of the 2019 edition. The standard states c' for a line load F_t / b of at least 100 N/mm;
+//! below that, c' is reduced in proportion ([`IsoStiffness::line_load_factor`]). Checked in the
+//! tests against ISO/TR 6336-30:2017, Example 1.
 
 use serde::Serialize;
 
@@ -29,6 +35,10 @@ const C_M: f64 = 0.8;
 
 /// Line load F_t / b (N/mm) at and above which c' applies unreduced.
 const FULL_LINE_LOAD_N_PER_MM: f64 = 100.0;
+
+/// Young's modulus of the steel q' and c' are stated for, E_st = 206 000 N/mm^2 (ISO 6336-1,
+/// clause 9.3), in Pa.
+pub const STEEL_YOUNGS_MODULUS_PA: f64 = 206e9;
 
 /// What ISO 6336-1 method B needs of a gear pair.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -47,6 +57,9 @@ pub struct IsoPair {
     pub contact_ratio: f64,
     /// Rim factor C_R (1 for solid gears).
     pub rim_factor: f64,
+    /// Young's moduli E1, E2 of the pinion's and the gear's material, Pa
+    /// ([`STEEL_YOUNGS_MODULUS_PA`] for both: steel, factor 1).
+    pub youngs_modulus_pa: (f64, f64),
 }
 
 /// The steps of method B, each as the standard names it (stiffness in N/(mm um)).
@@ -60,7 +73,10 @@ pub struct IsoStiffness {
     pub c_prime_theoretical: f64,
     /// Basic rack factor C_B.
     pub basic_rack_factor: f64,
-    /// Single-pair stiffness c'.
+    /// Material factor E / E_st, E = 2 E1 E2 / (E1 + E2), E_st = 206 000 N/mm^2 (ISO 6336-1
+    /// clause 9.3; 1 for steel on steel).
+    pub material_factor: f64,
+    /// Single-pair stiffness c' (with the material factor).
     pub c_prime: f64,
     /// Mesh stiffness c_gamma_alpha = c' (0.75 eps_alpha + 0.25).
     pub c_gamma_alpha: f64,
@@ -87,12 +103,15 @@ impl IsoStiffness {
         let c_th = 1.0 / q;
         let c_b =
             (1.0 + 0.5 * (1.2 - pair.rack_dedendum)) * (1.0 - 0.02 * (20.0 - alpha.to_degrees()));
-        let c_prime = c_th * C_M * pair.rim_factor * c_b * beta.cos();
+        let (e1, e2) = pair.youngs_modulus_pa;
+        let material = 2.0 * e1 * e2 / (e1 + e2) / STEEL_YOUNGS_MODULUS_PA;
+        let c_prime = c_th * C_M * pair.rim_factor * c_b * beta.cos() * material;
         IsoStiffness {
             virtual_teeth: (zn1, zn2),
             q_prime: q,
             c_prime_theoretical: c_th,
             basic_rack_factor: c_b,
+            material_factor: material,
             c_prime,
             c_gamma_alpha: c_prime * (0.75 * pair.contact_ratio + 0.25),
         }
@@ -126,6 +145,7 @@ mod tests {
             rack_dedendum: 1.4,
             contact_ratio: 1.5,
             rim_factor: 1.0,
+            youngs_modulus_pa: (STEEL_YOUNGS_MODULUS_PA, STEEL_YOUNGS_MODULUS_PA),
         });
         assert!(
             (s.virtual_teeth.0 - 18.905).abs() < 5e-4,
@@ -159,6 +179,7 @@ mod tests {
             rack_dedendum: 1.25,
             contact_ratio: 1.667642,
             rim_factor: 1.0,
+            youngs_modulus_pa: (STEEL_YOUNGS_MODULUS_PA, STEEL_YOUNGS_MODULUS_PA),
         });
         assert!((s.q_prime - 0.0601494).abs() < 1e-7);
         assert!((s.c_prime_theoretical - 16.6253).abs() < 1e-3);
@@ -167,5 +188,32 @@ mod tests {
         assert!((s.c_gamma_alpha - 12.968 * (0.75 * 1.667642 + 0.25)).abs() < 2e-3);
         assert_eq!(IsoStiffness::line_load_factor(50.0), 0.5);
         assert_eq!(IsoStiffness::line_load_factor(297.6), 1.0);
+    }
+
+    /// Other materials: c' scales by E / E_st with E = 2 E1 E2 / (E1 + E2) (ISO 6336-1 clause
+    /// 9.3). Steel (206 GPa) on a 103 GPa bronze: E = 2 x 206 x 103 / 309 = 137.33 GPa, factor
+    /// 2/3 by hand; the steel pair's c' and c_gamma_alpha scale by it and nothing else changes.
+    #[test]
+    fn other_materials_scale_by_the_equivalent_modulus() {
+        let steel = IsoPair {
+            teeth: (32.0, 32.0),
+            profile_shift: (0.0, 0.0),
+            pressure_angle: 20f64.to_radians(),
+            helix_angle: 0.0,
+            rack_dedendum: 1.25,
+            contact_ratio: 1.667642,
+            rim_factor: 1.0,
+            youngs_modulus_pa: (STEEL_YOUNGS_MODULUS_PA, STEEL_YOUNGS_MODULUS_PA),
+        };
+        let bronze = IsoPair {
+            youngs_modulus_pa: (206e9, 103e9),
+            ..steel
+        };
+        let (s, b) = (IsoStiffness::new(&steel), IsoStiffness::new(&bronze));
+        assert_eq!(s.material_factor, 1.0);
+        assert!((b.material_factor - 2.0 / 3.0).abs() < 1e-12);
+        assert!((b.c_prime - s.c_prime * 2.0 / 3.0).abs() < 1e-9);
+        assert!((b.c_gamma_alpha - s.c_gamma_alpha * 2.0 / 3.0).abs() < 1e-9);
+        assert_eq!(b.c_prime_theoretical, s.c_prime_theoretical);
     }
 }
