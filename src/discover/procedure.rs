@@ -676,19 +676,27 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
             .reduce_with(|a, b| best_of(a, b, axis))
             .unwrap_or_else(|| Err(GearError::Numerical("no start".into())))
     };
-    let from_zero = starts.iter().all(|d| d.iter().all(|v| *v == 0.0));
-    let mut est = fit(starts, None);
     // The candidate holds M0 (delta 0): its fit must reach M0's likelihood. Where its starts
     // ended below it (a fit held in a basin of its own), or began at M0 itself, it is fitted
     // from M0 at M0's noise too, and the larger likelihood kept: with heavy tails the
-    // likelihood has several maxima, and either path can find the higher one.
-    let short = est
-        .as_ref()
-        .map_or(true, |e| calibration::log_likelihood(e, axis) < l0);
-    if short || from_zero {
-        let from_m0 = fit(vec![vec![0.0; c.dim()]], Some(null.est.noise.model));
-        est = best_of(est, from_m0, axis);
-    }
+    // likelihood has several maxima, and either path can find the higher one. From M0 itself
+    // the two fits are independent and run side by side.
+    let from_m0 = || fit(vec![vec![0.0; c.dim()]], Some(null.est.noise.model));
+    let from_zero = starts.iter().all(|d| d.iter().all(|v| *v == 0.0));
+    let est = if from_zero {
+        let (probed, from_m0) = rayon::join(|| fit(starts, None), from_m0);
+        best_of(probed, from_m0, axis)
+    } else {
+        let probed = fit(starts, None);
+        let short = probed
+            .as_ref()
+            .map_or(true, |e| calibration::log_likelihood(e, axis) < l0);
+        if short {
+            best_of(probed, from_m0(), axis)
+        } else {
+            probed
+        }
+    };
     let est = est.map_err(|e| e.to_string());
     let lr = est.as_ref().map_or(f64::NAN, |e| {
         2.0 * (calibration::log_likelihood(e, axis) - l0)
@@ -937,8 +945,10 @@ pub fn discover_setup(
     progress.advance(1);
     let axis = null.curves.axis()?;
     let l0 = calibration::log_likelihood(&null.est, &axis);
+    // The candidates' fits are independent: side by side, each fit's own parallel parts
+    // (a Jacobian's curves) leave cores idle between its steps.
     let fits: Vec<CandidateFit> = LIBRARY
-        .iter()
+        .par_iter()
         .map(|&c| {
             let f = fit_candidate(&null, c, l0, &axis);
             progress.advance(1);
