@@ -1345,6 +1345,7 @@ fn replicate_options(family: &Family, fit: &Estimate, axis: &crate::fit::Axis) -
         starts: Vec::new(),
         // The replicates are drawn from about this model: their fits start at its weights.
         noise_start: Some(model),
+        measurements: Vec::new(),
     }
 }
 

@@ -275,6 +275,7 @@ impl<'a> Curves<'a> {
             stop,
             starts,
             noise_start,
+            measurements: Vec::new(),
         };
         let model = |p: &[f64]| self.model(p);
         let near = |p: &[f64], base: &[f64]| self.near(p, base);

@@ -104,6 +104,52 @@ pub struct EstimateOptions {
     /// equal weights, whose optimum may lie in another basin. None: equal weights, or the
     /// stated noise's. Used where the noise is estimated ([`NoiseSetting::Estimate`]).
     pub noise_start: Option<NoiseModel>,
+    /// Independent measurements of parameters (a stated STE with its uncertainty), each one
+    /// more Gaussian factor of the likelihood ([`Measurement`]).
+    pub measurements: Vec<Measurement>,
+}
+
+/// An independent Gaussian measurement of parameter `param`: `value` with standard deviation
+/// `sd`, in the parameter's own units (rig.toml `[ste] amplitude_um` with `sd_um`). It enters
+/// the likelihood as one more residual of known scale, (value - p) / sd, beside the curve's
+/// whitened residuals: the least-squares fit, the Fisher information (+ 1 / sd^2 on its
+/// diagonal, through the parameter's transform), the profile likelihood and the
+/// log-likelihood all carry it, so that a measured parameter is neither held exact (which
+/// biases the others by the measurement's error) nor left free (which throws the measurement
+/// away). The noise of the curves is estimated from the curves alone.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Measurement {
+    pub param: usize,
+    pub value: f64,
+    pub sd: f64,
+}
+
+impl Measurement {
+    /// The standardized residual (value - p) / sd of each measurement at parameters `p`.
+    pub fn residuals(measurements: &[Measurement], p: &[f64]) -> Vec<f64> {
+        measurements
+            .iter()
+            .map(|m| (m.value - p[m.param]) / m.sd)
+            .collect()
+    }
+
+    /// -log of the measurements' Gaussian factor at `p`, up to its constant: half the sum of
+    /// the squared standardized residuals.
+    pub fn neg_log_likelihood(measurements: &[Measurement], p: &[f64]) -> f64 {
+        0.5 * Self::residuals(measurements, p)
+            .iter()
+            .map(|z| z * z)
+            .sum::<f64>()
+    }
+}
+
+/// A measured parameter at the fit: the measurement, the fitted value and the standardized
+/// residual (value - fitted) / sd (how far the curves pulled the parameter from it).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct MeasurementFit {
+    pub measurement: Measurement,
+    pub fitted: f64,
+    pub z: f64,
 }
 
 impl NoiseSetting {
@@ -257,8 +303,11 @@ pub struct Estimate {
     /// Sum of the squared innovations: the standardized residuals r_i / sigma_i decorrelated
     /// along speed (the residuals themselves with independent errors).
     pub chi_square: f64,
-    /// The restricted log-likelihood of the noise at the fit ([`super::restricted_term`]).
+    /// The restricted log-likelihood of the noise at the fit ([`super::restricted_term`]),
+    /// with the measurements' Gaussian factor where there are any.
     pub log_likelihood: f64,
+    /// The measured parameters at the fit ([`Measurement`]).
+    pub measurements: Vec<MeasurementFit>,
     /// Data minus model at each point, and the model's value there.
     pub residuals: Vec<f64>,
     pub levels: Vec<f64>,
@@ -329,6 +378,7 @@ struct Weighted<'a, M> {
     model: &'a M,
     near: Option<NearModel<'a>>,
     y: &'a [f64],
+    measurements: &'a [Measurement],
 }
 
 impl<M> Weighted<'_, M>
@@ -345,10 +395,16 @@ where
             let r: Vec<f64> = self.y.iter().zip(&m).map(|(y, f)| y - f).collect();
             Ok(whitener.apply(&r))
         };
-        let f = |p: &[f64]| residuals((self.model)(p)?);
+        // The measurements' residuals follow the curve's: rows n.. of the fit's vector.
+        let with_measured = |r: Result<Vec<f64>>, p: &[f64]| -> Result<Vec<f64>> {
+            let mut r = r?;
+            r.extend(Measurement::residuals(self.measurements, p));
+            Ok(r)
+        };
+        let f = |p: &[f64]| with_measured(residuals((self.model)(p)?), p);
         let near = self
             .near
-            .map(|near| move |p: &[f64], base: &[f64]| residuals(near(p, base)?));
+            .map(|near| move |p: &[f64], base: &[f64]| with_measured(residuals(near(p, base)?), p));
         let near = near.as_ref().map(|n| n as NearResiduals<'_>);
         least_squares_warm(&f, near, params, stop)
     }
@@ -591,7 +647,7 @@ where
         let residuals: Vec<f64> = w.y.iter().zip(&levels).map(|(y, f)| y - f).collect();
         // The engine's noise is restricted by the Jacobian, not corrected by leverages.
         let leverages = vec![0.0; residuals.len()];
-        let jacobian = whitener.unapply_columns(&(-&lm.jacobian));
+        let jacobian = whitener.unapply_columns(&(-lm.jacobian.rows(0, residuals.len())));
         let data = NoiseData {
             residuals: &residuals,
             levels: &levels,
@@ -601,6 +657,7 @@ where
         };
         let near = previous.as_ref().map(|(_, m)| m);
         let (noise, scales, nll) = noise_at(setting, &data, (dist, dof_free), length, near)?;
+        let nll = nll + Measurement::neg_log_likelihood(w.measurements, &lm.params);
         let stalled = previous_nll.is_some_and(|p: f64| (p - nll).abs() < NLL_SETTLED);
         previous_nll = Some(nll);
         if stalled || settled(&previous, &lm.params, &noise) || it + 1 == MAX_REWEIGHTS {
@@ -720,7 +777,22 @@ where
             a.len()
         )));
     }
-    let w = Weighted { model, near, y };
+    if let Some(m) = opts
+        .measurements
+        .iter()
+        .find(|m| m.param >= p || !(m.sd.is_finite() && m.sd > 0.0 && m.value.is_finite()))
+    {
+        return Err(GearError::Numerical(format!(
+            "a measurement of parameter {} of {p} ({} +- {}) cannot enter the fit",
+            m.param, m.value, m.sd
+        )));
+    }
+    let w = Weighted {
+        model,
+        near,
+        y,
+        measurements: &opts.measurements,
+    };
     // First fit from every start, under the initial weights.
     let starts: Vec<Vec<f64>> = if opts.starts.is_empty() {
         vec![params.iter().map(|d| d.start).collect()]
@@ -787,7 +859,7 @@ where
         let correlation = axis.map(|a| correlation_fit(&t, &opts.noise, (a, length), None));
         return summarise(
             t,
-            params,
+            (params, &opts.measurements),
             (&opts.noise, axis),
             (None, correlation),
             start_costs,
@@ -834,7 +906,7 @@ where
     let correlation = axis.map(|a| correlation_fit(&c, &opts.noise, (a, length), correlation_lr));
     summarise(
         c,
-        params,
+        (params, &opts.measurements),
         (&opts.noise, axis),
         (robust_lr, correlation),
         start_costs,
@@ -1004,7 +1076,7 @@ pub fn satterthwaite_dof_of(
 
 fn summarise(
     c: Converged,
-    params: &[Param],
+    (params, measurements): (&[Param], &[Measurement]),
     (setting, axis): (&NoiseSetting, Option<&Axis>),
     (robust_lr, correlation): (Option<f64>, Option<CorrelationFit>),
     start_costs: Vec<f64>,
@@ -1013,6 +1085,10 @@ fn summarise(
     let n = c.residuals.len();
     let p = params.len();
     let jf = c.jacobian.clone();
+    // The measurements' information (their rows of the fit's Jacobian, in the parameters'
+    // internal coordinates): known, whatever the curves' noise model.
+    let measured = c.lm.jacobian.rows(n, measurements.len());
+    let measured_information = measured.transpose() * measured;
     // The least-squares map of the fitted noise model at unit robust weights.
     let unit = |m: &NoiseModel| {
         Whitener::unit(scales_of(setting, m, &c.levels), axis, m.correlation_length)
@@ -1027,7 +1103,7 @@ fn summarise(
     // Inverse Fisher information under a noise model, the levels and Jacobian held.
     let inverse_fisher = |m: &NoiseModel| -> Option<DMatrix<f64>> {
         let g = unit(m).innovations_of_columns(&jf);
-        pinv_sym(&(g.transpose() * &g * info_factor))
+        pinv_sym(&(g.transpose() * &g * info_factor + &measured_information))
     };
     let cov = inverse_fisher(&c.noise).ok_or_else(|| {
         GearError::Numerical(
@@ -1043,10 +1119,18 @@ fn summarise(
     );
     let residual_dof = n.saturating_sub(p + noise_params + length_param).max(1);
     let g = unit(&c.noise).innovations_of_columns(&jf);
-    let sandwich = sandwich_covariance(c.noise.distribution, &g, &z, &cov, residual_dof);
+    let sandwich = sandwich_covariance(
+        c.noise.distribution,
+        (&g, &measured_information),
+        &z,
+        &cov,
+        residual_dof,
+    );
     let dof = satterthwaite_dof((setting, axis), &c, &cov, &inverse_fisher, residual_dof);
     let quantile: Vec<f64> = dof.iter().map(|d| t_quantile_975(*d)).collect();
-    let unseen: Vec<bool> = (0..p).map(|j| jf.column(j).norm() == 0.0).collect();
+    let unseen: Vec<bool> = (0..p)
+        .map(|j| jf.column(j).norm() == 0.0 && measured.column(j).norm() == 0.0)
+        .collect();
     let (std_errors, ci95) = wald_intervals(params, &c.lm.params, &cov, &quantile, &unseen);
     let (std_errors_sandwich, ci95_sandwich) =
         wald_intervals(params, &c.lm.params, &sandwich, &quantile, &unseen);
@@ -1072,6 +1156,14 @@ fn summarise(
         start_costs,
         iterations: c.iterations,
         settled: c.iterations < MAX_REWEIGHTS,
+        measurements: measurements
+            .iter()
+            .map(|m| MeasurementFit {
+                measurement: *m,
+                fitted: c.lm.params[m.param],
+                z: (m.value - c.lm.params[m.param]) / m.sd,
+            })
+            .collect(),
         model_jacobian: jf,
         param_defs: params.to_vec(),
         whitener,
@@ -1084,7 +1176,7 @@ fn summarise(
 /// scaled by n / residual_dof (MacKinnon & White's HC1).
 fn sandwich_covariance(
     dist: Distribution,
-    g: &DMatrix<f64>,
+    (g, measured_information): (&DMatrix<f64>, &DMatrix<f64>),
     z: &[f64],
     cov: &DMatrix<f64>,
     residual_dof: usize,
@@ -1098,6 +1190,8 @@ fn sandwich_covariance(
         meat += gi.transpose() * gi * psi(*zi).powi(2);
     }
     meat *= z.len() as f64 / residual_dof as f64;
+    // A measurement's score has the variance its sd states.
+    meat += measured_information;
     cov * meat * cov
 }
 
@@ -1264,6 +1358,7 @@ mod tests {
             stop: Stop::converged(50),
             starts: Vec::new(),
             noise_start: None,
+            measurements: Vec::new(),
         };
         let plain = estimate(&model, &y, &params, &opts).unwrap();
         let warm = estimate_warm(&model, Some(&same), &y, &params, &opts).unwrap();
@@ -1300,6 +1395,7 @@ mod tests {
             stop: Stop::converged(50),
             starts: Vec::new(),
             noise_start: None,
+            measurements: Vec::new(),
         };
         let e = estimate(&model, &y, &[Param::positive("a", 1.0)], &opts).unwrap();
         let se = a * s / (n as f64).sqrt();
@@ -1323,6 +1419,104 @@ mod tests {
 
     /// A constant level fitted to `y` under `noise`, its errors chosen as `validate munro`
     /// chooses them (`Robust::Auto`).
+    /// A measured parameter against the closed form of mixed estimation (Theil & Goldberger
+    /// 1961: the measurement as one more observation of known variance): the line
+    /// y = a + b x under a stated noise sigma, b measured as v +- s. The estimate solves
+    /// (X'X / sigma^2 + e_b e_b' / s^2) beta = X'y / sigma^2 + e_b v / s^2 and its covariance
+    /// is that matrix's inverse; a linear model's profile interval is the Wald one. The same
+    /// with b positive (a log transform): the estimate is invariant, the standard error the
+    /// delta method's, the profile interval still the closed form's (it is in b itself).
+    #[test]
+    fn a_measured_parameter_is_mixed_estimation() {
+        let x: Vec<f64> = (0..12).map(|i| i as f64 / 11.0).collect();
+        let mut rng = Rng::new(7);
+        let sigma = 0.2;
+        let y: Vec<f64> = x
+            .iter()
+            .map(|x| 1.0 + 2.0 * x + sigma * rng.normal())
+            .collect();
+        let (v, s) = (1.7, 0.1);
+        let model =
+            |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
+        let mut a = DMatrix::<f64>::zeros(2, 2);
+        let mut rhs = nalgebra::DVector::<f64>::zeros(2);
+        for (xi, yi) in x.iter().zip(&y) {
+            let row = [1.0, *xi];
+            for j in 0..2 {
+                for k in 0..2 {
+                    a[(j, k)] += row[j] * row[k] / (sigma * sigma);
+                }
+                rhs[j] += row[j] * yi / (sigma * sigma);
+            }
+        }
+        a[(1, 1)] += 1.0 / (s * s);
+        rhs[1] += v / (s * s);
+        let cov = a.try_inverse().unwrap();
+        let beta = &cov * rhs;
+        for b_param in [Param::signed("b", 0.5, 1.0), Param::positive("b", 0.5)] {
+            let opts = EstimateOptions {
+                noise: NoiseSetting::Stated(NoiseModel::constant(sigma)),
+                correlation: CorrelationSetting::Independent,
+                robust: Robust::Off,
+                stop: Stop::converged(50),
+                starts: Vec::new(),
+                noise_start: None,
+                measurements: vec![Measurement {
+                    param: 1,
+                    value: v,
+                    sd: s,
+                }],
+            };
+            let params = [Param::signed("a", 0.0, 1.0), b_param.clone()];
+            let est = estimate(&model, &y, &params, &opts).unwrap();
+            for j in 0..2 {
+                assert!(
+                    (est.params[j] - beta[j]).abs() < 1e-7,
+                    "{:?} {beta}",
+                    est.params
+                );
+                let se = cov[(j, j)].sqrt();
+                // 2e-4: the Jacobian's forward differences in log b err by half their step.
+                assert!(
+                    (est.std_errors[j] / se - 1.0).abs() < 2e-4,
+                    "{j} {:?}: {} against {se}",
+                    est.param_defs[1].transform,
+                    est.std_errors[j]
+                );
+            }
+            let m = est.measurements[0];
+            assert!((m.z - (v - beta[1]) / s).abs() < 1e-6, "{m:?}");
+            let half = 1.959_963_984_540_054 * cov[(1, 1)].sqrt();
+            let prof =
+                crate::fit::profile_interval(&model, &y, &est, 1, Stop::converged(50)).unwrap();
+            let (lo, hi) = (prof.lower.unwrap(), prof.upper.unwrap());
+            assert!(
+                (lo - (beta[1] - half)).abs() < 1e-4 && (hi - (beta[1] + half)).abs() < 1e-4,
+                "profile [{lo}, {hi}] against {} +- {half}",
+                beta[1]
+            );
+        }
+        // Without it, ordinary least squares: b is pulled back to the line's own slope.
+        let opts = EstimateOptions {
+            noise: NoiseSetting::Stated(NoiseModel::constant(sigma)),
+            correlation: CorrelationSetting::Independent,
+            robust: Robust::Off,
+            stop: Stop::converged(50),
+            starts: Vec::new(),
+            noise_start: None,
+            measurements: Vec::new(),
+        };
+        let params = [Param::signed("a", 0.0, 1.0), Param::signed("b", 0.5, 1.0)];
+        let free = estimate(&model, &y, &params, &opts).unwrap();
+        assert!(
+            free.params[1] > beta[1] + 0.05,
+            "{} against {}",
+            free.params[1],
+            beta[1]
+        );
+        assert!(free.measurements.is_empty());
+    }
+
     fn constant_fit(y: &[f64], noise: NoiseSetting) -> Estimate {
         let n = y.len();
         let model = |p: &[f64]| -> Result<Vec<f64>> { Ok(vec![p[0]; n]) };
@@ -1333,6 +1527,7 @@ mod tests {
             stop: Stop::converged(50),
             starts: Vec::new(),
             noise_start: None,
+            measurements: Vec::new(),
         };
         estimate(&model, y, &[Param::signed("a", 0.5, 1.0)], &opts).unwrap()
     }
@@ -1372,6 +1567,7 @@ mod tests {
             stop: Stop::converged(50),
             starts: Vec::new(),
             noise_start: None,
+            measurements: Vec::new(),
         };
         let length = -10.0 / 0.6_f64.ln();
         let correlated = Correlation {

@@ -18,8 +18,9 @@ mod whitener;
 pub use correlation::{curve_correlations, ljung_box, Axis, Correlation, CurveCorrelation};
 pub use estimate::{
     estimate, estimate_warm, satterthwaite_dof_of, t_quantile_975, CorrelationFit,
-    CorrelationSetting, CorrelationSource, Estimate, EstimateOptions, NearModel, NoiseFit,
-    NoiseSetting, NoiseSource, Robust, CORRELATION_LR_CRITICAL, ROBUST_LR_CRITICAL,
+    CorrelationSetting, CorrelationSource, Estimate, EstimateOptions, Measurement, MeasurementFit,
+    NearModel, NoiseFit, NoiseSetting, NoiseSource, Robust, CORRELATION_LR_CRITICAL,
+    ROBUST_LR_CRITICAL,
 };
 pub use lm::{
     least_squares, least_squares_warm, rss, secant_jacobian, LmFit, NearResiduals, Stop, UNSEEN,

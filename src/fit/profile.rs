@@ -23,7 +23,7 @@
 //! Wald end instead, or at the step if that is farther.
 
 use super::estimate::NearModel;
-use super::estimate::{pinv_sym, Estimate};
+use super::estimate::{pinv_sym, Estimate, Measurement};
 use super::lm::{least_squares_warm, rss, NearResiduals, Stop};
 use super::noise::{deviance_residual, Distribution};
 use super::params::{restarted, Param};
@@ -234,7 +234,21 @@ where
     /// (dof + 3) / (dof + 1) times as curved as the Fisher information (dof 3: intervals 18%
     /// short; validate-study's Student-t sets covered 84-90%).
     fn likelihood_residuals(&self, p: &[f64]) -> Result<Vec<f64>> {
-        self.likelihood_residuals_of(&(self.model)(p)?)
+        self.with_measured(self.likelihood_residuals_of(&(self.model)(p)?), p)
+    }
+
+    /// `r` followed by the measurements' standardized residuals at `p` (their factor of the
+    /// likelihood, [`super::Measurement`]).
+    fn with_measured(&self, r: Result<Vec<f64>>, p: &[f64]) -> Result<Vec<f64>> {
+        let mut r = r?;
+        let measurements: Vec<Measurement> = self
+            .est
+            .measurements
+            .iter()
+            .map(|m| m.measurement)
+            .collect();
+        r.extend(Measurement::residuals(&measurements, p));
+        Ok(r)
     }
 
     /// [`Profile::likelihood_residuals`] of the model's curve `m`: the innovations (the
@@ -263,7 +277,11 @@ where
         let f = |p: &[f64]| self.likelihood_residuals(&self.full(u, p));
         let near = self.near.map(|near| {
             move |p: &[f64], base: &[f64]| {
-                self.likelihood_residuals_of(&near(&self.full(u, p), &self.full(u, base))?)
+                let full = self.full(u, p);
+                self.with_measured(
+                    self.likelihood_residuals_of(&near(&full, &self.full(u, base))?),
+                    &full,
+                )
             }
         });
         let near = near.as_ref().map(|n| n as NearResiduals<'_>);
@@ -479,6 +497,7 @@ mod tests {
                 stop: Stop::converged(100).central(),
                 starts: Vec::new(),
                 noise_start: None,
+                measurements: Vec::new(),
             },
         )
         .unwrap()
@@ -672,6 +691,7 @@ mod tests {
                 stop: Stop::converged(100).central(),
                 starts: Vec::new(),
                 noise_start: None,
+                measurements: Vec::new(),
             },
         )
         .unwrap();

@@ -327,6 +327,7 @@ impl Curves<'_> {
             stop,
             starts,
             noise_start: None,
+            measurements: Vec::new(),
         })
     }
 }

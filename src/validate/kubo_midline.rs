@@ -139,6 +139,7 @@ impl MidlineFit {
                 stop: self.stop,
                 starts: starts.to_vec(),
                 noise_start: None,
+                measurements: Vec::new(),
             },
         )
     }
