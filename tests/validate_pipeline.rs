@@ -663,3 +663,108 @@ fn cli_validate_reports_the_errors_correlation_along_speed() {
     );
     assert!(json.is_none() && !fits.exists());
 }
+
+/// A copy of `data/munro` whose rig.toml states each load's STE with an uncertainty of 0.05 um:
+/// `amplitudes` (um) at 3780, 2835, 1890 and 945 N.
+fn munro_with_stated_ste(dir: &std::path::Path, amplitudes: [f64; 4]) {
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("data/munro");
+    std::fs::copy(src.join("dte.csv"), dir.join("dte.csv")).unwrap();
+    let rig = std::fs::read_to_string(src.join("rig.toml")).unwrap();
+    let table = format!(
+        "[ste]\nload_n = [3780.0, 2835.0, 1890.0, 945.0]\namplitude_um = {amplitudes:?}\nsd_um = 0.05\n\n[source]\n"
+    );
+    std::fs::write(dir.join("rig.toml"), rig.replacen("[source]\n", &table, 1)).unwrap();
+}
+
+/// STEs stated with their uncertainty (rig.toml `[ste] sd_um`) are measurements the fit weighs
+/// against the curves: stated at the set's truth (0.3, 1.5, 2.5, 3.5 um), each load's fitted
+/// STE stays within 2 sd of it, the compatibility z of each lies within +-1.96 and munro.json
+/// lists them; one stated 30% off (1.75 um at 1890 N, where the curves alone give 2.53 +- 0.014
+/// um) is refused at `[ste] amplitude_um`, the disagreeing load named with its z, and nothing is
+/// written.
+#[test]
+fn stated_ste_with_uncertainty_is_weighed_and_a_wrong_one_is_named() {
+    let tmp = tempfile::tempdir().unwrap();
+    let (data, out) = (tmp.path().join("set"), tmp.path().join("out"));
+    std::fs::create_dir_all(&data).unwrap();
+    munro_with_stated_ste(&data, [0.3, 1.5, 2.5, 3.5]);
+    let args = |d: &std::path::Path, o: &std::path::Path| {
+        let (fits, reports) = (o.join("fits"), o.join("reports"));
+        geardyn(&[
+            "validate",
+            "munro",
+            "--data",
+            d.to_str().unwrap(),
+            "--fits",
+            fits.to_str().unwrap(),
+            "--reports",
+            reports.to_str().unwrap(),
+        ])
+    };
+    let o = args(&data, &out);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("agree within their uncertainties"),
+        "{stdout}"
+    );
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("fits/munro.json")).unwrap())
+            .unwrap();
+    let stated = json["stated_ste"].as_array().unwrap();
+    assert_eq!(stated.len(), 4, "{stated:?}");
+    for s in stated {
+        let (v, f) = (
+            s["stated_um"].as_f64().unwrap(),
+            s["fitted_um"].as_f64().unwrap(),
+        );
+        assert!((v - f).abs() < 0.1, "{s}");
+        assert!(s["compatibility_z"].as_f64().unwrap().abs() < 1.96, "{s}");
+    }
+    let per_load = json["per_load"].as_array().unwrap();
+    assert!(
+        per_load.iter().all(|l| l["ste_source"] == "measured"),
+        "{per_load:?}"
+    );
+
+    let (wrong, wrong_out) = (tmp.path().join("wrong"), tmp.path().join("wrong-out"));
+    std::fs::create_dir_all(&wrong).unwrap();
+    munro_with_stated_ste(&wrong, [0.3, 1.5, 1.75, 3.5]);
+    let o = args(&wrong, &wrong_out);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("rig.toml") && err.contains("ste.amplitude_um"),
+        "{err}"
+    );
+    assert!(
+        err.contains("1890 N: stated 1.75") && err.contains("disagree"),
+        "{err}"
+    );
+    assert_eq!(
+        err.matches("disagree,").count() + err.matches(", disagree)").count(),
+        1,
+        "{err}"
+    );
+    assert!(
+        !wrong_out.exists(),
+        "partial output in {}",
+        wrong_out.display()
+    );
+
+    // An uncertainty list of another length than the loads': located, nothing written.
+    let rig = std::fs::read_to_string(wrong.join("rig.toml")).unwrap();
+    std::fs::write(
+        wrong.join("rig.toml"),
+        rig.replace("sd_um = 0.05", "sd_um = [0.05, 0.05]"),
+    )
+    .unwrap();
+    let o = args(&wrong, &wrong_out);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("ste.sd_um") && err.contains("2 uncertainties for 4 loads"),
+        "{err}"
+    );
+    assert!(!wrong_out.exists());
+}

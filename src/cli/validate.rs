@@ -274,6 +274,9 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             if let Some(c) = geardyn::report::correlation_summary(&r.fit.estimate, &names) {
                 s.push_str(&format!("{c}\n"));
             }
+            if let Some(t) = geardyn::report::munro_stated_ste_text(&r) {
+                s.push_str(&format!("{}\n", t.replace("**", "")));
+            }
             if r.geometry.is_some() {
                 s.push_str("STE read from each curve:\n");
             }

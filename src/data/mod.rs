@@ -35,7 +35,7 @@ pub use munro::{load_munro, loads_text, munro_rig, MunroData, MunroPoint};
 pub use profile_table::{load_profile_table, ProfilePoints, TableLines, PROFILE_HEADER};
 pub use rig::{
     load_gear_pair, load_rig, load_rig_with_geometry, locate_rig_key, rig_key_error, write_rig,
-    Rig, RigFile, StatedNoise, SteTable,
+    Rig, RigFile, StatedNoise, SteTable, SteUncertainty,
 };
 pub use same_load::same_load;
 pub use source::{DataKind, Source};

@@ -324,6 +324,19 @@ pub struct SteTable {
     pub load_n: Vec<f64>,
     /// STE amplitude e_bar (half peak-to-peak, um) at each load, positive.
     pub amplitude_um: Vec<f64>,
+    /// Standard uncertainty of the stated amplitudes, um: one value for every load or one per
+    /// load. With it a stated STE is a measurement the fit weighs against the curves
+    /// ([`crate::fit::Measurement`]); without it the STE is held as stated.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sd_um: Option<SteUncertainty>,
+}
+
+/// `[ste] sd_um`: one standard uncertainty for every load, or one per load.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(untagged)]
+pub enum SteUncertainty {
+    Every(f64),
+    PerLoad(Vec<f64>),
 }
 
 /// Largest plausible `[ste]` value: loads in N, amplitudes in um.
@@ -345,8 +358,51 @@ impl SteTable {
             .map(|(_, a)| *a)
     }
 
+    /// The standard uncertainty (um) of the amplitude stated for `load_n`, if both are given.
+    pub fn sd_at(&self, load_n: f64) -> Option<f64> {
+        let k = self.load_n.iter().position(|l| same_load(*l, load_n))?;
+        match self.sd_um.as_ref()? {
+            SteUncertainty::Every(sd) => Some(*sd),
+            SteUncertainty::PerLoad(sd) => sd.get(k).copied(),
+        }
+    }
+
     /// Check lengths, signs and distinct loads; errors are located in `doc`.
     fn check(&self, doc: &TomlDoc) -> Result<()> {
+        let sds: &[f64] = match &self.sd_um {
+            None => &[],
+            Some(SteUncertainty::Every(sd)) => std::slice::from_ref(sd),
+            Some(SteUncertainty::PerLoad(sd)) => {
+                if sd.len() != self.load_n.len() {
+                    return Err(doc.error(
+                        "ste",
+                        "sd_um",
+                        format!(
+                            "{} uncertainties for {} loads: give one value for every load, or \
+                             one per load",
+                            sd.len(),
+                            self.load_n.len()
+                        ),
+                    ));
+                }
+                sd
+            }
+        };
+        if let Some((i, v)) = sds
+            .iter()
+            .enumerate()
+            .find(|(_, v)| !(v.is_finite() && **v > 0.0 && **v <= MAX_DTE_UM))
+        {
+            return Err(doc.error(
+                "ste",
+                "sd_um",
+                format!(
+                    "entry {} is {v}: a standard uncertainty must be a positive finite number of \
+                     um, at most {MAX_DTE_UM}",
+                    i + 1
+                ),
+            ));
+        }
         if self.load_n.is_empty() {
             return Err(doc.error("ste", "load_n", "STE table has no loads"));
         }

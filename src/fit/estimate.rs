@@ -143,13 +143,18 @@ impl Measurement {
     }
 }
 
-/// A measured parameter at the fit: the measurement, the fitted value and the standardized
-/// residual (value - fitted) / sd (how far the curves pulled the parameter from it).
+/// A measured parameter at the fit: the measurement, the fitted value, the standardized
+/// residual (value - fitted) / sd (how far the curves pulled the parameter from it), and the
+/// compatibility of measurement and curves: (value - fitted) / sqrt(sd^2 - se^2), se the fit's
+/// standard error of the parameter, N(0, 1) when both tell the same value (Theil & Goldberger
+/// 1961's compatibility test: it equals (value - b) / sqrt(sd^2 + var b), b the curves' own
+/// estimate, where the model is linear). None where se reaches sd (the curves add nothing).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct MeasurementFit {
     pub measurement: Measurement,
     pub fitted: f64,
     pub z: f64,
+    pub compatibility_z: Option<f64>,
 }
 
 impl NoiseSetting {
@@ -1134,6 +1139,19 @@ fn summarise(
     let (std_errors, ci95) = wald_intervals(params, &c.lm.params, &cov, &quantile, &unseen);
     let (std_errors_sandwich, ci95_sandwich) =
         wald_intervals(params, &c.lm.params, &sandwich, &quantile, &unseen);
+    let measured_fits: Vec<MeasurementFit> = measurements
+        .iter()
+        .map(|m| {
+            let off = m.value - c.lm.params[m.param];
+            let left = m.sd * m.sd - std_errors[m.param].powi(2);
+            MeasurementFit {
+                measurement: *m,
+                fitted: c.lm.params[m.param],
+                z: off / m.sd,
+                compatibility_z: (left > 0.0).then(|| off / left.sqrt()),
+            }
+        })
+        .collect();
     let mut noise = noise_fit(&c, (setting, axis), robust_lr, &z, residual_dof);
     noise.correlation = correlation;
     Ok(Estimate {
@@ -1156,14 +1174,7 @@ fn summarise(
         start_costs,
         iterations: c.iterations,
         settled: c.iterations < MAX_REWEIGHTS,
-        measurements: measurements
-            .iter()
-            .map(|m| MeasurementFit {
-                measurement: *m,
-                fitted: c.lm.params[m.param],
-                z: (m.value - c.lm.params[m.param]) / m.sd,
-            })
-            .collect(),
+        measurements: measured_fits,
         model_jacobian: jf,
         param_defs: params.to_vec(),
         whitener,
@@ -1486,6 +1497,26 @@ mod tests {
             }
             let m = est.measurements[0];
             assert!((m.z - (v - beta[1]) / s).abs() < 1e-6, "{m:?}");
+            // The curves' own slope and its variance, from the normal equations without b's row.
+            let mut a0 = DMatrix::<f64>::zeros(2, 2);
+            let mut r0 = nalgebra::DVector::<f64>::zeros(2);
+            for (xi, yi) in x.iter().zip(&y) {
+                let row = [1.0, *xi];
+                for j in 0..2 {
+                    for k in 0..2 {
+                        a0[(j, k)] += row[j] * row[k] / (sigma * sigma);
+                    }
+                    r0[j] += row[j] * yi / (sigma * sigma);
+                }
+            }
+            let c0 = a0.try_inverse().unwrap();
+            let b0 = (&c0 * r0)[1];
+            let theil = (v - b0) / (s * s + c0[(1, 1)]).sqrt();
+            let cz = m.compatibility_z.unwrap();
+            assert!(
+                (cz - theil).abs() < 1e-3 * theil.abs(),
+                "{cz} against {theil}"
+            );
             let half = 1.959_963_984_540_054 * cov[(1, 1)].sqrt();
             let prof =
                 crate::fit::profile_interval(&model, &y, &est, 1, Stop::converged(50)).unwrap();

@@ -11,7 +11,10 @@ mod staging;
 pub use discover::{discovery_json, discovery_summary, write_discovery};
 pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
-pub use munro::{curve_names as munro_curve_names, munro_json, write_munro_report, MunroFigures};
+pub use munro::{
+    curve_names as munro_curve_names, munro_json, stated_ste_text as munro_stated_ste_text,
+    write_munro_report, MunroFigures,
+};
 pub use staging::{
     check_replaceable, remove_unfinished, track_unfinished, untrack_unfinished, write_file_atomic,
     Staged, OUTPUT_MARKER,

@@ -10,8 +10,8 @@ use super::munro::up_sweep_pp_um;
 use crate::data::MunroPoint;
 use crate::error::{GearError, Result};
 use crate::fit::{
-    estimate, profile_interval, Axis, CorrelationSetting, Estimate, EstimateOptions, NoiseFreedom,
-    NoiseModel, NoiseSetting, Param, ProfileInterval, Robust, Stop,
+    estimate, profile_interval, Axis, CorrelationSetting, Estimate, EstimateOptions, Measurement,
+    NoiseFreedom, NoiseModel, NoiseSetting, Param, ProfileInterval, Robust, Stop,
 };
 use crate::model::{Dimensional, GearPair};
 use serde::Serialize;
@@ -37,6 +37,22 @@ pub enum DesignModel {
     /// load separates over the resonance (F_hat 4.7, zeta 0.03, 2500 Hz), eq. 13 fitted zeta
     /// 0.0746 [0.0579, 0.0962].
     Swept,
+}
+
+/// The design load's STE as rig.toml `[ste]` states it: the amplitude (um) and, where given,
+/// its standard uncertainty (`sd_um`): then it is a measurement the fit weighs against the
+/// curve ([`Measurement`]); without one it is held as stated.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StatedSte {
+    pub amplitude_um: f64,
+    pub sd_um: Option<f64>,
+}
+
+impl StatedSte {
+    /// The amplitude where it is held (no uncertainty stated).
+    pub fn held(self) -> Option<f64> {
+        self.sd_um.is_none().then_some(self.amplitude_um)
+    }
 }
 
 /// The design-load fit with its profile-likelihood intervals.
@@ -318,7 +334,7 @@ impl Curves<'_> {
         &self,
         (noise, errors): (MunroNoise, ErrorChoice),
         stop: Stop,
-        starts: Vec<Vec<f64>>,
+        (starts, measurements): (Vec<Vec<f64>>, Vec<Measurement>),
     ) -> Result<EstimateOptions> {
         Ok(EstimateOptions {
             noise: self.noise(noise),
@@ -327,14 +343,15 @@ impl Curves<'_> {
             stop,
             starts,
             noise_start: None,
-            measurements: Vec::new(),
+            measurements,
         })
     }
 }
 
 /// Fit zeta, omega_n and (unless `given_ste`) the STE amplitude to the design-load curve
 /// `design`, where the teeth stay in contact and eq. 13 is exact. The low-speed parts of the
-/// curves at `others` (load, points) join the fit with an STE amplitude each: the same
+/// curves at `others` (load, points, the STE rig.toml states there with its uncertainty, if
+/// any: a measurement of that load's amplitude) join the fit with an STE amplitude each: the same
 /// instrument measured them, and their levels (several um, where the design load's curve is
 /// near its floor everywhere but at a resonance of a handful of points) are what determines the
 /// relative part of the noise. Their selection (Omega <= [`LOW_SPEED_OMEGA`], in contact)
@@ -347,8 +364,8 @@ impl Curves<'_> {
 pub fn fit_design_load(
     dim: &Dimensional,
     (design_load_n, design): (f64, &[&MunroPoint]),
-    others: &[(f64, Vec<&MunroPoint>)],
-    given_ste: Option<f64>,
+    others: &[(f64, Vec<&MunroPoint>, Option<StatedSte>)],
+    stated_ste: Option<StatedSte>,
     noise: (MunroNoise, ErrorChoice),
 ) -> Result<DesignLoadFit> {
     let peak = design
@@ -356,7 +373,21 @@ pub fn fit_design_load(
         .max_by(|a, b| a.dte_pp_um.total_cmp(&b.dte_pp_um))
         .map(|p| dim.mesh_frequency_hz(p.speed_rpm))
         .ok_or_else(|| GearError::Numerical("the design-load curve has no points".into()))?;
-    let e0 = (design[0].dte_pp_um / 2.0).max(1e-3);
+    let given_ste = stated_ste.and_then(StatedSte::held);
+    // A stated STE with its uncertainty is a measurement of the fitted STE (parameter 2).
+    let mut measurements: Vec<Measurement> = stated_ste
+        .and_then(|s| {
+            s.sd_um.map(|sd| Measurement {
+                param: 2,
+                value: s.amplitude_um,
+                sd,
+            })
+        })
+        .into_iter()
+        .collect();
+    let e0 = measurements
+        .first()
+        .map_or((design[0].dte_pp_um / 2.0).max(1e-3), |m| m.value);
     let mut params = vec![
         Param::positive("zeta", 0.03),
         Param::positive("omega_n_hz", peak),
@@ -383,11 +414,13 @@ pub fn fit_design_load(
         others: Vec::new(),
         given_ste,
     };
-    let run = |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>, stop: Stop| {
-        let model = |p: &[f64]| c.model(p);
-        estimate(&model, &c.data(), params, &c.options(noise, stop, starts)?)
-    };
-    let first = run(&alone, &params, starts, stop)?;
+    let run =
+        |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>, stop: Stop, m: &[Measurement]| {
+            let model = |p: &[f64]| c.model(p);
+            let opts = c.options(noise, stop, (starts, m.to_vec()))?;
+            estimate(&model, &c.data(), params, &opts)
+        };
+    let first = run(&alone, &params, starts, stop, &measurements)?;
     let (zeta, wn) = (first.params[0], first.params[1]);
     let mut joined = Curves {
         others: Vec::new(),
@@ -395,12 +428,25 @@ pub fn fit_design_load(
     };
     let mut other_loads = Vec::new();
     let mut start = first.params.clone();
-    for (load, pts) in others {
+    for (load, pts, stated) in others {
         let part = low_speed_part(dim, pts, *load, zeta, wn);
         if part.is_empty() {
             continue;
         }
-        let e = (part[0].dte_pp_um / 2.0).max(1e-3);
+        let e = match stated {
+            Some(s) => {
+                // Only loads whose STE is not held join: a stated one has its uncertainty.
+                if let Some(sd) = s.sd_um {
+                    measurements.push(Measurement {
+                        param: params.len(),
+                        value: s.amplitude_um,
+                        sd,
+                    });
+                }
+                s.amplitude_um
+            }
+            None => (part[0].dte_pp_um / 2.0).max(1e-3),
+        };
         params.push(Param::positive(&format!("ste_um at {load} N"), e));
         start.push(e);
         other_loads.push((*load, part.len()));
@@ -409,7 +455,7 @@ pub fn fit_design_load(
     let mut estimate = if other_loads.is_empty() {
         first
     } else {
-        run(&joined, &params, vec![start], stop)?
+        run(&joined, &params, vec![start], stop, &measurements)?
     };
     let mut profile_stop = stop;
     if !joined.design_in_contact(&estimate.params) {
@@ -421,6 +467,7 @@ pub fn fit_design_load(
             &params,
             vec![estimate.params.clone()],
             swept.or_stalled(SWEPT_FIT_STALL),
+            &measurements,
         )?;
         profile_stop = swept.or_stalled(SWEPT_PROFILE_STALL);
     }
@@ -511,7 +558,8 @@ pub fn fit_design_geometry(
         given_ste: None,
     };
     let y = curves.data();
-    let options = |stop: Stop, starts: Vec<Vec<f64>>| curves.options(noise, stop, starts);
+    let options =
+        |stop: Stop, starts: Vec<Vec<f64>>| curves.options(noise, stop, (starts, Vec::new()));
     let stop = Stop::converged(FIT_JACOBIANS).central();
     let mut fit = estimate(&closed_form, &y, &params, &options(stop, starts)?)?;
     let mut design_model = DesignModel::Linear;

@@ -17,7 +17,7 @@ mod test_run;
 pub use curve_metrics::{jump_location, rms, transition_location};
 pub use design_fit::{
     fit_design_load, CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise,
-    LOW_SPEED_OMEGA,
+    StatedSte, LOW_SPEED_OMEGA,
 };
 pub use fit_check::{fit_failure, FITTED_ZETA};
 pub use geometry_ste::{

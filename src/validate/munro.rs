@@ -12,7 +12,8 @@
 use super::curve_metrics::{jump_location, location_error, location_error_text, rms};
 use super::design_fit::{
     curve_in_contact, curve_in_contact_harmonics, fit_design_geometry, fit_design_load,
-    CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise, LOW_SPEED_OMEGA,
+    CorrelationChoice, DesignLoadFit, DesignModel, ErrorChoice, MunroNoise, StatedSte,
+    LOW_SPEED_OMEGA,
 };
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
 use super::geometry_ste::{
@@ -100,8 +101,11 @@ impl Default for MunroOptions {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum SteSource {
-    /// The `[ste]` table of rig.toml.
+    /// The `[ste]` table of rig.toml, held as stated.
     RigToml,
+    /// The `[ste]` table of rig.toml with its uncertainty `sd_um`: a measurement fitted with
+    /// zeta and omega_n at the design load ([`crate::fit::Measurement`]).
+    Measured,
     /// Fitted with zeta and omega_n at the design load.
     Fitted,
     /// Fitted to the curve's low-speed part (Omega <= 0.6 in contact), with the model's
@@ -221,9 +225,13 @@ pub struct GeometryValidation {
     pub loads: Vec<LoadResult>,
 }
 
-/// STE amplitude at a load from rig.toml, if listed.
-fn ste_from_rig(data: &MunroData, load: f64) -> Option<f64> {
-    data.rig.ste.as_ref()?.amplitude_at(load)
+/// The STE rig.toml states at a load, with its uncertainty where `sd_um` gives one.
+fn stated_ste(data: &MunroData, load: f64) -> Option<StatedSte> {
+    let table = data.rig.ste.as_ref()?;
+    Some(StatedSte {
+        amplitude_um: table.amplitude_at(load)?,
+        sd_um: table.sd_at(load),
+    })
 }
 
 /// The fewest points the design-load curve may have: one more than the parameters fitted to
@@ -349,7 +357,8 @@ pub fn usable_design_fit(data: &MunroData, fit: DesignLoadFit) -> Result<DesignL
 /// fitted, are returned as they are.
 fn stated_ste_failure(data: &MunroData, curve: &[&MunroPoint], cause: GearError) -> GearError {
     let design = data.rig.rig.design_load_n;
-    let (Some(ste), Some(first)) = (ste_from_rig(data, design), curve.first()) else {
+    let held = stated_ste(data, design).and_then(StatedSte::held);
+    let (Some(ste), Some(first)) = (held, curve.first()) else {
         return cause;
     };
     if !matches!(cause, GearError::Numerical(_) | GearError::FitFailed { .. }) {
@@ -400,29 +409,103 @@ fn ste_from_lowest_speed(first: &MunroPoint, zeta: f64, omega: f64, load_n: f64)
 }
 
 /// The design-load fit of `validate munro` on a loaded set (its curve, the rig's STE when
-/// given, the set's noise setting), and the STE the rig gives, if any. Errors when the design
-/// load has fewer than [`MIN_DESIGN_POINTS`] points.
+/// given, the set's noise setting), and the STE the rig states at the design load, if any
+/// (held, or with `sd_um` a measurement the fit weighs). Errors when the design load has
+/// fewer than [`MIN_DESIGN_POINTS`] points.
 pub fn fit_munro_design_load(
     data: &MunroData,
     errors: (Robust, Option<CorrelationChoice>),
-) -> Result<(DesignLoadFit, Option<f64>)> {
+) -> Result<(DesignLoadFit, Option<StatedSte>)> {
+    let stated = |l: f64| stated_ste(data, l);
+    let fit = design_load_fit(data, errors, &stated)?;
+    Ok((fit, stated(data.rig.rig.design_load_n)))
+}
+
+/// Whether rig.toml states an STE with its uncertainty.
+fn stated_with_sd(data: &MunroData) -> bool {
+    data.rig.ste.as_ref().is_some_and(|t| t.sd_um.is_some())
+}
+
+/// [`fit_munro_design_load`] with the STE each load states given by `stated`.
+fn design_load_fit(
+    data: &MunroData,
+    errors: (Robust, Option<CorrelationChoice>),
+    stated: &dyn Fn(f64) -> Option<StatedSte>,
+) -> Result<DesignLoadFit> {
     let (dim, design, curve) = design_curve(data)?;
-    let ste_given = ste_from_rig(data, design);
-    // The other loads whose STE is not given: their low-speed parts join the fit.
-    let others: Vec<(f64, Vec<&MunroPoint>)> = data
+    // The other loads whose STE is not held: their low-speed parts join the fit, each STE
+    // stated with its uncertainty as a measurement of it.
+    let others: Vec<(f64, Vec<&MunroPoint>, Option<StatedSte>)> = data
         .loads()
         .into_iter()
-        .filter(|l| !crate::data::same_load(*l, design) && ste_from_rig(data, *l).is_none())
-        .map(|l| (l, data.curve(l)))
+        .filter(|l| {
+            !crate::data::same_load(*l, design) && stated(*l).and_then(StatedSte::held).is_none()
+        })
+        .map(|l| (l, data.curve(l), stated(l)))
         .collect();
-    let fit = fit_design_load(
+    fit_design_load(
         &dim,
         (design, &curve),
         &others,
-        ste_given,
+        stated(design),
         (noise_setting(data)?, error_choice(data, errors)?),
-    )?;
-    Ok((fit, ste_given))
+    )
+}
+
+/// A design-load fit that failed or could not be used (`cause`) with the STEs stated with their
+/// uncertainty weighed in: the fit again with those STEs free, and each stated one against what the curves alone
+/// give, by Theil & Goldberger's (1961) compatibility z = (stated - fitted) / sqrt(sd^2 + se^2),
+/// located at `[ste] amplitude_um`. Where the free fit fails too, `cause` as it is.
+fn measured_ste_failure(
+    data: &MunroData,
+    errors: (Robust, Option<CorrelationChoice>),
+    cause: GearError,
+) -> GearError {
+    let free = |l: f64| stated_ste(data, l).filter(|s| s.sd_um.is_none());
+    let Ok(fit) = design_load_fit(data, errors, &free).and_then(|f| usable_design_fit(data, f))
+    else {
+        return cause;
+    };
+    let design = data.rig.rig.design_load_n;
+    let e = &fit.estimate;
+    let fitted_at = |load: f64| -> Option<(f64, f64)> {
+        if crate::data::same_load(load, design) {
+            let k = e.names.iter().position(|n| n == "ste_um")?;
+            return Some((e.params[k], e.std_errors[k]));
+        }
+        let first = e.params.len() - fit.other_loads.len();
+        let k = fit
+            .other_loads
+            .iter()
+            .position(|(l, _)| crate::data::same_load(*l, load))?;
+        Some((e.params[first + k], e.std_errors[first + k]))
+    };
+    let lines: Vec<String> = data
+        .loads()
+        .into_iter()
+        .filter_map(|l| {
+            let s = stated_ste(data, l)?;
+            let sd = s.sd_um?;
+            let (b, se) = fitted_at(l)?;
+            let z = (s.amplitude_um - b) / (sd * sd + se * se).sqrt();
+            Some(format!(
+                "{l} N: stated {} ± {sd} um, the curves alone {b:.3} ± {se:.3} um (z {z:+.1}{})",
+                s.amplitude_um,
+                if z.abs() > 1.96 { ", disagree" } else { "" }
+            ))
+        })
+        .collect();
+    rig_key_error(
+        &data.dir,
+        "ste",
+        "amplitude_um",
+        format!(
+            "the design-load fit failed with the stated STEs weighed in ({cause}); against the \
+             curves alone: {}. A stated STE that the curves disagree with is a wrong measurement, \
+             a wrong uncertainty or another load's",
+            lines.join("; ")
+        ),
+    )
 }
 
 /// Run the Munro validation on a loaded data set.
@@ -435,14 +518,19 @@ pub fn validate_munro(
     let dim = rig.dimensional()?;
     let design = rig.design_load_n;
     let design_curve = data.curve(design);
-    let (fit, ste_given) = fit_munro_design_load(data, (opts.robust, opts.correlation))
+    let errors = (opts.robust, opts.correlation);
+    let (fit, stated) = fit_munro_design_load(data, errors)
         .and_then(|(fit, ste)| Ok((usable_design_fit(data, fit)?, ste)))
-        .map_err(|e| stated_ste_failure(data, &design_curve, e))?;
+        .map_err(|e| match stated_with_sd(data) {
+            true => measured_ste_failure(data, errors, e),
+            false => stated_ste_failure(data, &design_curve, e),
+        })?;
+    let ste_given = stated.and_then(StatedSte::held);
     let (zeta, wn, ste_design) = fit.values(ste_given);
-    let design_source = if ste_given.is_some() {
-        SteSource::RigToml
-    } else {
-        SteSource::Fitted
+    let design_source = match stated {
+        Some(s) if s.sd_um.is_some() => SteSource::Measured,
+        Some(_) => SteSource::RigToml,
+        None => SteSource::Fitted,
     };
     let design_ste_ci = ste_given.is_none().then(|| fit.estimate.ci95[2]);
     let design_in_contact = curve_in_contact(
@@ -460,10 +548,12 @@ pub fn validate_munro(
             let fitted = (load - design).abs() <= 1e-6 * design;
             let ste = if fitted {
                 Ok((ste_design, design_ste_ci, design_source))
-            } else if let Some(e) = ste_from_rig(data, load) {
+            } else if let Some(e) = stated_ste(data, load).and_then(StatedSte::held) {
                 Ok((e, None, SteSource::RigToml))
             } else {
+                let measured = stated_ste(data, load).is_some();
                 match fit.other_ste(load) {
+                    Some((e, ci)) if measured => Ok((e, Some(ci), SteSource::Measured)),
                     Some((e, ci)) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
                     None => {
                         let p0 = curve[0];

@@ -636,6 +636,7 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
     let ste = truth.publish_ste.then(|| SteTable {
         load_n: truth.ste_um.iter().map(|x| x.0).collect(),
         amplitude_um: truth.ste_um.iter().map(|x| x.1).collect(),
+        sd_um: None,
     });
     let rig = RigFile {
         rig: truth.rig.clone(),
@@ -819,6 +820,7 @@ pub fn synth_kubo(truth: &KuboTruth, dir: &Path, progress: &dyn Progress) -> Res
         ste: truth.publish_ste.then(|| SteTable {
             load_n: vec![load],
             amplitude_um: vec![truth.ste_um],
+            sd_um: None,
         }),
         noise: None,
         source: synthetic_source("Synthetic stand-in for Kubo's dynamic-factor envelope (Kahraman & Singh 1990 Fig. 23, \
