@@ -44,6 +44,11 @@ pub struct Args {
     /// True STE amplitude at the design load, µm, in (0, 1000].
     #[arg(long, default_value_t = 0.3, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
     ste_um: f64,
+    /// State every load's STE in rig.toml as a measurement of the truth with this standard
+    /// uncertainty, µm, in (0, 1000] (`[ste] sd_um`; each seed draws the stated values): the
+    /// coverage of a fit that weighs stated STEs against the curves. Default: none stated.
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
+    ste_sd_um: Option<f64>,
     /// Student-t errors in the fit: auto (when the residuals say so), on, off.
     #[arg(long, default_value = "auto")]
     robust: String,
@@ -78,6 +83,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
         zeta: a.zeta,
         omega_n_hz: a.omega_n_hz,
         ste_um: a.ste_um,
+        ste_sd_um: a.ste_sd_um,
         robust: parse_robust(&a.robust)?,
     };
     let parent = a.out.parent().map(PathBuf::from).unwrap_or_default();

@@ -75,6 +75,9 @@ pub struct ValidateStudyOptions {
     pub zeta: f64,
     pub omega_n_hz: f64,
     pub ste_um: f64,
+    /// Every load's STE stated in rig.toml as a measurement of the truth with this standard
+    /// uncertainty (um; [`MunroTruth::ste_sd_um`]); None: not stated.
+    pub ste_sd_um: Option<f64>,
     pub robust: Robust,
 }
 
@@ -89,6 +92,7 @@ impl Default for ValidateStudyOptions {
             zeta: 0.0175,
             omega_n_hz: 1600.0,
             ste_um: 0.3,
+            ste_sd_um: None,
             robust: Robust::Auto,
         }
     }
@@ -217,6 +221,8 @@ pub fn run_validate_study(
     t.speed_list = Some(opts.grid.speeds()?);
     t.noise = opts.noise;
     t.dop853_rtol = opts.dop853_rtol;
+    t.publish_ste = opts.ste_sd_um.is_some();
+    t.ste_sd_um = opts.ste_sd_um;
     let clean = clean_munro_curves(&t, &crate::progress::NoProgress)?;
     let grid_points = clean.curves.first().map_or(0, |c| c.1.len());
     // zeta, omega_n, the design load's STE, then the other loads' STE in the fit's order

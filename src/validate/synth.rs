@@ -4,7 +4,8 @@
 
 use super::test_run::{up_sweep_start, TestRun};
 use crate::data::{
-    munro_rig, write_rig, DataKind, Rig, RigFile, Source, SteTable, MAX_DYNAMIC_FACTOR,
+    munro_rig, write_rig, DataKind, Rig, RigFile, Source, SteTable, SteUncertainty,
+    MAX_DYNAMIC_FACTOR,
 };
 use crate::error::{GearError, Result};
 use crate::fit::{Axis, Correlation, Distribution, NoiseModel};
@@ -148,6 +149,10 @@ pub struct MunroTruth {
     pub seed: u64,
     /// Write the STE amplitudes into rig.toml (else the pipeline estimates them from the curves).
     pub publish_ste: bool,
+    /// With `publish_ste`: the stated amplitudes are measurements of the true ones with this
+    /// standard deviation (um), each drawn after the curves' noise, and rig.toml states it as
+    /// `[ste] sd_um` (None: the true amplitudes, no uncertainty stated).
+    pub ste_sd_um: Option<f64>,
     /// Effects hidden in the data.
     pub hidden: HiddenEffects,
     /// Make every curve with DOP853 at this relative tolerance, even with k = 1 (`None`: the
@@ -388,6 +393,7 @@ impl MunroTruth {
             noise: NoiseFamily::Constant.noise(0.15),
             seed: 1,
             publish_ste: false,
+            ste_sd_um: None,
             hidden: HiddenEffects::default(),
             dop853_rtol: None,
         }
@@ -633,10 +639,23 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
         "up (speed increasing, state carried)".into(),
     );
     insert_hidden(&mut t, &truth.hidden);
+    // Drawn after the curves' noise, so that the curves are the same with or without them.
+    let stated: Vec<f64> = truth
+        .ste_um
+        .iter()
+        .map(|x| x.1 + truth.ste_sd_um.map_or(0.0, |sd| sd * rng.normal()))
+        .collect();
+    if let Some((k, e)) = stated.iter().enumerate().find(|(_, e)| **e <= 0.0) {
+        return Err(GearError::Unsupported(format!(
+            "the stated STE drawn at {} N is {e:.4} um: an STE uncertainty this large against \
+             the amplitude {} um can state a negative amplitude; give a smaller one",
+            truth.ste_um[k].0, truth.ste_um[k].1
+        )));
+    }
     let ste = truth.publish_ste.then(|| SteTable {
         load_n: truth.ste_um.iter().map(|x| x.0).collect(),
-        amplitude_um: truth.ste_um.iter().map(|x| x.1).collect(),
-        sd_um: None,
+        amplitude_um: stated,
+        sd_um: truth.ste_sd_um.map(SteUncertainty::Every),
     });
     let rig = RigFile {
         rig: truth.rig.clone(),
