@@ -1449,17 +1449,22 @@ mod tests {
         let (v, s) = (1.7, 0.1);
         let model =
             |p: &[f64]| -> Result<Vec<f64>> { Ok(x.iter().map(|x| p[0] + p[1] * x).collect()) };
-        let mut a = DMatrix::<f64>::zeros(2, 2);
-        let mut rhs = nalgebra::DVector::<f64>::zeros(2);
-        for (xi, yi) in x.iter().zip(&y) {
-            let row = [1.0, *xi];
-            for j in 0..2 {
-                for k in 0..2 {
-                    a[(j, k)] += row[j] * row[k] / (sigma * sigma);
+        // The line's normal equations X'X / sigma^2, X'y / sigma^2, and with b measured.
+        let (a0, r0) = {
+            let mut a = DMatrix::<f64>::zeros(2, 2);
+            let mut rhs = nalgebra::DVector::<f64>::zeros(2);
+            for (xi, yi) in x.iter().zip(&y) {
+                let row = [1.0, *xi];
+                for j in 0..2 {
+                    for k in 0..2 {
+                        a[(j, k)] += row[j] * row[k] / (sigma * sigma);
+                    }
+                    rhs[j] += row[j] * yi / (sigma * sigma);
                 }
-                rhs[j] += row[j] * yi / (sigma * sigma);
             }
-        }
+            (a, rhs)
+        };
+        let (mut a, mut rhs) = (a0.clone(), r0.clone());
         a[(1, 1)] += 1.0 / (s * s);
         rhs[1] += v / (s * s);
         let cov = a.try_inverse().unwrap();
@@ -1498,19 +1503,8 @@ mod tests {
             let m = est.measurements[0];
             assert!((m.z - (v - beta[1]) / s).abs() < 1e-6, "{m:?}");
             // The curves' own slope and its variance, from the normal equations without b's row.
-            let mut a0 = DMatrix::<f64>::zeros(2, 2);
-            let mut r0 = nalgebra::DVector::<f64>::zeros(2);
-            for (xi, yi) in x.iter().zip(&y) {
-                let row = [1.0, *xi];
-                for j in 0..2 {
-                    for k in 0..2 {
-                        a0[(j, k)] += row[j] * row[k] / (sigma * sigma);
-                    }
-                    r0[j] += row[j] * yi / (sigma * sigma);
-                }
-            }
-            let c0 = a0.try_inverse().unwrap();
-            let b0 = (&c0 * r0)[1];
+            let c0 = a0.clone().try_inverse().unwrap();
+            let b0 = (&c0 * &r0)[1];
             let theil = (v - b0) / (s * s + c0[(1, 1)]).sqrt();
             let cz = m.compatibility_z.unwrap();
             assert!(
