@@ -596,7 +596,9 @@ struct Converged {
     leverages: Vec<f64>,
     /// The model's Jacobian at the fit (n x p).
     jacobian: DMatrix<f64>,
+    /// -log L: the curves' (at the fitted noise) plus the measurements' factor, `measured_nll`.
     nll: f64,
+    measured_nll: f64,
     iterations: usize,
 }
 
@@ -662,7 +664,8 @@ where
         };
         let near = previous.as_ref().map(|(_, m)| m);
         let (noise, scales, nll) = noise_at(setting, &data, (dist, dof_free), length, near)?;
-        let nll = nll + Measurement::neg_log_likelihood(w.measurements, &lm.params);
+        let measured_nll = Measurement::neg_log_likelihood(w.measurements, &lm.params);
+        let nll = nll + measured_nll;
         let stalled = previous_nll.is_some_and(|p: f64| (p - nll).abs() < NLL_SETTLED);
         previous_nll = Some(nll);
         if stalled || settled(&previous, &lm.params, &noise) || it + 1 == MAX_REWEIGHTS {
@@ -675,6 +678,7 @@ where
                 leverages,
                 jacobian,
                 nll,
+                measured_nll,
                 iterations: it + 1,
             });
         }
@@ -941,7 +945,9 @@ fn correlation_fit(
     // The residuals with no correlation set: `at_length` sets each trial length.
     let data = c.noise_data(None);
     let length_ci95 = free.then(|| {
-        length_interval(axis, (fitted, c.nll), &|l| {
+        // The length's profile is the curves' likelihood at each length, the parameters held:
+        // the measurements' factor, constant along it, is left out of both sides.
+        length_interval(axis, (fitted, c.nll - c.measured_nll), &|l| {
             noise_with_length(
                 setting,
                 &at_length(&data, Some(axis), l),
@@ -1091,7 +1097,7 @@ fn summarise(
     let p = params.len();
     let jf = c.jacobian.clone();
     // The measurements' information (their rows of the fit's Jacobian, in the parameters'
-    // internal coordinates): known, whatever the curves' noise model.
+    // values as `jf` is): known, whatever the curves' noise model.
     let measured = c.lm.jacobian.rows(n, measurements.len());
     let measured_information = measured.transpose() * measured;
     // The least-squares map of the fitted noise model at unit robust weights.

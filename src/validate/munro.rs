@@ -486,7 +486,12 @@ fn measured_ste_failure(
         .filter_map(|l| {
             let s = stated_ste(data, l)?;
             let sd = s.sd_um?;
-            let (b, se) = fitted_at(l)?;
+            let Some((b, se)) = fitted_at(l) else {
+                return Some(format!(
+                    "{l} N: stated {} ± {sd} um, not in the fit (no low-speed part in contact)",
+                    s.amplitude_um
+                ));
+            };
             let z = (s.amplitude_um - b) / (sd * sd + se * se).sqrt();
             Some(format!(
                 "{l} N: stated {} ± {sd} um, the curves alone {b:.3} ± {se:.3} um (z {z:+.1}{})",
@@ -551,10 +556,16 @@ pub fn validate_munro(
             } else if let Some(e) = stated_ste(data, load).and_then(StatedSte::held) {
                 Ok((e, None, SteSource::RigToml))
             } else {
-                let measured = stated_ste(data, load).is_some();
+                let stated = stated_ste(data, load);
                 match fit.other_ste(load) {
-                    Some((e, ci)) if measured => Ok((e, Some(ci), SteSource::Measured)),
+                    Some((e, ci)) if stated.is_some() => Ok((e, Some(ci), SteSource::Measured)),
                     Some((e, ci)) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
+                    // No low-speed part in contact to weigh it against: as stated.
+                    None if stated.is_some() => Ok((
+                        stated.map_or(0.0, |s| s.amplitude_um),
+                        None,
+                        SteSource::RigToml,
+                    )),
                     None => {
                         let p0 = curve[0];
                         ste_from_lowest_speed(p0, zeta, dim.omega(p0.speed_rpm, wn), load)

@@ -645,7 +645,8 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
         .iter()
         .map(|x| x.1 + truth.ste_sd_um.map_or(0.0, |sd| sd * rng.normal()))
         .collect();
-    if let Some((k, e)) = stated.iter().enumerate().find(|(_, e)| **e <= 0.0) {
+    let drawn_below_zero = stated.iter().enumerate().find(|(_, e)| **e <= 0.0);
+    if let (Some((k, e)), Some(_)) = (drawn_below_zero, truth.ste_sd_um) {
         return Err(GearError::Unsupported(format!(
             "the stated STE drawn at {} N is {e:.4} um: an STE uncertainty this large against \
              the amplitude {} um can state a negative amplitude; give a smaller one",
