@@ -275,7 +275,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 s.push_str(&format!("{c}\n"));
             }
             if let Some(t) = geardyn::report::munro_stated_ste_text(&r) {
-                s.push_str(&format!("{}\n", t.replace("**", "")));
+                s.push_str(&format!("{t}\n"));
             }
             if r.geometry.is_some() {
                 s.push_str("STE read from each curve:\n");

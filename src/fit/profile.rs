@@ -154,6 +154,9 @@ struct Profile<'a, M> {
     near: Option<NearModel<'a>>,
     y: &'a [f64],
     est: &'a Estimate,
+    /// The fit's measurements of parameters ([`Measurement`]), one more factor of the
+    /// likelihood at every profile point.
+    measurements: Vec<Measurement>,
     index: usize,
     stop: Stop,
     /// The other parameters, starting at the estimate.
@@ -207,6 +210,7 @@ where
             near,
             y,
             est,
+            measurements: est.measurements.iter().map(|m| m.measurement).collect(),
             index,
             stop,
             others,
@@ -241,13 +245,7 @@ where
     /// likelihood, [`super::Measurement`]).
     fn with_measured(&self, r: Result<Vec<f64>>, p: &[f64]) -> Result<Vec<f64>> {
         let mut r = r?;
-        let measurements: Vec<Measurement> = self
-            .est
-            .measurements
-            .iter()
-            .map(|m| m.measurement)
-            .collect();
-        r.extend(Measurement::residuals(&measurements, p));
+        r.extend(Measurement::residuals(&self.measurements, p));
         Ok(r)
     }
 

@@ -771,12 +771,15 @@ pub fn stated_ste_text(r: &MunroValidation) -> Option<String> {
     if e.measurements.is_empty() {
         return None;
     }
-    let names = curve_names(r);
-    let load_of = |param: usize| -> String {
-        match e.names[param].strip_prefix("ste_um at ") {
-            Some(load) => load.to_string(),
-            None => names.first().cloned().unwrap_or_default(),
-        }
+    let design = r
+        .loads
+        .iter()
+        .find(|l| l.fitted)
+        .map_or(f64::NAN, |l| l.load_n);
+    let load_of = |param: usize| {
+        r.fit
+            .ste_load(param, design)
+            .map_or_else(|| e.names[param].clone(), |l| format!("{l} N"))
     };
     let mut parts = Vec::new();
     let mut disagree = Vec::new();
@@ -798,7 +801,7 @@ pub fn stated_ste_text(r: &MunroValidation) -> Option<String> {
         "stated and measured curves agree within their uncertainties".to_string()
     } else {
         format!(
-            "**the stated STE disagrees with the curves at {}** (|z| above 1.96: the curves pull it further than the stated uncertainty allows; check the STE measurement, its uncertainty, or the load it belongs to)",
+            "WARNING: the stated STE disagrees with the curves at {} (|z| above 1.96: the curves pull it further than the stated uncertainty allows; check the STE measurement, its uncertainty, or the load it belongs to)",
             disagree.join(", ")
         )
     };

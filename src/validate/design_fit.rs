@@ -81,16 +81,36 @@ impl DesignLoadFit {
 
     /// The STE amplitude fitted to the low-speed part of `load_n`, with its 95% interval.
     pub fn other_ste(&self, load_n: f64) -> Option<(f64, (f64, f64))> {
+        let k = self.other_ste_param(load_n)?;
+        Some((self.estimate.params[k], self.estimate.ci95[k]))
+    }
+
+    /// The index of the STE parameter of `load_n` (design load `design_load_n`): the design
+    /// load's `ste_um` where it is fitted, else that of the load's low-speed part, if it joined.
+    pub fn ste_param(&self, load_n: f64, design_load_n: f64) -> Option<usize> {
+        if crate::data::same_load(load_n, design_load_n) {
+            self.estimate.names.iter().position(|n| n == "ste_um")
+        } else {
+            self.other_ste_param(load_n)
+        }
+    }
+
+    /// The load whose STE parameter `k` is ([`DesignLoadFit::ste_param`]'s inverse).
+    pub fn ste_load(&self, k: usize, design_load_n: f64) -> Option<f64> {
+        if self.estimate.names.get(k).is_some_and(|n| n == "ste_um") {
+            return Some(design_load_n);
+        }
+        let first = self.estimate.params.len() - self.other_loads.len();
+        self.other_loads.get(k.checked_sub(first)?).map(|(l, _)| *l)
+    }
+
+    /// The index of the STE parameter of a load whose low-speed part joined the fit.
+    fn other_ste_param(&self, load_n: f64) -> Option<usize> {
         let first = self.estimate.params.len() - self.other_loads.len();
         self.other_loads
             .iter()
             .position(|(l, _)| crate::data::same_load(*l, load_n))
-            .map(|k| {
-                (
-                    self.estimate.params[first + k],
-                    self.estimate.ci95[first + k],
-                )
-            })
+            .map(|k| first + k)
     }
 }
 

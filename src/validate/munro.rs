@@ -468,17 +468,9 @@ fn measured_ste_failure(
     };
     let design = data.rig.rig.design_load_n;
     let e = &fit.estimate;
-    let fitted_at = |load: f64| -> Option<(f64, f64)> {
-        if crate::data::same_load(load, design) {
-            let k = e.names.iter().position(|n| n == "ste_um")?;
-            return Some((e.params[k], e.std_errors[k]));
-        }
-        let first = e.params.len() - fit.other_loads.len();
-        let k = fit
-            .other_loads
-            .iter()
-            .position(|(l, _)| crate::data::same_load(*l, load))?;
-        Some((e.params[first + k], e.std_errors[first + k]))
+    let fitted_at = |load: f64| {
+        let k = fit.ste_param(load, design)?;
+        Some((e.params[k], e.std_errors[k]))
     };
     let lines: Vec<String> = data
         .loads()
@@ -526,9 +518,12 @@ pub fn validate_munro(
     let errors = (opts.robust, opts.correlation);
     let (fit, stated) = fit_munro_design_load(data, errors)
         .and_then(|(fit, ste)| Ok((usable_design_fit(data, fit)?, ste)))
-        .map_err(|e| match stated_with_sd(data) {
-            true => measured_ste_failure(data, errors, e),
-            false => stated_ste_failure(data, &design_curve, e),
+        .map_err(|e| {
+            if stated_with_sd(data) {
+                measured_ste_failure(data, errors, e)
+            } else {
+                stated_ste_failure(data, &design_curve, e)
+            }
         })?;
     let ste_given = stated.and_then(StatedSte::held);
     let (zeta, wn, ste_design) = fit.values(ste_given);
@@ -553,20 +548,19 @@ pub fn validate_munro(
             let fitted = (load - design).abs() <= 1e-6 * design;
             let ste = if fitted {
                 Ok((ste_design, design_ste_ci, design_source))
-            } else if let Some(e) = stated_ste(data, load).and_then(StatedSte::held) {
-                Ok((e, None, SteSource::RigToml))
             } else {
                 let stated = stated_ste(data, load);
-                match fit.other_ste(load) {
-                    Some((e, ci)) if stated.is_some() => Ok((e, Some(ci), SteSource::Measured)),
-                    Some((e, ci)) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
+                match (
+                    stated.and_then(StatedSte::held),
+                    fit.other_ste(load),
+                    stated,
+                ) {
+                    (Some(e), _, _) => Ok((e, None, SteSource::RigToml)),
+                    (None, Some((e, ci)), Some(_)) => Ok((e, Some(ci), SteSource::Measured)),
+                    (None, Some((e, ci)), None) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
                     // No low-speed part in contact to weigh it against: as stated.
-                    None if stated.is_some() => Ok((
-                        stated.map_or(0.0, |s| s.amplitude_um),
-                        None,
-                        SteSource::RigToml,
-                    )),
-                    None => {
+                    (None, None, Some(s)) => Ok((s.amplitude_um, None, SteSource::RigToml)),
+                    (None, None, None) => {
                         let p0 = curve[0];
                         ste_from_lowest_speed(p0, zeta, dim.omega(p0.speed_rpm, wn), load)
                             .map(|e| (e, None, SteSource::LowSpeedEnd))

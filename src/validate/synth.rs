@@ -645,8 +645,10 @@ pub fn write_munro_set(truth: &MunroTruth, clean: &CleanCurves, dir: &Path) -> R
         .iter()
         .map(|x| x.1 + truth.ste_sd_um.map_or(0.0, |sd| sd * rng.normal()))
         .collect();
-    let drawn_below_zero = stated.iter().enumerate().find(|(_, e)| **e <= 0.0);
-    if let (Some((k, e)), Some(_)) = (drawn_below_zero, truth.ste_sd_um) {
+    let drawn_below_zero = truth
+        .ste_sd_um
+        .and_then(|_| stated.iter().enumerate().find(|(_, e)| **e <= 0.0));
+    if let Some((k, e)) = drawn_below_zero {
         return Err(GearError::Unsupported(format!(
             "the stated STE drawn at {} N is {e:.4} um: an STE uncertainty this large against \
              the amplitude {} um can state a negative amplitude; give a smaller one",
