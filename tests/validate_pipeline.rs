@@ -258,6 +258,79 @@ fn kubo_fit_recovers_truth_without_selection_bias() {
     );
 }
 
+/// Kubo with the test load's STE stated with an uncertainty (`[ste] sd_um`): the stated value
+/// is weighed against the envelope as a measurement (Theil & Goldberger's mixed estimation), so
+/// the STE's standard error falls below both the stated 0.02 um and the curve's own; a stated
+/// value 30% off is fitted and said to disagree (|compatibility z| above 1.96), not absorbed;
+/// `--hold-ste` with a stated uncertainty is refused (holding it exact throws the uncertainty
+/// away).
+#[test]
+fn kubo_stated_ste_with_uncertainty_is_weighed_and_a_wrong_one_is_named() {
+    let truth = KuboTruth::default_kubo();
+    let dir = tempfile::tempdir().unwrap();
+    synth_kubo(&truth, dir.path(), &NoProgress).unwrap();
+    let rig = std::fs::read_to_string(dir.path().join("rig.toml")).unwrap();
+    let stated = |amplitude: f64| -> String {
+        rig.lines()
+            .map(|l| {
+                if l.starts_with("amplitude_um") {
+                    format!("amplitude_um = [{amplitude}]\nsd_um = 0.02")
+                } else {
+                    l.to_string()
+                }
+            })
+            .collect::<Vec<_>>()
+            .join("\n")
+    };
+    let free = validate_kubo(
+        &load_kubo(dir.path()).unwrap(),
+        &KuboOptions::default(),
+        &NoProgress,
+    )
+    .unwrap();
+    let se_of = |r: &geardyn::validate::KuboValidation| {
+        let f = r.fit.as_ref().unwrap();
+        f.std_errors[f.names.iter().position(|n| n == "ste_um").unwrap()]
+    };
+    std::fs::write(dir.path().join("rig.toml"), stated(truth.ste_um)).unwrap();
+    let data = load_kubo(dir.path()).unwrap();
+    let r = validate_kubo(&data, &KuboOptions::default(), &NoProgress).unwrap();
+    let m = &r.fit.as_ref().unwrap().measurements;
+    assert_eq!(m.len(), 1, "{m:?}");
+    assert!(m[0].compatibility_z.unwrap().abs() < 1.96, "{m:?}");
+    // Two independent measurements of one value: 1/se^2 adds up, to first order.
+    let combined = 1.0 / (1.0 / se_of(&free).powi(2) + 1.0 / 0.02_f64.powi(2)).sqrt();
+    assert!(
+        (se_of(&r) / combined - 1.0).abs() < 0.1,
+        "se {} against {combined} (free {})",
+        se_of(&r),
+        se_of(&free)
+    );
+    assert!(r.ste_source.contains("weighed in"), "{}", r.ste_source);
+    let held = KuboOptions {
+        hold_ste: true,
+        ..KuboOptions::default()
+    };
+    let err = validate_kubo(&data, &held, &NoProgress)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("sd_um") && err.contains("--hold-ste"), "{err}");
+
+    std::fs::write(dir.path().join("rig.toml"), stated(1.3 * truth.ste_um)).unwrap();
+    let r = validate_kubo(
+        &load_kubo(dir.path()).unwrap(),
+        &KuboOptions::default(),
+        &NoProgress,
+    )
+    .unwrap();
+    let fit = r.fit.as_ref().unwrap();
+    let text = geardyn::report::stated_ste_text(&fit.measurements, |_| "2000 N".into()).unwrap();
+    assert!(
+        text.contains("WARNING") && text.contains("disagrees"),
+        "{text}"
+    );
+}
+
 /// Kubo on a lightly damped rig (zeta 0.06, 2200 Hz; envelopes made by DOP853, not the fit's
 /// exact solver): the teeth separate over the whole resonance, so the contact part of the curve
 /// does not determine zeta, and the fit takes the whole curve through simulated up-sweeps.

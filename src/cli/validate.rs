@@ -333,7 +333,14 @@ pub fn run(a: Args) -> anyhow::Result<()> {
                 .as_ref()
                 .and_then(|f| geardyn::report::correlation_summary(f, &names))
                 .map_or(String::new(), |c| format!("{c}\n"));
-            let s = format!("{s}{correlation}");
+            let stated = r
+                .fit
+                .as_ref()
+                .and_then(|f| {
+                    geardyn::report::stated_ste_text(&f.measurements, |_| format!("{} N", r.load_n))
+                })
+                .map_or(String::new(), |t| format!("{t}\n"));
+            let s = format!("{s}{correlation}{stated}");
             (written, data_kind_banner(&data.rig), s)
         }
     };

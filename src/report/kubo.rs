@@ -58,6 +58,7 @@ pub fn kubo_json(data: &KuboData, r: &KuboValidation) -> serde_json::Value {
         "pair_ste_half_spread": value(PAIR_SPREAD).map(f64::abs),
         "pair_ste_half_spread_std_error": std_error(PAIR_SPREAD),
         "ste_source": r.ste_source,
+        "stated_ste": r.fit.as_ref().map(super::stated_ste_json).unwrap_or_default(),
         "load_n": r.load_n,
         "mean_force": r.mean_force,
         "points_used_in_fit": r.points_used_in_fit,
@@ -294,6 +295,11 @@ fn parameter_table(page: &mut Page, r: &KuboValidation) {
         let midline = [format!("{} N midline", r.load_n)];
         if let Some(text) = super::correlation_summary(fit, &midline) {
             page.heading("Errors along speed");
+            page.paragraph(&text);
+        }
+        if let Some(text) = super::stated_ste_text(&fit.measurements, |_| format!("{} N", r.load_n))
+        {
+            page.heading("Stated STE");
             page.paragraph(&text);
         }
         // Critical damping bounds every damping the rig could have.

@@ -77,14 +77,7 @@ pub fn munro_json(data: &MunroData, r: &MunroValidation) -> serde_json::Value {
         "omega_n_hz_ci95": ci(r, 1),
         "ste_design_um": ste_fitted.map(|i| e.params[i]),
         "ste_design_um_ci95": ste_fitted.map(|i| ci(r, i)),
-        "stated_ste": e.measurements.iter().map(|m| json!({
-            "parameter": e.names[m.measurement.param],
-            "stated_um": m.measurement.value,
-            "sd_um": m.measurement.sd,
-            "fitted_um": m.fitted,
-            "z": m.z,
-            "compatibility_z": m.compatibility_z,
-        })).collect::<Vec<_>>(),
+        "stated_ste": super::stated_ste_json(e),
         "noise": noise_json(r),
         "design_points": r.fit.design_points,
         "fit_points": e.n,
@@ -763,52 +756,20 @@ fn parameter_table(page: &mut Page, data: &MunroData, r: &MunroValidation) {
 }
 
 /// The loads whose STE rig.toml states with an uncertainty (`[ste] sd_um`), each weighed
-/// against the curves as a measurement ([`crate::fit::Measurement`]): stated, fitted, and
-/// whether the two agree (Theil & Goldberger's compatibility z within +-1.96), in words; None
-/// where no STE is stated with an uncertainty.
+/// against the curves as a measurement ([`crate::fit::Measurement`]), in words
+/// ([`super::stated_ste_text`]); None where no STE is stated with an uncertainty.
 pub fn stated_ste_text(r: &MunroValidation) -> Option<String> {
-    let e = &r.fit.estimate;
-    if e.measurements.is_empty() {
-        return None;
-    }
     let design = r
         .loads
         .iter()
         .find(|l| l.fitted)
         .map_or(f64::NAN, |l| l.load_n);
-    let load_of = |param: usize| {
+    let e = &r.fit.estimate;
+    super::stated_ste_text(&e.measurements, |param| {
         r.fit
             .ste_load(param, design)
             .map_or_else(|| e.names[param].clone(), |l| format!("{l} N"))
-    };
-    let mut parts = Vec::new();
-    let mut disagree = Vec::new();
-    for m in &e.measurements {
-        let z = m.compatibility_z;
-        parts.push(format!(
-            "{}: stated {:.3} ± {:.3} um, fitted {:.3} um{}",
-            load_of(m.measurement.param),
-            m.measurement.value,
-            m.measurement.sd,
-            m.fitted,
-            z.map_or(String::new(), |z| format!(" (z {z:+.2})"))
-        ));
-        if z.is_some_and(|z| z.abs() > 1.96) {
-            disagree.push(load_of(m.measurement.param));
-        }
-    }
-    let verdict = if disagree.is_empty() {
-        "stated and measured curves agree within their uncertainties".to_string()
-    } else {
-        format!(
-            "WARNING: the stated STE disagrees with the curves at {} (|z| above 1.96: the curves pull it further than the stated uncertainty allows; check the STE measurement, its uncertainty, or the load it belongs to)",
-            disagree.join(", ")
-        )
-    };
-    Some(format!(
-        "STE stated with its uncertainty and weighed against the curves: {}; {verdict}",
-        parts.join("; ")
-    ))
+    })
 }
 
 /// The names of the design-load fit's curves, in the engine's order: the design load, then the

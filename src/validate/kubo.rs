@@ -14,7 +14,7 @@
 use super::curve_metrics::{location_error, location_error_text, rms, transition_location};
 use super::design_fit::CorrelationChoice;
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
+use super::kubo_midline::{measured_peak_rpm, midline, ste_of, MidlineFit, MidlineSetting};
 use super::kubo_swept::fit_whole_curve;
 use super::linear::load_factor_max;
 use super::test_run::TestRun;
@@ -35,22 +35,6 @@ pub(super) const UNUSED_RK_RTOL: f64 = 1e-9;
 pub const CONTACT_LIMIT: f64 = 1.8;
 /// Refits with a model-based point selection before giving up on a fixed point.
 const SELECTION_ROUNDS: usize = 6;
-
-/// STE amplitude (um): the one held, else the third fitted parameter.
-pub(super) fn ste_of(held: Option<f64>, params: &[f64]) -> f64 {
-    held.unwrap_or_else(|| params.get(2).copied().unwrap_or(f64::NAN))
-}
-
-/// What a midline fit holds: the STE amplitude held at a value or fitted from a start, and
-/// how the errors' correlation along speed is treated.
-#[derive(Clone, Copy, Debug)]
-pub(super) struct MidlineSetting {
-    /// The value it is held at (None: fitted).
-    pub held: Option<f64>,
-    /// Where the fit starts it, um (the stated value when rig.toml states one).
-    pub start: f64,
-    pub correlation: CorrelationChoice,
-}
 
 /// The points where the model with (zeta, omega_n) keeps the teeth in contact: linear D_L below
 /// [`CONTACT_LIMIT`], and above the resonance (Omega > 1, where the separated branch can persist
@@ -172,14 +156,13 @@ struct ContactFit<'a> {
     dim: &'a Dimensional,
     fm: f64,
     points: Vec<&'a KuboPoint>,
-    ste_um: Option<f64>,
-    correlation: CorrelationChoice,
+    ste: MidlineSetting,
 }
 
 impl ContactFit<'_> {
     /// The model's D_L at each point for (zeta, omega_n[, STE]).
     fn curve(&self, p: &[f64]) -> Result<Vec<f64>> {
-        let fah = self.dim.ste_amplitude(ste_of(self.ste_um, p));
+        let fah = self.dim.ste_amplitude(ste_of(self.ste.held, p));
         Ok(self
             .points
             .iter()
@@ -195,12 +178,11 @@ impl ContactFit<'_> {
                 self.points.iter().map(|k| k.speed_rpm).collect(),
                 midline(self.points.iter().copied()),
             ),
-            self.ste_um,
+            self.ste,
             // In contact D_L - 1 is proportional to the STE amplitude, so the mean of two
             // pairs' D_L is one pair's at their mean STE: the spread does not enter.
             None,
             (stop, stop),
-            self.correlation,
         )
     }
 
@@ -239,14 +221,21 @@ pub fn validate_kubo(
     let load = rig.test_load_n.unwrap_or(rig.design_load_n);
     let fm = dim.mean_force(load);
     let ste_stated = data.rig.ste.as_ref().and_then(|t| t.amplitude_at(load));
+    let ste_sd = data.rig.ste.as_ref().and_then(|t| t.sd_at(load));
     if opts.hold_ste && ste_stated.is_none() {
         return Err(GearError::Unsupported(format!(
             "--hold-ste: rig.toml's [ste] table gives no STE amplitude at the test load {load} N to hold; add it there, or leave --hold-ste out to fit it"
         )));
     }
+    if let (true, Some(sd)) = (opts.hold_ste, ste_sd) {
+        return Err(GearError::Unsupported(format!(
+            "--hold-ste: rig.toml's [ste] states the STE at the test load {load} N with an uncertainty (sd_um = {sd}), so it is weighed against the curve as a measurement; holding it exact would throw that uncertainty away. Leave --hold-ste out, or remove sd_um to hold the stated value"
+        )));
+    }
     let ste = MidlineSetting {
         held: ste_stated.filter(|_| opts.hold_ste),
         start: ste_stated.unwrap_or(1.0),
+        stated_sd: ste_stated.and(ste_sd),
         correlation: opts.correlation,
     };
     let par = match (rig.zeta, rig.omega_n_hz) {
@@ -268,7 +257,7 @@ pub fn validate_kubo(
         }
     };
     let fah = dim.ste_amplitude(par.ste_um);
-    let ste_source = ste_source(ste_stated, par.ste_held);
+    let ste_source = ste_source(ste_stated, ste_sd, par.ste_held);
     let model = GearPair::paper(fm, fah, par.zeta, 1.0)?;
     let speeds = drawing_speeds(&data.points, opts.dense_points);
     progress.start(2, "branches");
@@ -457,8 +446,7 @@ fn fit_contact_part(
         dim,
         fm,
         points,
-        ste_um: ste.held,
-        correlation: ste.correlation,
+        ste,
     };
     let mut r = match problem_on(below.clone()).fit(&starts) {
         Ok(r) => r,
@@ -530,17 +518,24 @@ fn fit_contact_part(
 }
 
 /// Where the STE amplitude of the model curves came from: the value `stated` in rig.toml,
-/// `held` there, or fitted (from the stated value when there is one).
-fn ste_source(stated: Option<f64>, held: bool) -> String {
-    match (stated, held) {
-        (Some(_), true) => "rig.toml".into(),
-        // Six digits: a set written by a program states the STE to full double precision,
-        // which the reports' source column would otherwise print as 17 digits.
-        (Some(s), false) => format!(
-            "fitted (rig.toml states {} um, the fit's start; --hold-ste holds it)",
-            crate::numeric::to_significant(s, 6)
+/// held there, weighed against the curve as a measurement with its uncertainty `sd`, or
+/// fitted (from the stated value when there is one).
+fn ste_source(stated: Option<f64>, sd: Option<f64>, held: bool) -> String {
+    // Six digits: a set written by a program states the STE to full double precision, which
+    // the reports' source column would otherwise print as 17 digits.
+    let six = |v: f64| crate::numeric::to_significant(v, 6);
+    match (stated, held, sd) {
+        (Some(_), true, _) => "rig.toml".into(),
+        (Some(s), false, Some(sd)) => format!(
+            "fitted with rig.toml's {} ± {} um weighed in as a measurement",
+            six(s),
+            six(sd)
         ),
-        (None, _) => "fitted".into(),
+        (Some(s), false, None) => format!(
+            "fitted (rig.toml states {} um, the fit's start; --hold-ste holds it)",
+            six(s)
+        ),
+        (None, _, _) => "fitted".into(),
     }
 }
 
@@ -634,8 +629,10 @@ mod tests {
 
     #[test]
     fn a_stated_ste_is_quoted_to_six_digits() {
-        let s = ste_source(Some(2.990_954_998_206_589_3), false);
+        let s = ste_source(Some(2.990_954_998_206_589_3), None, false);
         assert!(s.contains("states 2.99095 um"), "{s}");
-        assert!(ste_source(Some(3.0), false).contains("states 3 um"));
+        assert!(ste_source(Some(3.0), None, false).contains("states 3 um"));
+        let m = ste_source(Some(3.0), Some(0.050_000_000_000_001), false);
+        assert!(m.contains("3 ± 0.05 um weighed in"), "{m}");
     }
 }

@@ -7,9 +7,44 @@ use super::design_fit::CorrelationChoice;
 use crate::data::KuboPoint;
 use crate::error::Result;
 use crate::fit::{
-    estimate_warm, profile_interval_or_better, Axis, Estimate, EstimateOptions, NearModel,
-    NoiseSetting, Param, ProfileInterval, Profiled, Robust, Stop,
+    estimate_warm, profile_interval_or_better, Axis, Estimate, EstimateOptions, Measurement,
+    NearModel, NoiseSetting, Param, ProfileInterval, Profiled, Robust, Stop,
 };
+
+/// STE amplitude (um): the one held, else the third fitted parameter.
+pub(super) fn ste_of(held: Option<f64>, params: &[f64]) -> f64 {
+    held.unwrap_or_else(|| params.get(2).copied().unwrap_or(f64::NAN))
+}
+
+/// What a midline fit holds: the STE amplitude held at a value or fitted from a start (and
+/// weighed as a measurement where rig.toml states its uncertainty), and how the errors'
+/// correlation along speed is treated.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct MidlineSetting {
+    /// The value it is held at (None: fitted).
+    pub held: Option<f64>,
+    /// Where the fit starts it, um (the stated value when rig.toml states one).
+    pub start: f64,
+    /// The standard uncertainty of the stated value (`[ste] sd_um`, um): a fitted STE is then
+    /// weighed against it as a measurement ([`Measurement`]).
+    pub stated_sd: Option<f64>,
+    pub correlation: CorrelationChoice,
+}
+
+impl MidlineSetting {
+    /// The stated STE as a measurement of the fitted one (parameter 2), where it is fitted and
+    /// its uncertainty is stated.
+    fn measurements(&self) -> Vec<Measurement> {
+        match (self.held, self.stated_sd) {
+            (None, Some(sd)) => vec![Measurement {
+                param: 2,
+                value: self.start,
+                sd,
+            }],
+            _ => Vec::new(),
+        }
+    }
+}
 
 /// The midline of the envelope at each of `points`: the data both fits take.
 pub(super) fn midline<'a>(points: impl IntoIterator<Item = &'a KuboPoint>) -> Vec<f64> {
@@ -46,8 +81,8 @@ pub fn spread_interval((lo, hi): (f64, f64)) -> (f64, f64) {
 pub(super) struct MidlineFit {
     /// The measured speeds (rpm) and the envelope's midline there.
     speeds: Vec<f64>,
-    /// How the errors' correlation along speed is treated.
-    correlation: CorrelationChoice,
+    /// How the STE is held or weighed and the errors' correlation along speed treated.
+    ste: MidlineSetting,
     y: Vec<f64>,
     params: Vec<Param>,
     /// Parameters whose profile intervals are wanted (the pair spread is a nuisance).
@@ -58,23 +93,22 @@ pub(super) struct MidlineFit {
 }
 
 impl MidlineFit {
-    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste_held`; last,
+    /// The problem on `midline`: zeta, omega_n, and the STE amplitude unless `ste` holds it; last,
     /// when `pair_spread` gives its start, the relative half-spread h of the tooth pairs' STE
     /// amplitudes (the curve is then the mean of two pairs' at STE (1 - h) and (1 + h): the
     /// envelope's edges are its extreme pairs, see [`super::kubo_swept`]). The fit stops at
     /// `stop`, the inner fits of its profile intervals at `profile_stop`.
     pub fn new(
         (speeds, midline): (Vec<f64>, Vec<f64>),
-        ste_held: Option<f64>,
+        ste: MidlineSetting,
         pair_spread: Option<f64>,
         (stop, profile_stop): (Stop, Stop),
-        correlation: CorrelationChoice,
     ) -> Self {
         let mut params = vec![
             Param::positive("zeta", 0.1),
             Param::positive("omega_n_hz", 1000.0),
         ];
-        if ste_held.is_none() {
+        if ste.held.is_none() {
             params.push(Param::positive("ste_um", 1.0));
         }
         let profiled = params.len();
@@ -85,7 +119,7 @@ impl MidlineFit {
         }
         MidlineFit {
             speeds,
-            correlation,
+            ste,
             y: midline,
             params,
             profiled,
@@ -133,13 +167,14 @@ impl MidlineFit {
                 // The midline's errors may drift along speed as a measured curve's do
                 // (docs/correlated-errors.md).
                 correlation: self
+                    .ste
                     .correlation
                     .setting(Axis::new(vec![0; self.speeds.len()], self.speeds.clone())?),
                 robust: Robust::Off,
                 stop: self.stop,
                 starts: starts.to_vec(),
                 noise_start: None,
-                measurements: Vec::new(),
+                measurements: self.ste.measurements(),
             },
         )
     }

@@ -10,10 +10,9 @@
 //! 0.06, 2200 Hz, 114 of 200 seeded sets were refused). The peak is where the damping shows,
 //! so this fit takes the whole curve through the nonlinear model.
 
-use super::design_fit::CorrelationChoice;
 use super::fit_check::{fit_failed, fit_failure, FITTED_ZETA};
-use super::kubo::{ste_of, MidlineSetting, ModelParameters, UNUSED_RK_RTOL};
-use super::kubo_midline::{measured_peak_rpm, midline, MidlineFit};
+use super::kubo::{ModelParameters, UNUSED_RK_RTOL};
+use super::kubo_midline::{measured_peak_rpm, midline, ste_of, MidlineFit, MidlineSetting};
 use super::test_run::{up_sweep_neighbour_starts, TestRun};
 use crate::data::KuboData;
 use crate::error::{GearError, Result};
@@ -122,8 +121,7 @@ fn fit_with(
         fm,
         speeds: data.points.iter().map(|k| k.speed_rpm).collect(),
         midline: midline(&data.points),
-        ste_um: ste.held,
-        correlation: ste.correlation,
+        ste,
         pair_spread: pairs.then_some(PAIR_SPREAD_START),
         sweeps: Cache::new(REMEMBERED_SWEEPS),
     };
@@ -231,8 +229,7 @@ struct SweptFit<'a> {
     speeds: Vec<f64>,
     /// The envelope's midline at each of them: what is fitted.
     midline: Vec<f64>,
-    ste_um: Option<f64>,
-    correlation: CorrelationChoice,
+    ste: MidlineSetting,
     /// Where the pairs' STE half-spread h starts; None: one pair (h = 0, not fitted).
     pair_spread: Option<f64>,
     /// Where each speed of a tooth pair's up-sweep starts at nearby parameters
@@ -317,7 +314,7 @@ impl SweptFit<'_> {
                 p[0]
             )));
         }
-        let ste = ste_of(self.ste_um, p);
+        let ste = ste_of(self.ste.held, p);
         // The spread, when fitted, is the last parameter (MidlineFit::new).
         let h = match self.pair_spread {
             Some(_) => p.last().map_or(f64::NAN, |h| h.abs()),
@@ -441,10 +438,9 @@ impl SweptFit<'_> {
         let stop = Stop::converged(SWEPT_JACOBIANS).central();
         MidlineFit::new(
             (self.speeds.clone(), self.midline.clone()),
-            self.ste_um,
+            self.ste,
             self.pair_spread,
             (stop.or_stalled(FIT_STALL), stop.or_stalled(PROFILE_STALL)),
-            self.correlation,
         )
         .with_zeta_floor(SWEPT_ZETA_FLOOR)
     }
