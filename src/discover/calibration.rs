@@ -2,10 +2,9 @@
 //! fitted M0 and its fitted error model, correlation along speed and tails included (Efron &
 //! Tibshirani 1993, ch. 16). Each replicate is M0's curve plus errors drawn as the fit assumed
 //! them; M0 and every candidate are fitted to it by the same engine and error family as the data
-//! were, linearised at M0 (its values plus its Jacobian times the parameters' change, the
-//! candidates' columns their derivatives at delta = 0): the replicate's likelihood ratios are
-//! then the data's statistic under the null. Nested models' ratios have this law whatever the
-//! effects' phases make of their asymptotic one, and the drift of correlated errors is in it.
+//! were, linearised at M0 (the candidates by their columns at delta = 0), so that its likelihood
+//! ratios are the data's statistic under the null: their law holds whatever the effects' phases
+//! make of the asymptotic one, correlated drift included.
 
 use super::effects::Candidate;
 use crate::error::Result;
@@ -17,10 +16,9 @@ use crate::numeric::Rng;
 use nalgebra::DMatrix;
 use rayon::prelude::*;
 
-/// Log-likelihood (not the restricted one) of a fit at its parameters and its noise on the
-/// points `axis`: the statistic's likelihood. The restricted likelihood estimates the noise;
-/// it cannot compare models with other mean parameters (its term depends on their Jacobian
-/// and units), the full likelihood can (Welham & Thompson 1997).
+/// Log-likelihood of a fit at its parameters and noise on the points `axis`, the statistic's:
+/// not the restricted one, whose term depends on the mean parameters' Jacobian and units, so
+/// that it cannot compare models with other ones (Welham & Thompson 1997).
 pub fn log_likelihood(est: &Estimate, axis: &Axis) -> f64 {
     let m = &est.noise.model;
     let correlation = Correlation {
@@ -69,9 +67,8 @@ pub struct Replicate {
 /// load's STE (`ste`, one column per load, zero off its curve), the points' speed axis, and how
 /// their scales follow a fit's noise: `stated` per point, else the noise model at `f0`. A
 /// replicate draws the held-out errors as the training ones, moves zeta and omega_n as its M0
-/// fit moved them, fits each held-out STE alone by weighted least squares under that fit's noise
-/// (as the data's held-out fits are made) and takes -2 log L: the data's predictive deviance
-/// under M0, with the training fit's uncertainty and the noise's estimation in it.
+/// fit did, fits each held-out STE alone as the data's are fitted and takes -2 log L: the
+/// predictive deviance under M0, the training fit's and the noise's uncertainty in it.
 pub struct HeldLinear {
     pub f0: Vec<f64>,
     pub globals: DMatrix<f64>,
@@ -83,19 +80,14 @@ pub struct HeldLinear {
 }
 
 impl HeldLinear {
-    /// The scales of the compared points under a fit's noise `model`.
-    fn scales(&self, model: &crate::fit::NoiseModel) -> Vec<f64> {
-        match &self.stated {
-            Some(s) => s.clone(),
-            None => self.f0.iter().map(|&f| model.scale(f)).collect(),
-        }
-    }
-
     /// -2 log L at errors `e` after the training loads' M0 fit moved zeta and omega_n by
     /// `moved` and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted
     /// least squares, decorrelated along speed), the likelihood under `model`'s distribution.
     pub fn deviance(&self, e: &[f64], moved: [f64; 2], model: &crate::fit::NoiseModel) -> f64 {
-        let scales = self.scales(model);
+        let scales = match &self.stated {
+            Some(s) => s.clone(),
+            None => self.f0.iter().map(|&f| model.scale(f)).collect(),
+        };
         let correlation = Correlation {
             axis: &self.axis,
             length: model.correlation_length,
@@ -165,23 +157,17 @@ fn linear_model<'a>(
     d: Option<&'a DMatrix<f64>>,
 ) -> impl Fn(&[f64]) -> Result<Vec<f64>> + Sync + 'a {
     move |p: &[f64]| {
-        let n0 = null.p0.len();
         let mut y = null.f0.to_vec();
-        for (k, (pk, p0k)) in p.iter().zip(null.p0).enumerate() {
-            let dp = pk - p0k;
-            if dp != 0.0 {
-                for (yi, jik) in y.iter_mut().zip(null.j0.column(k).iter()) {
-                    *yi += jik * dp;
-                }
-            }
-        }
-        if let Some(d) = d {
-            for (k, &dk) in p[n0..].iter().enumerate() {
-                if dk != 0.0 {
-                    for (yi, jik) in y.iter_mut().zip(d.column(k).iter()) {
-                        *yi += jik * dk;
-                    }
-                }
+        let m0 = p.iter().zip(null.p0).map(|(pk, p0k)| pk - p0k);
+        let delta = d.map(|d| (&p[null.p0.len()..], d));
+        let steps = m0.zip(null.j0.column_iter()).chain(
+            delta
+                .into_iter()
+                .flat_map(|(p, d)| p.iter().copied().zip(d.column_iter())),
+        );
+        for (dp, column) in steps.filter(|(dp, _)| *dp != 0.0) {
+            for (yi, jik) in y.iter_mut().zip(column.iter()) {
+                *yi += jik * dp;
             }
         }
         Ok(y)
@@ -190,8 +176,8 @@ fn linear_model<'a>(
 
 /// The replicates' statistics: `b` replicates from seed `seed`, each fitted by M0 and by M0
 /// plus each candidate's `columns`, each model with its own options (the starts are set here).
-/// A replicate whose M0 fit fails is left out (none has on the studies' sets); a candidate fit
-/// that fails is None in its replicate.
+/// A replicate whose M0 fit fails is left out; a candidate fit that fails is None in its
+/// replicate.
 pub fn replicates(
     null: &NullModel,
     columns: &[Columns],

@@ -15,30 +15,23 @@ pub type Mask = Vec<Vec<bool>>;
 /// Training loads: every other load from the highest (the design load) down; the rest are
 /// held out (with one load there is nothing to hold out).
 pub fn split(n: usize) -> (Vec<usize>, Vec<usize>) {
-    let train = (0..n).filter(|i| i % 2 == 0).collect();
-    let held = (0..n).filter(|i| i % 2 == 1).collect();
-    (train, held)
+    (0..n).partition(|i| i % 2 == 0)
 }
 
 /// Widest interval between two speeds, relative to the higher, across which any change of
-/// regime with a step over 10 noise scales drops both points: the studies' grids (50 and
-/// 100 rpm, 1.7-3.3% at Munro's resonance) and the rule they were calibrated with. A boundary
-/// there is within a few per cent of both points, about what a refit moves it by; kept, such
-/// points changed M0 a lot (on a DOP853-made eps 0.2 set, relative noise, seed 3, M0's zeta
-/// went from 0.060 to 0.024 and the stiffness variation was no longer found).
+/// regime with a step over 10 noise scales drops both points unrefined (a 50 or 100 rpm grid
+/// near Munro's resonance): a boundary there is within what a refit moves it by, and such
+/// points, kept, can pull M0's zeta far enough to hide an effect.
 const NARROW_INTERVAL: f64 = 0.05;
 
 /// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
 /// measured pp there depends on history beyond the model) and the two points around every
-/// predicted jump larger than 10 noise scales (at the higher of the two levels): a change of
-/// impact regime (Fig. 9: none, single-sided, double-sided) between neighbouring speeds. A
-/// jump displaced by one grid step would dominate every statistic without saying anything
-/// about a missing effect. Across an interval wider than [`NARROW_INTERVAL`] the change must
-/// also be discontinuous in the sweep ([`jumps_between`]): a coarse grid's change along one
-/// continuous branch (on a 500 rpm grid, the design load's resonance peak, at which the teeth
-/// separate for a moment) moves smoothly with the parameters and carries zeta; dropping its
-/// three points left M0 without zeta, which ran to its floor. `curves[k]` is the curve
-/// `preds[k]` predicts.
+/// predicted change of impact regime (Fig. 9: none, single-sided, double-sided) with a step
+/// over 10 noise scales (at the higher level): a jump displaced by one grid step would dominate
+/// every statistic without saying anything about a missing effect. Across an interval wider
+/// than [`NARROW_INTERVAL`] the change must also be discontinuous in the sweep
+/// ([`jumps_between`]): a change along one continuous branch moves smoothly with the parameters
+/// and carries zeta. `curves[k]` is the curve `preds[k]` predicts.
 pub fn make_mask(
     setup: &Setup,
     preds: &[CurvePrediction],
@@ -52,12 +45,10 @@ pub fn make_mask(
             let n = p.dte_pp_um.len();
             let mut m: Vec<bool> = p.period1.clone();
             for j in 1..n {
-                // A jump is a change of contact regime with a step in pp; a resonance peak
-                // in contact is steep too but smooth in the parameters, and it carries zeta.
-                // The jump onto the back flank keeps the teeth separated on both sides: on a
-                // rattle-regime set (b x 0.7, seed 16, 945 N) single-sided impacts at 30 um
-                // jump to double-sided ones at 157 um, and a refit whose jump came one speed
-                // early kept the point between, 120 um off, which alone made it "unexplained".
+                // A jump is a change of contact regime with a step in pp (a resonance peak in
+                // contact is steep too, but smooth in the parameters). A jump onto the back
+                // flank counts though the teeth are separated on both sides: a fit whose jump
+                // comes one speed early would keep a point far off.
                 let regime_changed = p.separated[j] != p.separated[j - 1]
                     || p.back_contact[j] != p.back_contact[j - 1];
                 let (a, b) = (p.dte_pp_um[j - 1], p.dte_pp_um[j]);
@@ -81,10 +72,9 @@ pub fn make_mask(
 /// The points where the held-out curves `held` are compared: those `base` keeps and the mask
 /// of each model's predictions (`models`, every curve's) keeps, and of those only the points
 /// whose neighbours are kept too. A training curve's jumps and the edges of its chaotic
-/// ranges are fitted to the measured speeds; a held-out curve's are predicted, and a grid step
-/// is within the prediction's error (a stiffness variation of eps 0.2 on a 100 rpm grid put a
-/// held-out jump one speed off, and that one point decided the comparison). The other curves'
-/// rows are `base`'s.
+/// ranges are fitted to the measured speeds; a held-out curve's are predicted, within a grid
+/// step, and one point on the wrong side could decide the comparison. The other curves' rows
+/// are `base`'s.
 pub fn held_mask(
     setup: &Setup,
     held: &[usize],
@@ -121,10 +111,10 @@ pub fn gap(
     omega: &[Vec<f64>],
     ws: &[Window],
 ) -> Gap {
+    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
     let mut all = Vec::new();
     let mut per_w = vec![Vec::new(); ws.len()];
     let mut per_load = Vec::new();
-    let mut per_load_res: Vec<Vec<f64>> = Vec::new();
     for &i in idx {
         let mut this = Vec::new();
         for (j, y) in setup.curves[i].dte_pp_um.iter().enumerate() {
@@ -139,11 +129,7 @@ pub fn gap(
                 }
             }
         }
-        per_load_res.push(this);
-    }
-    let rms = |v: &[f64]| (v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64).sqrt();
-    for (&i, v) in idx.iter().zip(&per_load_res) {
-        per_load.push((setup.curves[i].load_n, rms(v), v.len()));
+        per_load.push((setup.curves[i].load_n, rms(&this), this.len()));
     }
     let worst = per_w
         .iter()
@@ -211,7 +197,29 @@ pub fn far_from(
 #[cfg(test)]
 mod tests {
     use super::{held_mask, make_mask};
-    use crate::discover::forward::CurvePrediction;
+    use crate::discover::forward::{Curve, CurvePrediction, Setup};
+    use crate::discover::noise::{DiscoveryNoise, NoiseOrigin};
+
+    /// A set of curves of `n` points 100 rpm apart at `loads` (N), and a noise of 0.15 um.
+    fn set_of(n: usize, loads: &[f64]) -> (Setup, DiscoveryNoise) {
+        let curve = |&load_n: &f64| Curve {
+            load_n,
+            speeds_rpm: (0..n).map(|k| 1000.0 + 100.0 * k as f64).collect(),
+            dte_pp_um: vec![1.0; n],
+            sd_um: None,
+        };
+        let setup = Setup::new(
+            crate::data::munro_rig().dimensional().unwrap(),
+            3780.0,
+            loads.iter().map(curve).collect(),
+            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
+        );
+        let noise = DiscoveryNoise::stated(
+            NoiseOrigin::StatedOption,
+            crate::fit::NoiseModel::constant(0.15),
+        );
+        (setup, noise)
+    }
 
     /// A jump from single-sided impacts (30 um) onto the back flank (157 um) drops the points
     /// on both sides although the teeth are separated on both; a jump out of contact does the
@@ -229,21 +237,7 @@ mod tests {
             neighbour_starts: Vec::new(),
             sweep_model: None,
         };
-        let setup = crate::discover::forward::Setup::new(
-            crate::data::munro_rig().dimensional().unwrap(),
-            3780.0,
-            vec![crate::discover::forward::Curve {
-                load_n: 3780.0,
-                speeds_rpm: (0..9).map(|k| 1000.0 + 100.0 * k as f64).collect(),
-                dte_pp_um: vec![1.0; 9],
-                sd_um: None,
-            }],
-            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
-        );
-        let noise = crate::discover::noise::DiscoveryNoise::stated(
-            crate::discover::noise::NoiseOrigin::StatedOption,
-            crate::fit::NoiseModel::constant(0.15),
-        );
+        let (setup, noise) = set_of(9, &[3780.0]);
         let m = make_mask(&setup, &[p], &[0], &noise).unwrap();
         assert_eq!(
             m[0],
@@ -255,7 +249,6 @@ mod tests {
     /// with its neighbours; the training curve's row is the base mask's, untouched.
     #[test]
     fn held_out_points_leave_out_the_neighbours_of_a_left_out_point() {
-        use crate::discover::forward::{Curve, CurvePrediction, Setup};
         let n = 7;
         let flat = |period1: Vec<bool>| CurvePrediction {
             dte_pp_um: vec![5.0; n],
@@ -266,22 +259,7 @@ mod tests {
             neighbour_starts: Vec::new(),
             sweep_model: None,
         };
-        let curve = |load_n: f64| Curve {
-            load_n,
-            speeds_rpm: (0..n).map(|k| 1000.0 + 100.0 * k as f64).collect(),
-            dte_pp_um: vec![5.0; n],
-            sd_um: None,
-        };
-        let setup = Setup::new(
-            crate::data::munro_rig().dimensional().unwrap(),
-            3780.0,
-            vec![curve(3780.0), curve(2835.0)],
-            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
-        );
-        let noise = crate::discover::noise::DiscoveryNoise::stated(
-            crate::discover::noise::NoiseOrigin::StatedOption,
-            crate::fit::NoiseModel::constant(0.15),
-        );
+        let (setup, noise) = set_of(n, &[3780.0, 2835.0]);
         let mut base = vec![vec![true; n]; 2];
         base[0][3] = false;
         let mut chaotic = vec![true; n];

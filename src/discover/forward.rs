@@ -22,27 +22,18 @@ use rayon::prelude::*;
 /// orbits, at about half the cost.
 const RK_RTOL: f64 = 1e-7;
 
-/// Observation windows over which the pp of a non-periodic steady state is sampled by
-/// [`aperiodic_pp_range`]. A measured chaotic pp is one window out of a distribution: on the
-/// shipped data/munro at 945 N and 4300 rpm, M0's windows of 64 periods ranged over 35-84 um
-/// and its first window (the prediction) said 46 um, the data 84 um (measured when a sweep
-/// carried its state on from 2000 periods after a chaotic point's window; from the window's
-/// end, as now, the prediction at the load's largest excluded point is 83 um and the windows
-/// reach 88 um: `tests/discover.rs`). Among n windows the largest
-/// exceeds a fresh window's pp with probability n / (n + 1); 32 windows at each of a load's
-/// non-periodic points make that range the attractor's, at about 2000 periods a point, the
-/// cost of the Lyapunov exponent that classified it.
+/// Observation windows over which [`aperiodic_pp_range`] samples the pp of a non-periodic
+/// steady state, of whose distribution a measured chaotic pp is one draw. Among n windows the
+/// largest exceeds a fresh window's pp with probability n / (n + 1); 32 make the range the
+/// attractor's at about the cost (2000 periods) of the Lyapunov exponent that would classify it.
 const SPREAD_WINDOWS: usize = 32;
 
 /// Smallest damping ratio a discovery fit may use.
 pub const MIN_ZETA: f64 = 0.003;
 
-/// A fit's damping at every curve it fits, after a damping law, is at least [`MIN_ZETA`]:
-/// otherwise the step is rejected. A damping law fitted on a rattle-regime set wandered to
-/// gamma = 8, zeta 3e-7 at 945 N, where each sweep point runs its 20000-period transient
-/// limit through hundreds of impacts a period (12 s a curve, a refit of tens of minutes).
-/// A held-out load's prediction fits its STE through the same sweeps and is bound alike: a
-/// law that takes it below the floor does not predict it.
+/// A fit's damping at every curve it fits, after a damping law, is at least [`MIN_ZETA`]
+/// ([`above_floor`]; a law can take one load far below the others), else the step is rejected.
+/// A held-out load's prediction is bound alike: a law that takes it below does not predict it.
 pub fn fitted_damping_admissible(
     setup: &Setup,
     idx: &[usize],
@@ -139,12 +130,7 @@ impl Setup {
                 sd_um: c.iter().map(|p| p.sd_um).collect(),
             });
         }
-        Ok(Setup::new(
-            dim,
-            data.rig.rig.design_load_n,
-            curves,
-            noise_setting(data)?,
-        ))
+        Ok(Setup::new(dim, design, curves, noise_setting(data)?))
     }
 }
 
@@ -212,33 +198,14 @@ fn curve_model(
     Ok((dim, model))
 }
 
-/// What a prediction's steady states compute: no Lyapunov exponent of non-periodic motion.
-/// A prediction reads the pp of the analysed window, the period, the impacts and the state
-/// a window starts from, never the exponent; a non-periodic point's range over observation
-/// windows is simulated on its own ([`aperiodic_pp_range`]). The exponent's 2000 periods a
-/// point were 12-15% of an eps 0.2 `discover` on the 50 rpm grid (36.2 s to 30.7-32.1 s).
+/// What a prediction's steady states compute: no Lyapunov exponent of non-periodic motion,
+/// whose 2000 periods a point are a large share of a run. A prediction reads the pp, the
+/// period, the impacts and the state a window starts from, never the exponent; a non-periodic
+/// point's range over windows is simulated on its own ([`aperiodic_pp_range`]).
 fn fit_steady_options() -> SteadyOptions {
     SteadyOptions {
         classify_aperiodic: false,
         ..SteadyOptions::default()
-    }
-}
-
-/// The test run of `setup.curves[i]` at globals `g` with its rig units and model
-/// ([`curve_model`]).
-fn curve_run<'a>(
-    setup: &'a Setup,
-    i: usize,
-    g: Globals,
-    (dim, model): (&'a Dimensional, &'a GearPair),
-    opts: &'a SteadyOptions,
-) -> TestRun<'a> {
-    TestRun {
-        dim,
-        model,
-        omega_n_hz: g.omega_n_hz,
-        speeds: &setup.curves[i].speeds_rpm,
-        opts,
     }
 }
 
@@ -257,31 +224,15 @@ pub fn predict(
         g,
         ste_um,
         effect,
-        || simulated(setup, i, g, ste_um, effect),
+        || simulated(setup, i, g, ste_um, effect, None),
     )
-}
-
-/// [`predict`] simulated.
-fn simulated(
-    setup: &Setup,
-    i: usize,
-    g: Globals,
-    ste_um: f64,
-    effect: &Effect,
-) -> Result<CurvePrediction> {
-    let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
-    let opts = fit_steady_options();
-    let pts = curve_run(setup, i, g, (&dim, &model), &opts).up_sweep(RK_RTOL, &NoProgress)?;
-    let starts = up_sweep_neighbour_starts(&model, &pts);
-    Ok(prediction(&pts, starts, SweepModel::new(dim, model, g)))
 }
 
 /// [`predict`] at parameters a finite-difference step from those of `base` (a [`predict`] of
 /// the same curve): each speed from `base`'s [`CurvePrediction::neighbour_starts`], which
-/// continues base's branch, and its periodic orbits without their transients (the Jacobian
-/// columns of a refit, about four times cheaper). Equal to [`predict`] at period-1 points to the
-/// orbit's Newton tolerance, unless the step moves a jump across a speed of the grid (those
-/// points are masked).
+/// continues base's branch, and its periodic orbits without their transients (a Jacobian's
+/// columns, about four times cheaper). Equal to [`predict`] at period-1 points to the orbit's
+/// Newton tolerance, unless the step moves a jump across a speed (such points are masked).
 pub fn predict_near(
     setup: &Setup,
     i: usize,
@@ -290,25 +241,43 @@ pub fn predict_near(
     effect: &Effect,
     base: &CurvePrediction,
 ) -> Result<CurvePrediction> {
-    let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
-    let opts = fit_steady_options();
-    let pts = curve_run(setup, i, g, (&dim, &model), &opts)
-        .near_up_sweep(RK_RTOL, &base.neighbour_starts)?;
-    Ok(prediction(
-        &pts,
-        base.neighbour_starts.clone(),
-        SweepModel::new(dim, model, g),
-    ))
+    simulated(setup, i, g, ste_um, effect, Some(base))
 }
 
-impl SweepModel {
-    fn new(dim: Dimensional, model: GearPair, g: Globals) -> Self {
-        SweepModel {
-            dim,
-            model,
-            omega_n_hz: g.omega_n_hz,
+/// [`predict`] simulated, or [`predict_near`] where `base` is given.
+fn simulated(
+    setup: &Setup,
+    i: usize,
+    g: Globals,
+    ste_um: f64,
+    effect: &Effect,
+    base: Option<&CurvePrediction>,
+) -> Result<CurvePrediction> {
+    let (dim, model) = curve_model(setup, i, g, ste_um, effect)?;
+    let run = TestRun {
+        dim: &dim,
+        model: &model,
+        omega_n_hz: g.omega_n_hz,
+        speeds: &setup.curves[i].speeds_rpm,
+        opts: &fit_steady_options(),
+    };
+    let (pts, starts) = match base {
+        None => {
+            let pts = run.up_sweep(RK_RTOL, &NoProgress)?;
+            let starts = up_sweep_neighbour_starts(&model, &pts);
+            (pts, starts)
         }
-    }
+        Some(b) => (
+            run.near_up_sweep(RK_RTOL, &b.neighbour_starts)?,
+            b.neighbour_starts.clone(),
+        ),
+    };
+    let sweep = SweepModel {
+        dim,
+        model,
+        omega_n_hz: g.omega_n_hz,
+    };
+    Ok(prediction(&pts, starts, sweep))
 }
 
 /// The prediction of a simulated sweep `pts` of `sweep`.
@@ -343,15 +312,13 @@ const MAX_REFINE_LEVELS: usize = 4;
 
 /// Whether `pred`'s up-sweep jumps by more than `step_um` between its speeds `j - 1` and `j`
 /// (`speeds`, the curve's), rather than rising or falling steeply along one branch. The
-/// interval is cut into [`REFINE_STEPS`] speeds swept on from speed `j - 1`'s orbit as the
-/// sweep went on, and the piece with the largest step is cut again, down to
-/// [`FINEST_REFINEMENT`]. A step that stays above `step_um` is a jump (a branch ending at a
-/// fold, as the up-sweep's jump onto the separated branch at light loads); one that shrinks
-/// below it is a continuous stretch: on a coarse grid (500 rpm) the resonance peak at which
-/// the teeth separate for a moment, which is what determines zeta. Counted as a jump, so that
-/// the point is never kept by mistake: an end point or a piece that is not period-1, the
-/// refined sweep reaching speed `j` on another branch than the sweep did, a prediction
-/// without its model.
+/// interval is cut into [`REFINE_STEPS`] speeds swept on from speed `j - 1`'s orbit, and the
+/// piece with the largest step is cut again, down to [`FINEST_REFINEMENT`]. A step that stays
+/// above `step_um` is a jump (a branch ending at a fold); one that shrinks below it is a
+/// continuous stretch, such as a coarse grid's resonance peak at which the teeth separate for a
+/// moment, which determines zeta. Counted as a jump, so that the point is never kept by
+/// mistake: an end point or a piece that is not period-1, the refined sweep reaching speed `j`
+/// on another branch than the sweep did, a prediction without its model.
 pub fn jumps_between(
     pred: &CurvePrediction,
     speeds: &[f64],
@@ -413,15 +380,11 @@ pub fn jumps_between(
 }
 
 /// Where the observation windows of each sweep point start: where no period up to 32 was
-/// found (chaotic or aperiodic), the start of the analysed window; at a subharmonic point, the
-/// state where the speed before ended its analysis (where a rig's run-up goes on from; the
-/// carried sweep itself starts the point from that speed's first section point, see
-/// `sim::sweep::carry`). A measurement at such a point can show
-/// the motion on its way to the orbit, and that way can be a chaotic transient of thousands of
-/// periods: at 945 N, 4350-4425 rpm on Munro's stand-in the steady-state search finds a
-/// period-6 orbit while the sweep's own motion stays chaotic for thousands of periods, and
-/// the stand-in's data, made with the truth's parameters, show 83 um there, beyond every
-/// window of the orbit (75 um). None at period-1 points and at a sweep's first point.
+/// found, the start of the analysed window; at a subharmonic point, the state where the speed
+/// before ended its analysis, where a rig's run-up goes on from (`sim::sweep::carry` starts
+/// from that speed's first section point): a measurement there can catch a chaotic transient
+/// on its way to the orbit, reaching beyond every window of the orbit. None at period-1 points
+/// and at a sweep's first point.
 fn window_starts(pts: &[crate::sim::SweepPoint]) -> Vec<Option<State>> {
     pts.iter()
         .enumerate()

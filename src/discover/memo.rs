@@ -1,25 +1,18 @@
-//! A memo of the forward model's predicted curves, by their exact inputs.
-//!
-//! A discovery run asks for the same curve at the same parameters many times: a
-//! Levenberg-Marquardt fit starts where a profile scored its start, the curves of a finished
-//! fit are predicted again for its report, a decision predicts the training curves its refit
-//! already has. On an eps 0.2 set on the 50 rpm grid 282 of 1914 predictions repeated one
-//! made before, 4.2 s of the run's 61 s of CPU time. A prediction is a deterministic function
-//! of the curve's speeds and load and of the parameters, so handing back the stored curve
-//! changes no output, only when it is computed.
-//!
-//! `quick_cache` rather than a hand-written map: it is concurrent (the profiles predict from
-//! every thread at once) and bounded by weight (here points), so a large set cannot grow it
-//! without limit.
+//! A memo of the forward model's predicted curves, by their exact inputs. A run asks for the
+//! same curve at the same parameters many times (a fit's start, a Jacobian's base, the report);
+//! a prediction is a deterministic function of the curve's speeds and load and of the
+//! parameters, so handing back the stored curve changes no output, only when it is computed.
+//! `quick_cache` is concurrent (predictions come from every thread at once) and bounded by
+//! weight (here points), so a large set cannot grow it without limit.
 
 use super::effects::{Candidate, Effect};
 use super::forward::{Curve, CurvePrediction, Globals};
 use quick_cache::sync::Cache;
 use quick_cache::Weighter;
 
-/// Points of predicted curves the memo holds, about 60 bytes each (12 MB). An eps 0.2 refit on
-/// the 50 rpm grid (81 points a curve) predicts about 155000 points in all, so a run of that
-/// size finds every earlier curve still there; a larger set evicts the least used.
+/// Points of predicted curves the memo holds, about 60 bytes each (12 MB): more than a run on
+/// a 50 rpm grid predicts in all, so it finds every earlier curve; a larger set evicts the
+/// least used.
 const MEMO_POINTS: u64 = 200_000;
 
 /// Everything a [`super::forward::predict`] of one curve depends on, by the bits of each number.
@@ -86,12 +79,6 @@ impl PredictionMemo {
         let p = predict()?;
         self.0.insert(key, p.clone());
         Ok(p)
-    }
-}
-
-impl Default for PredictionMemo {
-    fn default() -> Self {
-        Self::new()
     }
 }
 

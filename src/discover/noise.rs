@@ -3,10 +3,9 @@
 //! (`crate::fit::NoiseModel`: a floor plus a part proportional to the level, Gaussian or
 //! Student-t, correlated along speed), stated by the data set or fitted with M0.
 //!
-//! Stated noise, in the order `validate munro` takes it (one rule, `validate::noise_setting`):
-//! `--noise-um` (a constant), a `dte_pp_sd_um` column on every point, rig.toml `[noise]`
-//! (`floor_um`, `relative`, `correlation_rpm`); `[noise] reading_um` alone is the fitted floor's
-//! lower bound.
+//! Stated noise, in the order `validate munro` takes it (`validate::noise_setting`): `--noise-um`
+//! (a constant), a `dte_pp_sd_um` column on every point, rig.toml `[noise]` (`floor_um`,
+//! `relative`, `correlation_rpm`); `[noise] reading_um` alone bounds the fitted floor below.
 
 use crate::fit::NoiseModel;
 use serde::Serialize;

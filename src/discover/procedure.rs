@@ -1,9 +1,5 @@
-//! Discovery on one likelihood (docs/discover-method.md): M0 and every candidate fitted to the
-//! training loads by the estimation engine under one error family, each candidate tested by
-//! its likelihood ratio against M0 calibrated by a parametric bootstrap from the fitted M0 and
-//! its fitted errors ([`super::calibration`]), Holm's correction over the candidates, the best
-//! passing one named only if it predicts the held-out loads better than M0, its size with a
-//! profile-likelihood interval.
+//! The discovery run, step by step, as the module's notes (`super`) and
+//! docs/discover-method.md describe it; the bootstrap is [`super::calibration`]'s.
 
 use super::calibration::{self, Columns, ErrorModel, NullModel, Replicate};
 use super::compare::{far_from, gap, held_mask, make_mask, residual_curves, split, Mask};
@@ -46,15 +42,20 @@ fn fit_stop() -> Stop {
 }
 
 /// The run's error family before M0's fit: the scale as the options or the set state it, the
-/// tails and the correlation as the options say.
-fn family_of(setup: &Setup, opts: &DiscoverOptions) -> Family {
-    let scale = match (opts.noise_um, &setup.noise) {
-        (Some(s), _) => Scale::Stated(NoiseModel::constant(s)),
-        (None, MunroNoise::Stated(m)) => Scale::Stated(*m),
-        (None, MunroNoise::PerPoint) => Scale::PerPoint,
-        (None, MunroNoise::Estimate { floor_min }) => Scale::Estimated {
-            floor_min: *floor_min,
-        },
+/// tails and the correlation as the options say; and the report's words for where the noise
+/// came from.
+fn family_of(setup: &Setup, opts: &DiscoverOptions) -> (Family, NoiseOrigin) {
+    let (scale, origin) = match (opts.noise_um, &setup.noise) {
+        (Some(s), _) => (
+            Scale::Stated(NoiseModel::constant(s)),
+            NoiseOrigin::StatedOption,
+        ),
+        (None, MunroNoise::Stated(m)) => (Scale::Stated(*m), NoiseOrigin::StatedRig),
+        (None, MunroNoise::PerPoint) => (Scale::PerPoint, NoiseOrigin::PerPoint),
+        (None, &MunroNoise::Estimate { floor_min }) => (
+            Scale::Estimated { floor_min },
+            NoiseOrigin::Fitted { floor_min },
+        ),
     };
     // A length stated in rig.toml [noise] is the set's statement, as in validate munro.
     let correlation = match (&scale, opts.correlation) {
@@ -63,26 +64,15 @@ fn family_of(setup: &Setup, opts: &DiscoverOptions) -> Family {
         }
         (_, c) => c,
     };
-    Family {
+    let family = Family {
         scale,
         robust: match opts.tails {
             super::noise::TailChoice::Gaussian => Robust::Off,
             super::noise::TailChoice::Auto => Robust::Auto,
         },
         correlation,
-    }
-}
-
-/// The report's words for where the noise came from.
-fn noise_origin(setup: &Setup, opts: &DiscoverOptions) -> NoiseOrigin {
-    match (opts.noise_um, &setup.noise) {
-        (Some(_), _) => NoiseOrigin::StatedOption,
-        (None, MunroNoise::Stated(_)) => NoiseOrigin::StatedRig,
-        (None, MunroNoise::PerPoint) => NoiseOrigin::PerPoint,
-        (None, MunroNoise::Estimate { floor_min }) => NoiseOrigin::Fitted {
-            floor_min: *floor_min,
-        },
-    }
+    };
+    (family, origin)
 }
 
 /// M0 on the training loads, with what every later step is measured against.
@@ -123,15 +113,6 @@ struct HeldPrediction {
     linear: calibration::HeldLinear,
 }
 
-/// Every point kept.
-fn all_points(setup: &Setup) -> Mask {
-    setup
-        .curves
-        .iter()
-        .map(|c| vec![true; c.speeds_rpm.len()])
-        .collect()
-}
-
 /// Zeta, omega_n and each training STE to start M0 from: eq. 13's closed form at the design
 /// load, the quasi-static end of every other curve.
 fn null_start(setup: &Setup, train: &[usize]) -> Result<Vec<f64>> {
@@ -165,8 +146,7 @@ fn first_family(setup: &Setup, family: &Family) -> Result<Family> {
 }
 
 /// The noise of a fit as the mask and the held-out loads' STE scans weigh the points: its
-/// scale at each level (for Student-t errors the scale, not the standard deviation, which
-/// 2 degrees of freedom or fewer do not have), or the stated scales.
+/// scale at each level ([`DiscoveryNoise::scale_at`]), or the stated scales.
 fn discovery_noise(setup: &Setup, origin: NoiseOrigin, model: NoiseModel) -> DiscoveryNoise {
     let model = NoiseModel {
         distribution: Distribution::Gaussian,
@@ -208,10 +188,9 @@ fn rough_predictions(
         .collect()
 }
 
-/// M0 on the points of `mask`, from the parameters of `previous`: from equal weights and from
-/// `previous`'s fitted noise, the larger likelihood kept. Where M0 misfits, its likelihood has
-/// several maxima, and which one a fit reaches depends on its first weights (as for the
-/// candidates, [`fit_candidate`]).
+/// M0 on the points of `mask` from the parameters of `previous`, from equal weights and from
+/// `previous`'s fitted noise, the larger likelihood kept: where M0 misfits, which of its
+/// likelihood's maxima a fit reaches depends on its first weights (as for [`fit_candidate`]).
 fn fit_m0(
     setup: &Setup,
     train: &[usize],
@@ -244,29 +223,32 @@ fn fit_null<'a>(
     masks: &'a mut [Mask; 2],
 ) -> Result<NullFit<'a>> {
     let every: Vec<usize> = (0..setup.curves.len()).collect();
-    let all = all_points(setup);
+    let all: Mask = setup
+        .curves
+        .iter()
+        .map(|c| vec![true; c.speeds_rpm.len()])
+        .collect();
+    let all_curves = Curves::new(setup, train, &all, EffectParams::None);
+    // Every curve's predictions at a fit and the mask they and its noise make.
+    let mask_of = |est: &Estimate| -> Result<(Vec<CurvePrediction>, Mask)> {
+        let (g, ste, _) = all_curves.unpack(&est.params);
+        let pre = rough_predictions(setup, train, g, &ste)?;
+        let noise = discovery_noise(setup, origin.clone(), est.noise.model);
+        let mask = make_mask(setup, &pre, &every, &noise)?;
+        Ok((pre, mask))
+    };
     let first = first_family(setup, family)?;
-    let pass1 = Curves::new(setup, train, &all, EffectParams::None).fit(
-        vec![null_start(setup, train)?],
-        &first,
-        fit_stop(),
-        None,
-    )?;
-    let rough_noise = |est: &Estimate| discovery_noise(setup, origin.clone(), est.noise.model);
-    let (g1, ste1, _) = Curves::new(setup, train, &all, EffectParams::None).unpack(&pass1.params);
-    let pre = rough_predictions(setup, train, g1, &ste1)?;
-    masks[0] = make_mask(setup, &pre, &every, &rough_noise(&pass1))?;
+    let pass1 = all_curves.fit(vec![null_start(setup, train)?], &first, fit_stop(), None)?;
+    masks[0] = mask_of(&pass1)?.1;
     let est = fit_m0(setup, train, &masks[0], &pass1, family)?;
-    let (g2, ste2, _) =
-        Curves::new(setup, train, &masks[0], EffectParams::None).unpack(&est.params);
-    let pre = rough_predictions(setup, train, g2, &ste2)?;
-    masks[1] = make_mask(setup, &pre, &every, &rough_noise(&est))?;
+    let pre;
+    (pre, masks[1]) = mask_of(&est)?;
     let [m0_mask, m1_mask] = masks;
-    let (mask, est): (&'a Mask, Estimate) = if *m1_mask == *m0_mask {
-        (&*m1_mask, est)
+    let mask: &'a Mask = m1_mask;
+    let est = if *mask == *m0_mask {
+        est
     } else {
-        let refit = fit_m0(setup, train, m1_mask, &est, family)?;
-        (&*m1_mask, refit)
+        fit_m0(setup, train, mask, &est, family)?
     };
     let curves = Curves::new(setup, train, mask, EffectParams::None);
     let (globals, ste, _) = curves.unpack(&est.params);
@@ -282,16 +264,14 @@ fn fit_null<'a>(
         setup,
         (held, mask, &scales),
         (globals, &Effect::none()),
-        (&family.held_at(&est), est.noise.model.distribution),
+        (&family, &est),
         None,
     )?;
-    let mut ste_all: Vec<f64> = vec![0.0; setup.curves.len()];
-    for (k, &i) in train.iter().enumerate() {
-        ste_all[i] = ste[k].abs();
-    }
     let first_fits = with_points(&held_fits, mask);
     let held_ste = place_held(held_fits, &mut preds);
-    for &(i, e) in &held_ste {
+    let mut ste_all: Vec<f64> = vec![0.0; setup.curves.len()];
+    let trained = train.iter().zip(&ste).map(|(&i, e)| (i, e.abs()));
+    for (i, e) in trained.chain(held_ste) {
         ste_all[i] = e;
     }
     let mut null = NullFit {
@@ -306,8 +286,7 @@ fn fit_null<'a>(
         held: None,
         held_fits: first_fits,
     };
-    // Where M0's held-out prediction cannot be made on the common points or linearised, the run
-    // goes on without its check (the report then shows none), as with any failed step.
+    // Where M0's held-out prediction fails, the run goes on without that check (none reported).
     if !held.is_empty() {
         null.held = held_prediction(&mut null, held).ok();
     }
@@ -374,10 +353,7 @@ fn held_fits_on_common_points(
                 setup,
                 (&todo, &mask, &null.scales),
                 (m.globals, &m.effect),
-                (
-                    &null.family.held_at(&null.est),
-                    null.est.noise.model.distribution,
-                ),
+                (&null.family, &null.est),
                 Some(&m.held_ste),
             )?
             .into_iter();
@@ -402,11 +378,9 @@ fn held_log_likelihoods(null: &NullFit, held: &[usize], models: &[&After]) -> Re
 /// M0's prediction of the held-out loads `held` at the points `mask` keeps, linearised at zeta,
 /// omega_n and their STEs `held_ste`: central secants, whitened by the noise so that a side
 /// that changes branch is told by the engine's rule ([`crate::fit::secant_jacobian`]). Zeta's
-/// and omega_n's secants span their standard errors from the training fit, the size by which
-/// a replicate moves them: a held-out point near a fold changes steeply over a tiny range, and
-/// its derivative there would move it by many noise scales in every replicate where the
-/// prediction itself moves by little. The STEs' span a ten-thousandth of their size, as the
-/// engine's.
+/// and omega_n's secants span their training standard errors, the size a replicate moves them
+/// by: near a fold the derivative would move a point by many noise scales where the prediction
+/// itself moves little. The STEs' span a ten-thousandth of their size, as the engine's.
 fn held_linear(
     null: &NullFit,
     held: &[usize],
@@ -451,10 +425,8 @@ fn held_linear(
         .collect();
     let zero = DMatrix::zeros(f0.len(), p.len());
     let mut jac = crate::fit::secant_jacobian(&near, &p, &whitened(f0.clone()), &steps, &zero);
-    for (r, s) in draw_scales.iter().enumerate() {
-        for c in 0..jac.ncols() {
-            jac[(r, c)] *= s;
-        }
+    for (mut row, s) in jac.row_iter_mut().zip(&draw_scales) {
+        row *= *s;
     }
     Ok(calibration::HeldLinear {
         globals: jac.columns(0, 2).into_owned(),
@@ -487,8 +459,8 @@ struct HeldOut {
 }
 
 /// Each held-out curve's STE fitted alone with zeta, omega_n and the effect held (`g`,
-/// `effect`), under `family` (the training fit's noise, held, Gaussian), its log-likelihood
-/// under `distribution` (the training fit's): a held-out load's STE is a property of that
+/// `effect`), under the run's `family` held at M0's training fit `m0` ([`Family::held_at`]),
+/// its log-likelihood under `m0`'s distribution: a held-out load's STE is a property of that
 /// load, not something the training loads predict. The start is `starts`' value of the curve
 /// where given, else [`fit_ste`]'s scan over amplitudes under the diagonal scales `scales` (the
 /// response is not smooth in the STE: a jump moves by a grid step).
@@ -496,9 +468,10 @@ fn held_out(
     setup: &Setup,
     (held, mask, scales): (&[usize], &Mask, &Scales),
     (g, effect): (Globals, &Effect),
-    (family, distribution): (&Family, Distribution),
+    (family, m0): (&Family, &Estimate),
     starts: Option<&[(usize, f64)]>,
 ) -> Result<Vec<HeldOut>> {
+    let (family, distribution) = (&family.held_at(m0), m0.noise.model.distribution);
     held.par_iter()
         .map(|&i| {
             fitted_damping_admissible(setup, &[i], g, effect)?;
@@ -585,11 +558,10 @@ impl M0Directions {
     }
 }
 
-/// A probe of a candidate at M0's other parameters: how far it moves the training curves off
-/// M0's own directions, and its sum of squared innovations under M0's noise off those
-/// directions, what remains after M0's parameters move to first order (the probes that failed
-/// are left out). Held at M0's values they would judge a strong effect by M0's compensation
-/// for it (M0's STEs and damping make up for a missing effect as far as they can).
+/// A probe of a candidate at M0's other parameters (failed probes left out): how far it moves
+/// the training curves off M0's own directions, and its sum of squared innovations under M0's
+/// noise off them, what remains after M0's parameters move to first order: held at M0's
+/// values, they would judge a strong effect by what M0's STEs and damping made up for it.
 struct Probe {
     delta: Vec<f64>,
     moved: f64,
@@ -643,8 +615,7 @@ fn power_bound(null: &NullFit, effect: &Effect, level: f64) -> Option<PowerBound
     })
 }
 
-/// Candidate `c` fitted from M0 (delta 0) or its best probe (the one of
-/// [`Candidate::probes`] that fits the training curves best at M0's other parameters).
+/// Candidate `c` fitted from its best probes ([`starts_of`]) and, where needed, from M0.
 fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis) -> CandidateFit {
     let curves = null.curves.with_effect(EffectParams::Delta(c));
     let (_, ste, _) = null.curves.unpack(&null.est.params);
@@ -676,11 +647,9 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
             .reduce_with(|a, b| best_of(a, b, axis))
             .unwrap_or_else(|| Err(GearError::Numerical("no start".into())))
     };
-    // The candidate holds M0 (delta 0): its fit must reach M0's likelihood. Where its starts
-    // ended below it (a fit held in a basin of its own), or began at M0 itself, it is fitted
-    // from M0 at M0's noise too, and the larger likelihood kept: with heavy tails the
-    // likelihood has several maxima, and either path can find the higher one. From M0 itself
-    // the two fits are independent and run side by side.
+    // The candidate holds M0 (delta 0), so its fit must reach M0's likelihood: where its starts
+    // ended below it, or began at M0 (then side by side), it is fitted from M0 at M0's noise too
+    // and the larger likelihood kept, as heavy tails give the likelihood several maxima.
     let from_m0 = || fit(vec![vec![0.0; c.dim()]], Some(null.est.noise.model));
     let from_zero = starts.iter().all(|d| d.iter().all(|v| *v == 0.0));
     let est = if from_zero {
@@ -716,11 +685,10 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
 
 /// Starts of a candidate's fit: its best probes (at M0's other parameters, under M0's noise)
 /// where they fit better than M0, else M0 itself. A phase-carrying candidate gets up to
-/// [`PHASE_STARTS`] of them in different phases, one of them more than a quarter turn from the
-/// best where a probe there fits better than M0: the training loads can leave several phase
-/// basins, each with the damping and the STEs pulled to make up for a wrong phase. Each start
-/// is its own fit and the largest likelihood is kept: the engine's first fit of several starts
-/// compares them under equal weights, which an estimated noise does not have yet.
+/// [`PHASE_STARTS`] in different phases, one more than a quarter turn from the best where such
+/// a probe fits better than M0: the training loads can leave several phase basins, the damping
+/// and STEs pulled to make up for a wrong phase. Each start is its own fit, the largest
+/// likelihood kept: the engine would compare several starts under equal weights.
 fn starts_of(null: &NullFit, m0: &M0Directions, probes: &[Probe], c: Candidate) -> Vec<Vec<f64>> {
     let m0_rss = m0.squares_off(null, &null.est.residuals);
     let mut better: Vec<&Probe> = probes.iter().filter(|p| p.rss < m0_rss).collect();
@@ -796,18 +764,8 @@ fn candidate_columns(
 }
 
 /// The named effect's size and its 95% profile-likelihood interval (Wald where the profile
-/// fails), with the phase's Wald arc (degrees) for a phase-carrying candidate.
-struct Size {
-    estimate: f64,
-    ci95: Option<(f64, f64)>,
-    method: &'static str,
-    wald: Option<(f64, f64)>,
-    profile: Option<(Option<f64>, Option<f64>)>,
-    phase_deg: Option<f64>,
-    phase_wald95_deg: Option<(f64, f64)>,
-}
-
-fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
+/// fails), with the phase's Wald arc (degrees) for a phase-carrying candidate, set in `r`.
+fn named_size(null: &NullFit, c: Candidate, est: &Estimate, r: &mut CandidateResult) -> Result<()> {
     let delta_curves = null.curves.with_effect(EffectParams::Delta(c));
     let (g, ste, effect) = delta_curves.unpack(&est.params);
     let curves = null.curves.with_effect(EffectParams::Profiled(c));
@@ -844,12 +802,12 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
             hi.map(|v| c.estimate_of_profiled(v)),
         )
     };
-    let (ci95, method) = match &profile {
+    (r.ci95, r.ci95_method) = match &profile {
         Some(p) => {
             let (lo, hi) = mapped(p.ends());
             (
                 Some((
-                    lo.unwrap_or(if c.profiled_is_amplitude() {
+                    lo.unwrap_or(if c.has_phase() {
                         0.0
                     } else {
                         f64::NEG_INFINITY
@@ -867,27 +825,19 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate) -> Result<Size> {
         }
         None => (Some(wald), "Wald"),
     };
-    let profile_mapped = profile.map(|p| mapped(p.ends()));
-    let phase = c.has_phase().then(|| {
+    r.estimate = Some(c.estimate_of_profiled(u));
+    r.wald_ci95 = Some(wald);
+    r.profile_ci95 = profile.map(|p| mapped(p.ends()));
+    if c.has_phase() {
         let (lo, hi) = polar.ci95[k + 1];
-        (
-            polar.params[k + 1].to_degrees(),
-            (lo.to_degrees(), hi.to_degrees()),
-        )
-    });
-    Ok(Size {
-        estimate: c.estimate_of_profiled(u),
-        ci95,
-        method,
-        wald: Some(wald),
-        profile: profile_mapped,
-        phase_deg: phase.map(|p| p.0),
-        phase_wald95_deg: phase.map(|p| p.1),
-    })
+        r.phase_deg = Some(polar.params[k + 1].to_degrees());
+        r.phase_wald95_deg = Some((lo.to_degrees(), hi.to_degrees()));
+    }
+    Ok(())
 }
 
-/// Whether the effects of two fits move the training curves alike: |cos| of the angle between
-/// their changes from M0, whitened by M0's noise, above `collinear_cos`.
+/// Whether two fits' effects move the training curves alike: |cos| of the angle between their
+/// changes from M0, whitened by M0's noise, above `collinear_cos`.
 fn collinear(null: &NullFit, a: &Estimate, b: &Estimate, collinear_cos: f64) -> bool {
     let change = |e: &Estimate| -> Vec<f64> {
         let r: Vec<f64> = e
@@ -904,9 +854,8 @@ fn collinear(null: &NullFit, a: &Estimate, b: &Estimate, collinear_cos: f64) -> 
     (dot / (norm(&u) * norm(&v))).abs() > collinear_cos
 }
 
-/// Run the discovery on a Munro-style data set (see the module's notes and
-/// docs/discover-method.md). Reads the curves and the rig's stated geometry only: never
-/// `[source.truth]`.
+/// Run the discovery on a Munro-style data set (docs/discover-method.md). Reads the curves and
+/// the rig's stated geometry only: never `[source.truth]`.
 pub fn discover(
     data: &MunroData,
     opts: &DiscoverOptions,
@@ -924,19 +873,11 @@ pub fn discover_setup(
     progress: &dyn Progress,
 ) -> Result<Discovery> {
     check_options(opts)?;
-    let n_curves = setup.curves.len();
-    let (train, held) = split(n_curves);
+    let (train, held) = split(setup.curves.len());
     progress.start(4 + LIBRARY.len() as u64, "discovery steps");
-    let origin = noise_origin(setup, opts);
+    let (family, origin) = family_of(setup, opts);
     let mut masks: [Mask; 2] = [Vec::new(), Vec::new()];
-    let null = fit_null(
-        setup,
-        (&train, &held),
-        &family_of(setup, opts),
-        &origin,
-        &mut masks,
-    )
-    .map_err(|e| {
+    let null = fit_null(setup, (&train, &held), &family, &origin, &mut masks).map_err(|e| {
         GearError::Numerical(format!(
             "the null model M0 failed in its fit to the training loads, so nothing can be \
              tested against it: {e}"
@@ -945,8 +886,8 @@ pub fn discover_setup(
     progress.advance(1);
     let axis = null.curves.axis()?;
     let l0 = calibration::log_likelihood(&null.est, &axis);
-    // The candidates' fits are independent: side by side, each fit's own parallel parts
-    // (a Jacobian's curves) leave cores idle between its steps.
+    // The candidates' fits are independent: side by side, as each fit's own parallel parts
+    // leave cores idle between its steps.
     let fits: Vec<CandidateFit> = LIBRARY
         .par_iter()
         .map(|&c| {
@@ -972,7 +913,13 @@ pub fn discover_setup(
     );
     let (best, rivals) = select(&null, &fits, &cands, opts);
     let misfit = misfit_of(&null, &gof, held_check.as_ref(), opts.alpha);
-    let answer = answer(
+    let Answer {
+        effect,
+        closest,
+        ambiguous_with,
+        check,
+        after,
+    } = answer(
         &null,
         &fits,
         &mut cands,
@@ -984,36 +931,90 @@ pub fn discover_setup(
     let excluded = excluded_points(setup, &null)?;
     progress.advance(1);
     progress.finish();
-    Ok(assemble(Assembly {
-        setup,
-        opts,
-        null: &null,
-        train: &train,
-        held: &held,
-        effect: answer.effect,
-        closest: answer.closest,
-        ambiguous_with: answer.ambiguous_with,
-        cands,
-        gof,
-        held_check,
-        check: answer.check,
-        after: answer.after,
-        excluded,
-        origin,
-        misfit: if best.is_none() { misfit } else { None },
-        power_bound: opts
-            .power_at
-            .as_ref()
-            .and_then(|e| power_bound(&null, e, opts.alpha / LIBRARY.len() as f64)),
-    }))
+    let misfit = if best.is_none() { misfit } else { None };
+    let power_bound = opts
+        .power_at
+        .as_ref()
+        .and_then(|e| power_bound(&null, e, opts.alpha / LIBRARY.len() as f64));
+    let (train, held) = (&train, &held);
+    let mask = null.curves.mask;
+    let ws = windows();
+    let omega: Vec<Vec<f64>> = setup
+        .curves
+        .iter()
+        .map(|c| {
+            c.speeds_rpm
+                .iter()
+                .map(|s| setup.dim.omega(*s, null.globals.omega_n_hz))
+                .collect()
+        })
+        .collect();
+    let gap_set = |preds: &[CurvePrediction]| GapSet {
+        training: gap(setup, train, preds, mask, &omega, &ws),
+        held_out: (!held.is_empty()).then(|| gap(setup, held, preds, mask, &omega, &ws)),
+    };
+    let named = effect != "none" && effect != "unexplained";
+    let (after_preds, gap_after_model) = match (&after, named || closest.is_some()) {
+        (Some(after), true) => (
+            after.preds.clone(),
+            format!("M0 + {}", closest.as_deref().unwrap_or(&effect)),
+        ),
+        _ => (null.preds.clone(), "M0, no candidate refitted".to_string()),
+    };
+    let kept_scales = null
+        .scales
+        .iter()
+        .zip(mask)
+        .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
+    Ok(Discovery {
+        effect,
+        ambiguous_with,
+        closest_candidate: closest,
+        misfit,
+        goodness_of_fit: gof,
+        held_out_prediction: held_check,
+        candidates: cands,
+        noise: DiscoveryNoise {
+            origin,
+            model: null.est.noise.model,
+            ..null.noise.clone()
+        },
+        noise_range_um: min_max(kept_scales).unwrap_or((0.0, 0.0)),
+        zeta_m0: null.globals.zeta,
+        omega_n_hz_m0: null.globals.omega_n_hz,
+        design_load_n: setup.design_load_n,
+        training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
+        held_out_loads_n: held.iter().map(|&i| setup.curves[i].load_n).collect(),
+        held_out_ste_um: held
+            .iter()
+            .map(|&i| {
+                let ste_after = after
+                    .as_ref()
+                    .and_then(|x| x.held_ste.iter().find(|h| h.0 == i))
+                    .map_or(null.ste[i], |h| h.1);
+                (setup.curves[i].load_n, null.ste[i], ste_after)
+            })
+            .collect(),
+        excluded_points: mask.iter().flatten().filter(|m| !**m).count(),
+        excluded_by_load: excluded,
+        gap_before: gap_set(&null.preds),
+        gap_after: gap_set(&after_preds),
+        gap_after_model,
+        residuals_before: residual_curves(setup, train, &null.preds, mask, &omega),
+        residuals_after: residual_curves(setup, train, &after_preds, mask, &omega),
+        windows: ws,
+        bootstrap: opts.bootstrap,
+        power_bound,
+        noise_correlation: null.est.noise.correlation.clone(),
+        prediction_check: check,
+    })
 }
 
-/// What the run answers, from its tests' outcome: the best passing candidate (`best`, with the
-/// passing ones that change the training curves like it, `rivals`) is named when its refit
-/// predicts the held-out loads better than M0, "ambiguous" when a rival predicts them about as
-/// well, "unexplained" when it predicts them worse; with none passing, "unexplained" where M0
-/// misfits (shown with the closest candidate whose prediction can be made), else "none". A
-/// candidate whose held-out prediction or interval fails says so in its result.
+/// What the run answers: the best passing candidate (`best`; `rivals`, the passing ones that
+/// change the training curves like it) is named when its refit predicts the held-out loads
+/// better than M0, "ambiguous" when a rival predicts them about as well, "unexplained" when
+/// worse; with none passing, "unexplained" where M0 misfits (with the closest candidate whose
+/// prediction can be made), else "none". A failed prediction or interval is said in its result.
 fn answer(
     null: &NullFit,
     fits: &[CandidateFit],
@@ -1022,11 +1023,8 @@ fn answer(
     misfit: bool,
     held: &[usize],
 ) -> Answer {
-    // The best candidate's predictions, and whether they beat M0's on the held-out loads; where
-    // none passes but M0 misfits, those of the closest candidate (by likelihood ratio) that can
-    // make them, to show its gap after. A prediction that fails (a damping law that takes a
-    // held-out load's zeta below the floor, a sweep that does not settle) is said with the
-    // candidate, which is not named.
+    // Where none passes but M0 misfits, the closest candidate by likelihood ratio whose
+    // predictions can be made shows its gap after.
     let tried: Vec<usize> = match best {
         Some(b) => vec![b],
         None if misfit => by_lr(cands)
@@ -1077,9 +1075,8 @@ fn answer(
     };
     if let (Some(b), true) = (best, predicts) {
         if let Ok(est) = &fits[b].est {
-            match named_size(null, fits[b].candidate, est) {
-                Ok(size) => fill_size(&mut cands[b], size),
-                Err(e) => cands[b].note = Some(format!("its interval failed: {e}")),
+            if let Err(e) = named_size(null, fits[b].candidate, est, &mut cands[b]) {
+                cands[b].note = Some(format!("its interval failed: {e}"));
             }
         }
     }
@@ -1114,10 +1111,9 @@ struct Answer {
 }
 
 /// Holm's adjustment of the tested candidates' p-values together with M0's checks that can
-/// say "unexplained": its prediction of the held-out loads and, where given (a stated noise),
-/// its goodness of fit. The family-wise error over every way of leaving "none" is then alpha.
-/// With the noise estimated from the same residuals the goodness of fit is near its degrees
-/// of freedom by construction, and it is reported only.
+/// say "unexplained", so that the family-wise error over every way of leaving "none" is alpha:
+/// its held-out prediction and, where given (a stated noise), its goodness of fit, which an
+/// estimated noise makes near its degrees of freedom by construction.
 fn adjust(
     cands: &mut [CandidateResult],
     gof: Option<&mut TestResult>,
@@ -1145,10 +1141,9 @@ fn adjust(
     }
 }
 
-/// M0's prediction of the held-out loads tested: its deviance against its bootstrap
-/// replicates' (each with the training fit's error and the noise's estimation in it). An
-/// effect outside the library that the training fit absorbs in its zeta, omega_n and STEs
-/// shows where those are not refitted.
+/// M0's prediction of the held-out loads tested, its deviance against its bootstrap
+/// replicates': an effect outside the library that the training fit absorbs in its zeta,
+/// omega_n and STEs shows where those are not refitted.
 fn held_prediction_test(null: &NullFit, reps: &[Replicate]) -> Option<TestResult> {
     let h = null.held.as_ref()?;
     let dev: Vec<f64> = reps.iter().filter_map(|r| r.held_deviance).collect();
@@ -1162,11 +1157,9 @@ fn held_prediction_test(null: &NullFit, reps: &[Replicate]) -> Option<TestResult
 
 /// Of the passing candidates `rivals` that change the training curves like the best one
 /// (`best`, its predictions), those that predict the held-out loads about as well: within half
-/// of chi2(0.95; 1) = 3.84 of its held-out log-likelihood, or better. The held-out loads are data
-/// the training fits did not see, where effects that act alike at the training loads part (a
-/// torque ripple is the same newtons at every load, a stiffness variation scales with the mean
-/// deflection): a rival they reject leaves the name to the best one. A rival whose prediction
-/// fails stays a rival.
+/// of chi2(0.95; 1) = 3.84 of its held-out log-likelihood, or better: effects alike at the
+/// training loads can part at others (a torque ripple is the same newtons at every load, a
+/// stiffness variation scales with the mean deflection). A rival that cannot predict stays one.
 fn held_out_rivals(
     null: &NullFit,
     fits: &[CandidateFit],
@@ -1216,9 +1209,9 @@ fn select(
     (best, ambiguous_with)
 }
 
-/// Why M0 does not explain the training curves on its own, if it does not: with a stated
-/// noise, its chi-square beyond its bootstrap replicates' after Holm's correction (`p_holm`,
-/// set only where the noise is stated); with any, an estimated correlation
+/// Why M0 does not explain the training curves on its own, if it does not: its held-out
+/// prediction or (with a stated noise, where `p_holm` is set) its chi-square beyond their
+/// bootstrap replicates' after Holm's correction; with any noise, an estimated correlation
 /// length whose interval reaches beyond the widest curve (the residuals are one smooth curve,
 /// a misfit the noise cannot be: `crate::fit::CorrelationFit::unbounded_length`).
 fn misfit_of(
@@ -1266,7 +1259,6 @@ fn bootstrap(
 ) -> Result<Vec<Replicate>> {
     let columns: Vec<Columns> = fits
         .iter()
-        .filter(|f| f.est.is_ok())
         .filter_map(|f| {
             let est = f.est.as_ref().ok()?;
             f.columns.clone().map(|d| Columns {
@@ -1320,11 +1312,9 @@ fn bootstrap(
 }
 
 /// How a replicate is fitted by a model whose data fit is `fit`: the noise's scale
-/// re-estimated as the run's family says, its shape (the tails' degrees of freedom, the
-/// correlation length) held at the data fit's. Estimating the shape again in every replicate
-/// would cost a search over lengths and degrees of freedom per fit (minutes a run); held, the
-/// replicates' ratios miss only the shape's own share of the observed one, which is of second
-/// order under M0, where the two fits' shapes agree.
+/// re-estimated as the run's family says, its shape (tails, correlation length) held at the
+/// data fit's, which spares a search per replicate fit and misses only the shape's share of
+/// the observed ratio, of second order under M0, where the two fits' shapes agree.
 fn replicate_options(family: &Family, fit: &Estimate, axis: &crate::fit::Axis) -> EstimateOptions {
     let model = fit.noise.model;
     EstimateOptions {
@@ -1370,16 +1360,6 @@ fn candidate_result(f: &CandidateFit, k: usize, reps: &[Replicate]) -> Candidate
     }
 }
 
-fn fill_size(c: &mut CandidateResult, s: Size) {
-    c.estimate = Some(s.estimate);
-    c.ci95 = s.ci95;
-    c.ci95_method = s.method;
-    c.wald_ci95 = s.wald;
-    c.profile_ci95 = s.profile;
-    c.phase_deg = s.phase_deg;
-    c.phase_wald95_deg = s.phase_wald95_deg;
-}
-
 /// M0's goodness of fit: the chi-square of its innovations against the replicates'. With an
 /// estimated noise it is near its degrees of freedom by construction and tells little; with a
 /// stated one it says whether the stated noise and M0 explain the scatter.
@@ -1417,10 +1397,7 @@ fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Re
         null.curves.setup,
         (held, null.curves.mask, &null.scales),
         (g, &effect),
-        (
-            &null.family.held_at(&null.est),
-            null.est.noise.model.distribution,
-        ),
+        (&null.family, &null.est),
         None,
     )?;
     let held_fits = with_points(&fits, null.curves.mask);
@@ -1465,101 +1442,4 @@ fn excluded_points(setup: &Setup, null: &NullFit) -> Result<Vec<ExcludedPoints>>
             })
         })
         .collect()
-}
-
-/// What [`assemble`] puts together.
-struct Assembly<'a> {
-    setup: &'a Setup,
-    opts: &'a DiscoverOptions,
-    null: &'a NullFit<'a>,
-    train: &'a [usize],
-    held: &'a [usize],
-    effect: String,
-    closest: Option<String>,
-    ambiguous_with: Vec<String>,
-    cands: Vec<CandidateResult>,
-    gof: TestResult,
-    held_check: Option<TestResult>,
-    check: Option<PredictionCheck>,
-    after: Option<After>,
-    excluded: Vec<ExcludedPoints>,
-    origin: NoiseOrigin,
-    misfit: Option<String>,
-    power_bound: Option<PowerBound>,
-}
-
-fn assemble(a: Assembly) -> Discovery {
-    let (setup, null, train, held) = (a.setup, a.null, a.train, a.held);
-    let mask = null.curves.mask;
-    let ws = windows();
-    let omega: Vec<Vec<f64>> = setup
-        .curves
-        .iter()
-        .map(|c| {
-            c.speeds_rpm
-                .iter()
-                .map(|s| setup.dim.omega(*s, null.globals.omega_n_hz))
-                .collect()
-        })
-        .collect();
-    let gap_set = |preds: &[CurvePrediction]| GapSet {
-        training: gap(setup, train, preds, mask, &omega, &ws),
-        held_out: (!held.is_empty()).then(|| gap(setup, held, preds, mask, &omega, &ws)),
-    };
-    let named = a.effect != "none" && a.effect != "unexplained";
-    let (after_preds, gap_after_model) = match (&a.after, named || a.closest.is_some()) {
-        (Some(after), true) => (
-            after.preds.clone(),
-            format!("M0 + {}", a.closest.as_deref().unwrap_or(&a.effect)),
-        ),
-        _ => (null.preds.clone(), "M0, no candidate refitted".to_string()),
-    };
-    let kept_scales = null
-        .scales
-        .iter()
-        .zip(mask)
-        .flat_map(|(s, m)| s.iter().zip(m).filter(|(_, k)| **k).map(|(s, _)| *s));
-    Discovery {
-        effect: a.effect,
-        ambiguous_with: a.ambiguous_with,
-        closest_candidate: a.closest,
-        misfit: a.misfit,
-        goodness_of_fit: a.gof,
-        held_out_prediction: a.held_check,
-        candidates: a.cands,
-        noise: DiscoveryNoise {
-            origin: a.origin,
-            model: null.est.noise.model,
-            ..null.noise.clone()
-        },
-        noise_range_um: min_max(kept_scales).unwrap_or((0.0, 0.0)),
-        zeta_m0: null.globals.zeta,
-        omega_n_hz_m0: null.globals.omega_n_hz,
-        design_load_n: setup.design_load_n,
-        training_loads_n: train.iter().map(|&i| setup.curves[i].load_n).collect(),
-        held_out_loads_n: held.iter().map(|&i| setup.curves[i].load_n).collect(),
-        held_out_ste_um: held
-            .iter()
-            .map(|&i| {
-                let after = a
-                    .after
-                    .as_ref()
-                    .and_then(|x| x.held_ste.iter().find(|h| h.0 == i))
-                    .map_or(null.ste[i], |h| h.1);
-                (setup.curves[i].load_n, null.ste[i], after)
-            })
-            .collect(),
-        excluded_points: mask.iter().flatten().filter(|m| !**m).count(),
-        excluded_by_load: a.excluded,
-        gap_before: gap_set(&null.preds),
-        gap_after: gap_set(&after_preds),
-        gap_after_model,
-        residuals_before: residual_curves(setup, train, &null.preds, mask, &omega),
-        residuals_after: residual_curves(setup, train, &after_preds, mask, &omega),
-        windows: ws,
-        bootstrap: a.opts.bootstrap,
-        power_bound: a.power_bound,
-        noise_correlation: null.est.noise.correlation.clone(),
-        prediction_check: a.check,
-    }
 }

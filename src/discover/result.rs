@@ -27,11 +27,10 @@ pub struct DiscoverOptions {
     pub correlation: Correlation,
     /// Family-wise error rate of the candidates' tests (Holm).
     pub alpha: f64,
-    /// |cos| between two passing candidates' changes of the training curves (whitened by M0's
-    /// noise) above which they are ambiguous.
+    /// |cos| between two passing candidates' whitened changes of the training curves above
+    /// which they are ambiguous.
     pub collinear_cos: f64,
-    /// An effect of the library at a given size (a study's hidden truth) whose test's power the
-    /// run states ([`PowerBound`]); None states none.
+    /// An effect (a study's hidden truth) whose test's power the run states ([`PowerBound`]).
     pub power_at: Option<Effect>,
 }
 
@@ -54,8 +53,8 @@ impl Default for DiscoverOptions {
 pub const MAX_BOOTSTRAP: usize = 99_999;
 
 /// The fewest replicates at which the least Monte Carlo p-value, 1 / (B + 1), times the
-/// number of candidates Holm's correction runs over is below alpha: 100 at alpha 0.05 with
-/// five candidates. With fewer, nothing could ever be named.
+/// number of candidates Holm's correction runs over is below alpha: with fewer, nothing could
+/// ever be named.
 pub fn least_bootstrap(alpha: f64) -> usize {
     (super::effects::LIBRARY.len() as f64 / alpha).floor() as usize
 }
@@ -101,11 +100,9 @@ pub struct CandidateResult {
     /// can do, by a tenth of the noise (else it is not tested; see `note`).
     pub identifiable: bool,
     pub note: Option<String>,
-    /// Why its fit failed (a parameter leaving its range, a sweep that does not settle): it is
-    /// reported "failed, because ..." and the run goes on with the others.
+    /// Why its fit failed: it is reported "failed, because ..." and the run goes on.
     pub failed: Option<String>,
-    /// Why its prediction of the held-out loads failed (a damping law that takes a held-out
-    /// load's zeta below the floor, a sweep that does not settle): it is then not named.
+    /// Why its prediction of the held-out loads failed: it is then not named.
     pub prediction_failed: Option<String>,
     /// 2 (log L of its fit - log L of M0's), each with its own noise.
     pub lr: f64,
@@ -214,11 +211,9 @@ pub struct ResidualCurve {
     pub points: Vec<(f64, f64, f64, bool)>,
 }
 
-/// The points of one load left out of the likelihood, described: where M0 predicts
-/// non-period-1 motion (or a jump) a point-wise residual says nothing (a chaotic pp is one
-/// observation window's sample and depends on the history), but a measured pp far outside
-/// every pp M0 produces there is a disagreement the likelihood cannot see: the report shows
-/// both ranges.
+/// The points of one load left out of the likelihood (non-period-1 or at a jump, where a
+/// point-wise residual says nothing), described: a measured pp far outside every pp M0
+/// produces there is a disagreement the likelihood cannot see, so the report shows both ranges.
 #[derive(Clone, Debug, Serialize)]
 pub struct ExcludedPoints {
     pub load_n: f64,
@@ -229,10 +224,8 @@ pub struct ExcludedPoints {
     pub measured_range_um: (f64, f64),
     /// Smallest and largest M0 prediction (its first observation window) there, um.
     pub predicted_range_um: (f64, f64),
-    /// Smallest and largest M0 pp DTE there, um: the predicted pp, and at a chaotic or
-    /// aperiodic point also the pp of each of 32 later observation windows
-    /// (`super::forward::aperiodic_pp_range`), since the measured pp there is one window out
-    /// of that distribution.
+    /// Smallest and largest M0 pp DTE there, um, with every observation window's at a
+    /// non-periodic point (`super::forward::aperiodic_pp_range`), of which a measured pp is one.
     pub model_range_um: (f64, f64),
     /// Excluded points whose measured pp lies outside `model_range_um` by more than 3 noise
     /// scales (at its largest pp) plus 10% of that pp.
@@ -243,8 +236,7 @@ pub struct ExcludedPoints {
 /// first order and asymptotically (Cox & Hinkley 1974, Sec. 9.3): its statistic is then
 /// non-central chi-square with the candidate's degrees of freedom, non-centrality the squared
 /// change of the training curves (whitened by M0's noise) that M0's own parameters cannot make.
-/// An effect whose change M0 absorbs cannot be detected by a test of these data: the power is
-/// what a study's rate is compared with.
+/// It is what a study's rate of finding the effect is compared with.
 #[derive(Clone, Debug, Serialize)]
 pub struct PowerBound {
     pub candidate: String,
@@ -268,13 +260,12 @@ pub struct Discovery {
     pub ambiguous_with: Vec<String>,
     /// The best candidate when the effect is "ambiguous" or "unexplained".
     pub closest_candidate: Option<String>,
-    /// Why M0 does not explain the training curves although no candidate passes, when it
-    /// does not: the answer is then "unexplained".
+    /// Why M0 does not explain the curves although no candidate passes: then "unexplained".
     pub misfit: Option<String>,
     /// M0's chi-square of innovations against its bootstrap replicates'.
     pub goodness_of_fit: TestResult,
-    /// M0's prediction of the held-out loads against its bootstrap replicates (where there
-    /// are held-out loads): with Holm's family, it can make the answer "unexplained".
+    /// M0's prediction of the held-out loads against its bootstrap replicates: in Holm's
+    /// family, it can make the answer "unexplained".
     pub held_out_prediction: Option<TestResult>,
     pub candidates: Vec<CandidateResult>,
     /// Whether the best passing candidate predicts the held-out loads better than M0.
@@ -326,8 +317,7 @@ impl Discovery {
         self.zeta_m0 < 1.05 * MIN_ZETA
     }
 
-    /// No training curve at the design load (within 0.5%): M0 is fitted to the highest load
-    /// in its place.
+    /// No training curve at the design load (within 0.5%): the highest load stands in for it.
     pub fn design_load_missing(&self) -> bool {
         !self
             .training_loads_n

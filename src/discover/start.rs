@@ -1,8 +1,6 @@
 //! Starting values of the discovery fits: zeta, omega_n and the design load's STE from eq. 13's
 //! closed form, each other curve's STE from its quasi-static end, and a held-out curve's STE
-//! from a scan over amplitudes (the pp response is not smooth in the STE: a jump moves by a
-//! grid step). Each scan's residuals are standardized by the noise scale of each point
-//! ([`Scales`]).
+//! from a scan over amplitudes ([`fit_ste`]), its residuals in units of each point's noise.
 
 use super::compare::Mask;
 use super::effects::Effect;
@@ -13,25 +11,20 @@ use crate::fit::{least_squares, least_squares_warm, rss, LmFit, Param, Stop};
 use crate::validate::{dte_gain, dte_pp_um};
 use rayon::prelude::*;
 
-/// Masked residuals of predictions against the curves `idx`, each in units of its point's
-/// noise scale.
+/// Masked residuals of the prediction `pred` of curve `i`, each in units of its point's noise
+/// scale.
 fn residuals_of(
     setup: &Setup,
-    idx: &[usize],
-    preds: &[CurvePrediction],
+    i: usize,
+    pred: &CurvePrediction,
     mask: &Mask,
     scales: &Scales,
 ) -> Vec<f64> {
-    let mut r = Vec::new();
-    for (k, &i) in idx.iter().enumerate() {
-        let c = &setup.curves[i];
-        for (j, y) in c.dte_pp_um.iter().enumerate() {
-            if mask[i][j] {
-                r.push((y - preds[k].dte_pp_um[j]) / scales[i][j]);
-            }
-        }
-    }
-    r
+    let y = &setup.curves[i].dte_pp_um;
+    (0..y.len())
+        .filter(|&j| mask[i][j])
+        .map(|j| (y[j] - pred.dte_pp_um[j]) / scales[i][j])
+        .collect()
 }
 
 /// Relative STE amplitudes scanned around the start of [`fit_ste`].
@@ -41,9 +34,9 @@ const STE_SCAN: [f64; 12] = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4, 1.6,
 const STE_SCAN_FINE: [f64; 8] = [0.92, 0.94, 0.96, 0.98, 1.02, 1.04, 1.06, 1.08];
 
 /// STE amplitude of curve `i` alone, with zeta, omega_n and the effect fixed. The pp response
-/// is not smooth in the STE (a jump moves by a grid step, a branch appears), so a local fit from
-/// one start can stop on the wrong side of a jump: the start is the best of a scan over
-/// [`STE_SCAN`] x `start` and a finer one around it, then Levenberg-Marquardt refines it.
+/// is not smooth in the STE (a jump moves by a grid step, a branch appears), so a local fit
+/// from one start can stop on the wrong side of a jump: the best of a scan over [`STE_SCAN`] x
+/// `start` and a finer one around it starts Levenberg-Marquardt.
 pub fn fit_ste(
     setup: &Setup,
     i: usize,
@@ -55,14 +48,13 @@ pub fn fit_ste(
 ) -> Result<(f64, LmFit)> {
     let f = |p: &[f64]| -> Result<Vec<f64>> {
         let pred = predict(setup, i, g, p[0], effect)?;
-        Ok(residuals_of(setup, &[i], &[pred], mask, scales))
+        Ok(residuals_of(setup, i, &pred, mask, scales))
     };
-    // The base point was evaluated by `f` (the set's memo has it); its column continues its
-    // sweep.
+    // The base point was evaluated by `f` (the memo has it); its column continues its sweep.
     let near = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
         let at_base = predict(setup, i, g, base[0], effect)?;
         let pred = predict_near(setup, i, g, p[0], effect, &at_base)?;
-        Ok(residuals_of(setup, &[i], &[pred], mask, scales))
+        Ok(residuals_of(setup, i, &pred, mask, scales))
     };
     // A scanned amplitude whose prediction fails is a rejected trial point, as a step of the
     // least squares is (`crate::fit::lm`): infinitely bad, not the end of the fit.
@@ -147,13 +139,10 @@ pub fn linear_start(setup: &Setup, i0: usize) -> Result<(Globals, f64)> {
     })?;
     Ok((
         Globals {
-            // Not below the fits' floor, where every prediction is refused: on a 300 rpm grid
-            // the design load's peak can fall between two speeds, and eq. 13 then narrows it
-            // towards zeta 0 (a null set, relative noise, study seed 2, ended at 1e-3 and the
-            // whole run failed).
+            // Not below the fits' floor, where every prediction is refused: eq. 13 narrows a
+            // peak that falls between two speeds of a coarse grid towards zeta 0.
             zeta: b.params[0].abs().clamp(MIN_ZETA, 0.5),
-            // Eq. 13 depends on Omega^2 only, so the signed fit can end at -omega_n (a Student-t
-            // null set of the discover study did, and every later prediction was refused).
+            // Eq. 13 depends on Omega^2 only: the signed fit can end at -omega_n.
             omega_n_hz: b.params[1].abs(),
         },
         b.params[2].abs(),

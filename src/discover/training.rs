@@ -1,9 +1,7 @@
 //! A discovery model (M0, or M0 with one candidate effect) on a set of curves, as one curve for
-//! the estimation engine: its parameters (zeta, omega_n, one STE amplitude per curve, the
-//! effect's), its values at the points the mask keeps, the errors' speed axis, and its fit by
-//! [`crate::fit::estimate_warm`] under the run's error family. Every fit of a discovery run,
-//! M0, each candidate, the named effect's interval and a held-out load's STE, goes through here,
-//! so that all of them maximise the one likelihood of `crate::fit` (docs/discover-method.md).
+//! the estimation engine: its parameters (zeta, omega_n, one STE per curve, the effect's), its
+//! values at the kept points, the errors' speed axis and its fit under the run's error family.
+//! Every fit of a run goes through here, so that all maximise the one likelihood of `crate::fit`.
 
 use super::compare::Mask;
 use super::effects::{Candidate, Effect};
@@ -22,8 +20,7 @@ use rayon::prelude::*;
 pub enum EffectParams {
     /// None: the paper's model, M0.
     None,
-    /// The candidate's delta, nested at zero ([`Candidate`]): the tests' coordinates, smooth
-    /// through M0.
+    /// The candidate's delta, nested at zero: the tests' coordinates, smooth through M0.
     Delta(Candidate),
     /// The candidate's profile coordinate (an amplitude, gamma or beta) then the rest of its
     /// delta ([`Candidate::profiled`]): the coordinates of the named effect's interval.
@@ -38,8 +35,7 @@ pub struct Curves<'a> {
     pub idx: Vec<usize>,
     pub mask: &'a Mask,
     pub effect: EffectParams,
-    /// Zeta and omega_n held (a held-out load's STE fitted alone): the parameters are then
-    /// the STEs only.
+    /// Zeta, omega_n and the effect held (a held-out load's STE fitted alone): STEs only.
     pub held: Option<(Globals, Effect)>,
 }
 
@@ -55,8 +51,7 @@ impl<'a> Curves<'a> {
         }
     }
 
-    /// The same curves and kept points with the effect as `effect` says (M0's curves in a
-    /// candidate's coordinates).
+    /// The same curves and kept points with the effect as `effect` says.
     pub fn with_effect(&self, effect: EffectParams) -> Curves<'a> {
         Curves::new(self.setup, &self.idx, self.mask, effect)
     }
@@ -64,11 +59,8 @@ impl<'a> Curves<'a> {
     /// The STE of curve `i` alone, zeta, omega_n and the effect held at `g`, `effect`.
     pub fn ste_of(setup: &'a Setup, i: usize, mask: &'a Mask, g: Globals, effect: Effect) -> Self {
         Curves {
-            setup,
-            idx: vec![i],
-            mask,
-            effect: EffectParams::Held,
             held: Some((g, effect)),
+            ..Curves::new(setup, &[i], mask, EffectParams::Held)
         }
     }
 
@@ -149,7 +141,7 @@ impl<'a> Curves<'a> {
             }
             EffectParams::Profiled(c) => {
                 let name = c.estimate_name();
-                p.push(if c.profiled_is_amplitude() {
+                p.push(if c.has_phase() {
                     Param::positive(name, tail[0].max(1e-3 * c.scale()))
                 } else {
                     Param::signed(name, tail[0], c.scale())
@@ -254,9 +246,8 @@ impl<'a> Curves<'a> {
         Ok(self.at_kept(&preds))
     }
 
-    /// Fit the model to the data from `starts` (full parameter vectors; the least-squares fit
-    /// runs from each and keeps the best) under the error family `family`, its first weights
-    /// those of `noise_start` where given (a nested model's fitted noise: [`EstimateOptions`]).
+    /// Fit the model to the data from `starts` (full parameter vectors, the best fit kept) under
+    /// `family`, its first weights those of `noise_start` where given ([`EstimateOptions`]).
     pub fn fit(
         &self,
         starts: Vec<Vec<f64>>,
