@@ -57,6 +57,12 @@ pub struct Args {
     keep_sets: Option<PathBuf>,
     #[command(flatten)]
     noise: NoiseArgs,
+    /// State every load's STE in rig.toml as a measurement of the truth with this standard
+    /// uncertainty, µm, in (0, 1000] (`[ste] sd_um`; each seed draws the stated values after
+    /// the curves' noise): discovery with the STE weighed as a measurement. Default: none
+    /// stated, every STE free.
+    #[arg(long, allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
+    ste_sd_um: Option<f64>,
     /// The errors' correlation along speed within a curve, as `discover --correlation`.
     #[arg(long, default_value = "auto")]
     correlation: String,
@@ -125,6 +131,7 @@ fn study_options(a: &Args) -> anyhow::Result<StudyOptions> {
         dop853_rtol: a.dop853_rtol,
         keep_sets: a.keep_sets.clone(),
         noise: a.noise.noise()?,
+        ste_sd_um: a.ste_sd_um,
         discover: DiscoverOptions {
             correlation: parse_correlation(&a.correlation)?,
             bootstrap: a.bootstrap,

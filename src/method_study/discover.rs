@@ -194,6 +194,9 @@ pub struct StudySummary {
     pub data_noise_family: &'static str,
     pub data_noise_floor_um: f64,
     pub data_noise_relative: f64,
+    /// The stated STEs' standard uncertainty (um; [`StudyOptions::ste_sd_um`]); None: not
+    /// stated.
+    pub data_ste_sd_um: Option<f64>,
     pub seeds: usize,
     pub correct: usize,
     pub correct_rate: f64,
@@ -247,6 +250,9 @@ pub struct StudyOptions {
     /// Keep each seed's set in `DIR/seed-N` (rig.toml + dte.csv) instead of replacing it with
     /// the next, so that a seed's answer can be looked at again with `geardyn discover`.
     pub keep_sets: Option<std::path::PathBuf>,
+    /// State every load's STE in rig.toml as a measurement of the truth with this standard
+    /// uncertainty (um; [`MunroTruth::ste_sd_um`]); None: not stated, every STE free.
+    pub ste_sd_um: Option<f64>,
     pub discover: DiscoverOptions,
 }
 
@@ -262,6 +268,7 @@ impl Default for StudyOptions {
             loads: None,
             dop853_rtol: None,
             keep_sets: None,
+            ste_sd_um: None,
             discover: DiscoverOptions::default(),
         }
     }
@@ -383,6 +390,8 @@ fn seed_truth(
     if let Some(loads) = &opts.loads {
         t.ste_um = loads.clone();
     }
+    t.publish_ste = opts.ste_sd_um.is_some();
+    t.ste_sd_um = opts.ste_sd_um;
     t
 }
 
@@ -513,6 +522,7 @@ fn summarise(
         data_noise_family: opts.noise.family.name(),
         data_noise_floor_um: opts.noise.model.floor,
         data_noise_relative: opts.noise.model.relative,
+        data_ste_sd_um: opts.ste_sd_um,
         seeds: n,
         correct,
         correct_rate: correct as f64 / n as f64,

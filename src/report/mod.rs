@@ -325,6 +325,65 @@ pub fn p_text(p: f64) -> String {
     }
 }
 
+/// A fit's stated STEs ([`crate::fit::Measurement`]s of its STE parameters), each weighed
+/// against the curves: stated, fitted, and whether the two agree (Theil & Goldberger's
+/// compatibility z within +-1.96), in words, the load of a parameter named by `load_of`;
+/// None where the fit weighs none.
+pub fn stated_ste_text(
+    measurements: &[crate::fit::MeasurementFit],
+    load_of: impl Fn(usize) -> String,
+) -> Option<String> {
+    if measurements.is_empty() {
+        return None;
+    }
+    let mut parts = Vec::new();
+    let mut disagree = Vec::new();
+    for m in measurements {
+        let z = m.compatibility_z;
+        parts.push(format!(
+            "{}: stated {:.3} ± {:.3} um, fitted {:.3} um{}",
+            load_of(m.measurement.param),
+            m.measurement.value,
+            m.measurement.sd,
+            m.fitted,
+            z.map_or(String::new(), |z| format!(" (z {z:+.2})"))
+        ));
+        if z.is_some_and(|z| z.abs() > 1.96) {
+            disagree.push(load_of(m.measurement.param));
+        }
+    }
+    let verdict = if disagree.is_empty() {
+        "stated and measured curves agree within their uncertainties".to_string()
+    } else {
+        format!(
+            "WARNING: the stated STE disagrees with the curves at {} (|z| above 1.96: the curves pull it further than the stated uncertainty allows; check the STE measurement, its uncertainty, or the load it belongs to)",
+            disagree.join(", ")
+        )
+    };
+    Some(format!(
+        "STE stated with its uncertainty and weighed against the curves: {}; {verdict}",
+        parts.join("; ")
+    ))
+}
+
+/// A fit's stated STEs as the JSON files list them: the parameter, the stated value and its
+/// uncertainty, the fitted value, its z and the compatibility z ([`crate::fit::MeasurementFit`]).
+pub fn stated_ste_json(e: &crate::fit::Estimate) -> Vec<serde_json::Value> {
+    e.measurements
+        .iter()
+        .map(|m| {
+            serde_json::json!({
+                "parameter": e.names[m.measurement.param],
+                "stated_um": m.measurement.value,
+                "sd_um": m.measurement.sd,
+                "fitted_um": m.fitted,
+                "z": m.z,
+                "compatibility_z": m.compatibility_z,
+            })
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -417,63 +476,4 @@ mod tests {
         assert_eq!(measured_label(DataKind::Measured), "measured");
         assert!(measured_label(DataKind::Synthetic).contains("synthetic"));
     }
-}
-
-/// A fit's stated STEs ([`crate::fit::Measurement`]s of its STE parameters), each weighed
-/// against the curves: stated, fitted, and whether the two agree (Theil & Goldberger's
-/// compatibility z within +-1.96), in words, the load of a parameter named by `load_of`;
-/// None where the fit weighs none.
-pub fn stated_ste_text(
-    measurements: &[crate::fit::MeasurementFit],
-    load_of: impl Fn(usize) -> String,
-) -> Option<String> {
-    if measurements.is_empty() {
-        return None;
-    }
-    let mut parts = Vec::new();
-    let mut disagree = Vec::new();
-    for m in measurements {
-        let z = m.compatibility_z;
-        parts.push(format!(
-            "{}: stated {:.3} ± {:.3} um, fitted {:.3} um{}",
-            load_of(m.measurement.param),
-            m.measurement.value,
-            m.measurement.sd,
-            m.fitted,
-            z.map_or(String::new(), |z| format!(" (z {z:+.2})"))
-        ));
-        if z.is_some_and(|z| z.abs() > 1.96) {
-            disagree.push(load_of(m.measurement.param));
-        }
-    }
-    let verdict = if disagree.is_empty() {
-        "stated and measured curves agree within their uncertainties".to_string()
-    } else {
-        format!(
-            "WARNING: the stated STE disagrees with the curves at {} (|z| above 1.96: the curves pull it further than the stated uncertainty allows; check the STE measurement, its uncertainty, or the load it belongs to)",
-            disagree.join(", ")
-        )
-    };
-    Some(format!(
-        "STE stated with its uncertainty and weighed against the curves: {}; {verdict}",
-        parts.join("; ")
-    ))
-}
-
-/// A fit's stated STEs as the JSON files list them: the parameter, the stated value and its
-/// uncertainty, the fitted value, its z and the compatibility z ([`crate::fit::MeasurementFit`]).
-pub fn stated_ste_json(e: &crate::fit::Estimate) -> Vec<serde_json::Value> {
-    e.measurements
-        .iter()
-        .map(|m| {
-            serde_json::json!({
-                "parameter": e.names[m.measurement.param],
-                "stated_um": m.measurement.value,
-                "sd_um": m.measurement.sd,
-                "fitted_um": m.fitted,
-                "z": m.z,
-                "compatibility_z": m.compatibility_z,
-            })
-        })
-        .collect()
 }
