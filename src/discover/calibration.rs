@@ -10,7 +10,7 @@ use super::effects::Candidate;
 use crate::error::Result;
 use crate::fit::{
     estimate, neg_log_likelihood, Axis, Correlation, Distribution, Estimate, EstimateOptions,
-    Param, Stop, Whitener,
+    Measurement, Param, Stop, Whitener,
 };
 use crate::numeric::Rng;
 use nalgebra::DMatrix;
@@ -18,19 +18,31 @@ use rayon::prelude::*;
 
 /// Log-likelihood of a fit at its parameters and noise on the points `axis`, the statistic's:
 /// not the restricted one, whose term depends on the mean parameters' Jacobian and units, so
-/// that it cannot compare models with other ones (Welham & Thompson 1997).
+/// that it cannot compare models with other ones (Welham & Thompson 1997). Its stated STEs'
+/// factor included ([`stated_log_factor`]).
 pub fn log_likelihood(est: &Estimate, axis: &Axis) -> f64 {
-    let m = &est.noise.model;
+    curves_log_likelihood(est, axis, est.noise.model.distribution) + stated_log_factor(est)
+}
+
+/// The curves' part of a fit's log-likelihood on the points `axis`, under `distribution`.
+pub fn curves_log_likelihood(est: &Estimate, axis: &Axis, distribution: Distribution) -> f64 {
     let correlation = Correlation {
         axis,
-        length: m.correlation_length,
+        length: est.noise.model.correlation_length,
     };
     -neg_log_likelihood(
-        m.distribution,
+        distribution,
         &est.residuals,
         &est.noise.scales,
         Some(correlation),
     )
+}
+
+/// The log of the Gaussian factor of a fit's measured parameters (stated STEs), -z^2 / 2 each
+/// with its constant left out: every model of a run weighs the same statements, so the
+/// constants cancel in each comparison.
+pub fn stated_log_factor(est: &Estimate) -> f64 {
+    -0.5 * est.measurements.iter().map(|m| m.z * m.z).sum::<f64>()
 }
 
 /// M0 linearised at its fit: values `f0` at the kept points, parameters `p0` (definitions
@@ -68,11 +80,14 @@ pub struct Replicate {
 /// their scales follow a fit's noise: `stated` per point, else the noise model at `f0`. A
 /// replicate draws the held-out errors as the training ones, moves zeta and omega_n as its M0
 /// fit did, fits each held-out STE alone as the data's are fitted and takes -2 log L: the
-/// predictive deviance under M0, the training fit's and the noise's uncertainty in it.
+/// predictive deviance under M0, the training fit's and the noise's uncertainty in it. A load
+/// whose STE is stated with an uncertainty (`ste_sd`, um, per column) has its statement drawn
+/// about its fitted STE and weighed in its fit, as in the data's.
 pub struct HeldLinear {
     pub f0: Vec<f64>,
     pub globals: DMatrix<f64>,
     pub ste: DMatrix<f64>,
+    pub ste_sd: Vec<Option<f64>>,
     pub axis: Axis,
     pub stated: Option<Vec<f64>>,
     /// Scales of the draws: M0's data fit's noise at these points.
@@ -82,8 +97,15 @@ pub struct HeldLinear {
 impl HeldLinear {
     /// -2 log L at errors `e` after the training loads' M0 fit moved zeta and omega_n by
     /// `moved` and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted
-    /// least squares, decorrelated along speed), the likelihood under `model`'s distribution.
-    pub fn deviance(&self, e: &[f64], moved: [f64; 2], model: &crate::fit::NoiseModel) -> f64 {
+    /// least squares, decorrelated along speed, with its statement's standardized error
+    /// `stated_z[k]` as one more row where it is stated), the likelihood under `model`'s
+    /// distribution times the statements' Gaussian factor.
+    pub fn deviance(
+        &self,
+        (e, stated_z): (&[f64], &[f64]),
+        moved: [f64; 2],
+        model: &crate::fit::NoiseModel,
+    ) -> f64 {
         let scales = match &self.stated {
             Some(s) => s.clone(),
             None => self.f0.iter().map(|&f| model.scale(f)).collect(),
@@ -103,18 +125,26 @@ impl HeldLinear {
         // The columns lie on separate curves, whose innovations are separate: each load's
         // least-squares step is its own projection.
         let w = whiten(&r);
+        let mut stated_deviance = 0.0;
         for k in 0..self.ste.ncols() {
             let col: Vec<f64> = self.ste.column(k).iter().copied().collect();
             let c = whiten(&col);
-            let cc: f64 = c.iter().map(|x| x * x).sum();
+            // The statement's row: residual z (s - e0 = sd z), derivative 1 / sd per um.
+            let (z, inv_sd) = match self.ste_sd.get(k).copied().flatten() {
+                Some(sd) => (stated_z.get(k).copied().unwrap_or(0.0), 1.0 / sd),
+                None => (0.0, 0.0),
+            };
+            let cc: f64 = c.iter().map(|x| x * x).sum::<f64>() + inv_sd * inv_sd;
             if cc > 0.0 {
-                let step = c.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>() / cc;
+                let step = (c.iter().zip(&w).map(|(a, b)| a * b).sum::<f64>() + z * inv_sd) / cc;
                 for (ri, ck) in r.iter_mut().zip(&col) {
                     *ri -= ck * step;
                 }
+                stated_deviance += (z - step * inv_sd).powi(2);
             }
         }
         2.0 * neg_log_likelihood(model.distribution, &r, &scales, Some(correlation))
+            + stated_deviance
     }
 }
 
@@ -197,6 +227,17 @@ pub fn replicates(
                 .zip(errors.draw(&mut rng))
                 .map(|(f, e)| f + e)
                 .collect();
+            // The stated STEs drawn about M0's, as the data's were stated about the true ones;
+            // after the curves' errors, so that those are the same with or without statements.
+            let stated: Vec<Measurement> = null
+                .options
+                .measurements
+                .iter()
+                .map(|m| Measurement {
+                    value: null.p0[m.param] + m.sd * rng.normal(),
+                    ..*m
+                })
+                .collect();
             let fit = |d: Option<&DMatrix<f64>>,
                        scale: f64,
                        opts: &EstimateOptions|
@@ -212,6 +253,7 @@ pub fn replicates(
                 let opts = EstimateOptions {
                     starts: vec![start],
                     stop,
+                    measurements: stated.clone(),
                     ..opts.clone()
                 };
                 estimate(&linear_model(null, d), &y, &params, &opts)
@@ -234,8 +276,13 @@ pub fn replicates(
                     ..*errors
                 }
                 .draw(&mut rng);
+                let z: Vec<f64> = h
+                    .ste_sd
+                    .iter()
+                    .map(|sd| sd.map_or(0.0, |_| rng.normal()))
+                    .collect();
                 let moved = [m0.params[0] - null.p0[0], m0.params[1] - null.p0[1]];
-                h.deviance(&e, moved, &m0.noise.model)
+                h.deviance((&e, &z), moved, &m0.noise.model)
             });
             Some(Replicate {
                 chi_square: m0.chi_square,
@@ -273,6 +320,7 @@ mod tests {
             f0: vec![1.0; 6],
             globals,
             ste,
+            ste_sd: vec![None, None],
             axis,
             stated: None,
             draw_scales: vec![0.5; 6],
@@ -280,13 +328,32 @@ mod tests {
         let noise = NoiseModel::constant(0.5);
         let constant = 2.0 * 6.0 * (0.5f64.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln());
         let along_ste = [0.3, 0.6, 0.9, -0.2, -0.2, -0.2];
-        let d = h.deviance(&along_ste, [0.0, 0.0], &noise);
+        let d = h.deviance((&along_ste, &[]), [0.0, 0.0], &noise);
         assert!((d - constant).abs() < 1e-9, "{d} vs {constant}");
         // Zeta moved by 0.1: residual -0.1 at each curve's first point. Curve 1's STE column
         // (1, 2, 3) takes its projection -0.1/14 (1, 2, 3): what is left has square
         // 0.01 (1 - 1/14); curve 2's (1, 1, 1) leaves 0.01 (1 - 1/3). Whitened by 0.5^2.
-        let d = h.deviance(&[0.0; 6], [0.1, 0.0], &noise);
+        let d = h.deviance((&[0.0; 6], &[]), [0.1, 0.0], &noise);
         let expected = constant + (0.01 * (1.0 - 1.0 / 14.0) + 0.01 * (1.0 - 1.0 / 3.0)) / 0.25;
+        assert!((d - expected).abs() < 1e-9, "{d} vs {expected}");
+
+        // Curve 1's STE stated with sd 0.05 um, its statement 1 sd above the fitted STE, the
+        // error 0.1 along its column: one least-squares problem of the whitened column
+        // (2, 4, 6) and the statement's row 1 / sd = 20 against (0.2, 0.4, 0.6) and z = 1,
+        // whose least sum of squares is y'y - (x'y)^2 / x'x.
+        let stated = HeldLinear {
+            ste_sd: vec![Some(0.05), None],
+            ..h
+        };
+        let (a, z, inv_sd) = (0.1, 1.0, 20.0);
+        let e = [a, 2.0 * a, 3.0 * a, 0.0, 0.0, 0.0];
+        let d = stated.deviance((&e, &[z, 0.0]), [0.0, 0.0], &noise);
+        let (xy, xx, yy) = (
+            56.0 * a + inv_sd * z,
+            56.0 + inv_sd * inv_sd,
+            56.0 * a * a + z * z,
+        );
+        let expected = constant + yy - xy * xy / xx;
         assert!((d - expected).abs() < 1e-9, "{d} vs {expected}");
     }
 }

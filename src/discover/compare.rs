@@ -207,6 +207,7 @@ mod tests {
             speeds_rpm: (0..n).map(|k| 1000.0 + 100.0 * k as f64).collect(),
             dte_pp_um: vec![1.0; n],
             sd_um: None,
+            stated_ste: None,
         };
         let setup = Setup::new(
             crate::data::munro_rig().dimensional().unwrap(),

@@ -67,6 +67,9 @@ pub struct Curve {
     pub dte_pp_um: Vec<f64>,
     /// Stated standard deviation of each point (um), when the set has a `dte_pp_sd_um` column.
     pub sd_um: Option<Vec<f64>>,
+    /// The load's STE amplitude and its standard uncertainty (um), where rig.toml `[ste]`
+    /// states both: every fit weighs it as a measurement of that load's STE.
+    pub stated_ste: Option<(f64, f64)>,
 }
 
 /// The measured data and the rig's stated scales (nothing from `[source.truth]`), with the
@@ -128,6 +131,11 @@ impl Setup {
                 speeds_rpm: c.iter().map(|p| p.speed_rpm).collect(),
                 dte_pp_um: c.iter().map(|p| p.dte_pp_um).collect(),
                 sd_um: c.iter().map(|p| p.sd_um).collect(),
+                stated_ste: data
+                    .rig
+                    .ste
+                    .as_ref()
+                    .and_then(|t| Some((t.amplitude_at(load)?, t.sd_at(load)?))),
             });
         }
         Ok(Setup::new(dim, design, curves, noise_setting(data)?))

@@ -19,8 +19,8 @@ use super::windows::windows;
 use crate::data::MunroData;
 use crate::error::{GearError, Result};
 use crate::fit::{
-    neg_log_likelihood, profile_interval_or_better, Distribution, Estimate, EstimateOptions,
-    NoiseModel, NoiseSetting, Profiled, Robust, Stop,
+    profile_interval_or_better, Distribution, Estimate, EstimateOptions, NoiseModel, NoiseSetting,
+    Profiled, Robust, Stop,
 };
 use crate::numeric::{chi_square_power, min_max};
 use crate::progress::Progress;
@@ -431,6 +431,10 @@ fn held_linear(
     Ok(calibration::HeldLinear {
         globals: jac.columns(0, 2).into_owned(),
         ste: jac.columns(2, held.len()).into_owned(),
+        ste_sd: held
+            .iter()
+            .map(|&i| null.curves.setup.curves[i].stated_ste.map(|s| s.1))
+            .collect(),
         axis: curves.axis()?,
         f0,
         stated,
@@ -490,15 +494,8 @@ fn held_out(
                 curve: i,
                 ste_um,
                 prediction: predict(setup, i, g, ste_um, effect)?,
-                log_likelihood: -neg_log_likelihood(
-                    distribution,
-                    &est.residuals,
-                    &est.noise.scales,
-                    Some(crate::fit::Correlation {
-                        axis: &axis,
-                        length: est.noise.model.correlation_length,
-                    }),
-                ),
+                log_likelihood: calibration::curves_log_likelihood(&est, &axis, distribution)
+                    + calibration::stated_log_factor(&est),
             })
         })
         .collect()
@@ -1006,6 +1003,12 @@ pub fn discover_setup(
         bootstrap: opts.bootstrap,
         power_bound,
         noise_correlation: null.est.noise.correlation.clone(),
+        stated_ste: null
+            .est
+            .measurements
+            .iter()
+            .map(|m| (setup.curves[train[m.measurement.param - 2]].load_n, *m))
+            .collect(),
         prediction_check: check,
     })
 }
@@ -1335,7 +1338,8 @@ fn replicate_options(family: &Family, fit: &Estimate, axis: &crate::fit::Axis) -
         starts: Vec::new(),
         // The replicates are drawn from about this model: their fits start at its weights.
         noise_start: Some(model),
-        measurements: Vec::new(),
+        // The same statements of STEs as the data's fit (each replicate draws their values).
+        measurements: fit.measurements.iter().map(|m| m.measurement).collect(),
     }
 }
 

@@ -10,8 +10,8 @@ use super::forward::{
 };
 use crate::error::{GearError, Result};
 use crate::fit::{
-    estimate_warm, Axis, CorrelationSetting, Estimate, EstimateOptions, NoiseModel, NoiseSetting,
-    Param, Robust, Stop,
+    estimate_warm, Axis, CorrelationSetting, Estimate, EstimateOptions, Measurement, NoiseModel,
+    NoiseSetting, Param, Robust, Stop,
 };
 use rayon::prelude::*;
 
@@ -169,6 +169,24 @@ impl<'a> Curves<'a> {
         })
     }
 
+    /// The STEs rig.toml states with an uncertainty, as measurements of this model's STE
+    /// parameters: one more Gaussian factor of the likelihood (Theil & Goldberger 1961).
+    pub fn measurements(&self) -> Vec<Measurement> {
+        let first_ste = self.leading() - self.idx.len();
+        self.idx
+            .iter()
+            .enumerate()
+            .filter_map(|(k, &i)| {
+                let (value, sd) = self.setup.curves[i].stated_ste?;
+                Some(Measurement {
+                    param: first_ste + k,
+                    value,
+                    sd,
+                })
+            })
+            .collect()
+    }
+
     /// The measured pp DTE (um) at the kept points.
     pub fn data(&self) -> Vec<f64> {
         self.kept()
@@ -266,7 +284,7 @@ impl<'a> Curves<'a> {
             stop,
             starts,
             noise_start,
-            measurements: Vec::new(),
+            measurements: self.measurements(),
         };
         let model = |p: &[f64]| self.model(p);
         let near = |p: &[f64], base: &[f64]| self.near(p, base);
@@ -365,5 +383,55 @@ impl Family {
             robust: Robust::Off,
             correlation: Correlation::Stated(m0.noise.model.correlation_length),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Curves, EffectParams};
+    use crate::discover::effects::Effect;
+    use crate::discover::forward::{Curve, Globals, Setup};
+    use crate::fit::Measurement;
+
+    /// A stated STE is a measurement of its own load's STE parameter, in every model's
+    /// coordinates: after zeta and omega_n in a training fit, alone in a held-out load's fit;
+    /// a load without a statement has none.
+    #[test]
+    fn a_stated_ste_measures_its_loads_parameter() {
+        let curve = |load_n: f64, stated_ste| Curve {
+            load_n,
+            speeds_rpm: vec![1000.0, 2000.0],
+            dte_pp_um: vec![1.0, 1.0],
+            sd_um: None,
+            stated_ste,
+        };
+        let setup = Setup::new(
+            crate::data::munro_rig().dimensional().unwrap(),
+            3780.0,
+            vec![
+                curve(3780.0, Some((0.3, 0.05))),
+                curve(2835.0, None),
+                curve(1890.0, Some((2.5, 0.1))),
+            ],
+            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
+        );
+        let mask = vec![vec![true; 2]; 3];
+        let training = Curves::new(&setup, &[0, 2], &mask, EffectParams::None);
+        let m = |param, value, sd| Measurement { param, value, sd };
+        assert_eq!(
+            training.measurements(),
+            vec![m(2, 0.3, 0.05), m(3, 2.5, 0.1)]
+        );
+        let g = Globals {
+            zeta: 0.02,
+            omega_n_hz: 2000.0,
+        };
+        assert_eq!(
+            Curves::ste_of(&setup, 2, &mask, g, Effect::none()).measurements(),
+            vec![m(0, 2.5, 0.1)]
+        );
+        assert!(Curves::ste_of(&setup, 1, &mask, g, Effect::none())
+            .measurements()
+            .is_empty());
     }
 }

@@ -26,6 +26,14 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "goodness_of_fit": d.goodness_of_fit,
         "held_out_prediction": d.held_out_prediction,
         "prediction_check": d.prediction_check,
+        "stated_ste": d.stated_ste.iter().map(|(load, m)| json!({
+            "load_n": load,
+            "stated_um": m.measurement.value,
+            "sd_um": m.measurement.sd,
+            "fitted_um": m.fitted,
+            "z": m.z,
+            "compatibility_z": m.compatibility_z,
+        })).collect::<Vec<_>>(),
         "power_bound": d.power_bound,
         "candidates": d.candidates.iter().map(|c| json!({
             "name": c.name,
@@ -376,6 +384,9 @@ M0: zeta {:.5}, omega_n {:.1} Hz; {}
     for t in notes(d) {
         s.push_str(&format!("NOTE: {t}\n"));
     }
+    if let Some(t) = discovery_stated_ste_text(d) {
+        s.push_str(&format!("M0: {t}\n"));
+    }
     for c in &d.candidates {
         s.push_str(&format!(
             "  {:<26} LR {:>8}  p {:>7}  Holm {:>7}{}\n",
@@ -569,6 +580,9 @@ fn noise_section(page: &mut Page, d: &Discovery) {
     if let Some(c) = &d.noise_correlation {
         page.paragraph(&format!("{}.", correlation_text(c, &names)));
     }
+    if let Some(text) = discovery_stated_ste_text(d) {
+        page.paragraph(&format!("M0's fit: {text}."));
+    }
     if let Some(h) = &d.held_out_prediction {
         page.paragraph(&format!(
             "M0's prediction of the held-out loads (each load's STE fitted alone, zeta and omega_n from the training loads) has deviance -2 log L = {:.1} under the training loads' noise; bootstrap p {}, {} after Holm's correction with the candidates. A small p says M0 predicts loads it did not see worse than its errors allow: an effect the training fit absorbed.",
@@ -654,4 +668,15 @@ fn gap_section(page: &mut Page, d: &Discovery) {
         "residuals_after.png",
         "residuals after adding the effect versus Omega",
     );
+}
+
+/// The training loads' stated STEs against M0's fit, in words ([`super::stated_ste_text`]).
+pub fn discovery_stated_ste_text(d: &Discovery) -> Option<String> {
+    let fits: Vec<crate::fit::MeasurementFit> = d.stated_ste.iter().map(|s| s.1).collect();
+    super::stated_ste_text(&fits, |param| {
+        d.stated_ste
+            .iter()
+            .find(|s| s.1.measurement.param == param)
+            .map_or_else(|| format!("parameter {param}"), |s| format!("{} N", s.0))
+    })
 }
