@@ -738,9 +738,17 @@ fn table() -> Vec<Case> {
             ),
         ),
         case(
-            "validate munro: a stated design-load STE the curve contradicts",
+            "discover: a stated STE without its uncertainty",
+            "discover --data data --out out",
+            "rig.toml:13: field 'ste.amplitude_um': the STE is stated at 3780 N without its uncertainty: add sd_um",
+            munro_with(rig_with_table(
+                "[ste]\nload_n = [3780.0]\namplitude_um = [50.0]\n",
+            )),
+        ),
+        case(
+            "validate munro: a stated STE without its uncertainty",
             VALIDATE,
-            "rig.toml:13: field 'ste.amplitude_um': the design-load curve (3780 N) cannot be fitted",
+            "rig.toml:13: field 'ste.amplitude_um': the STE is stated at 3780 N without its uncertainty: add sd_um",
             munro_with(rig_with_table(
                 "[ste]\nload_n = [3780.0]\namplitude_um = [50.0]\n",
             )),

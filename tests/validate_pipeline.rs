@@ -34,7 +34,9 @@ fn fit_recovers_truth_and_predictions_match_truth_curves() {
         let dir = tempfile::tempdir().unwrap();
         let mut truth = MunroTruth::default_munro();
         truth.seed = seed;
+        // Every STE stated as a measurement (a stated STE needs its uncertainty).
         truth.publish_ste = true;
+        truth.ste_sd_um = Some(0.01);
         synth_munro(&truth, dir.path(), &NoProgress).unwrap();
         let data = load_munro(dir.path()).unwrap();
         let opts = MunroOptions {

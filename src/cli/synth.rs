@@ -120,9 +120,14 @@ struct MunroArgs {
     /// Noise seed (an integer).
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Also publish the STE amplitudes in rig.toml.
-    #[arg(long)]
+    /// Also publish the STE amplitudes in rig.toml, as measurements of the true ones with the
+    /// standard uncertainty --ste-sd-um (each stated value drawn about the truth).
+    #[arg(long, requires = "ste_sd_um")]
     publish_ste: bool,
+    /// Standard uncertainty of the published STE amplitudes, µm, in (0, 1000] (rig.toml
+    /// `[ste] sd_um`; `validate munro` and `discover` weigh a stated STE as a measurement).
+    #[arg(long, requires = "publish_ste", allow_hyphen_values = true, value_parser = real(0.0, 1000.0, true))]
+    ste_sd_um: Option<f64>,
     /// Loads (N) and their STE amplitudes (µm) as LOAD_N:STE_UM pairs, comma separated
     /// [default: 3780:0.3,2835:1.5,1890:2.5,945:3.5].
     #[arg(long, value_parser = parse_load_ste, value_delimiter = ',')]
@@ -204,6 +209,7 @@ pub fn run(a: Args) -> anyhow::Result<()> {
             t.noise = m.noise.noise()?;
             t.seed = m.seed;
             t.publish_ste = m.publish_ste;
+            t.ste_sd_um = m.ste_sd_um;
             if let Some(loads) = m.loads {
                 let design = t.rig.design_load_n;
                 if !loads

@@ -326,7 +326,8 @@ pub struct SteTable {
     pub amplitude_um: Vec<f64>,
     /// Standard uncertainty of the stated amplitudes, um: one value for every load or one per
     /// load. With it a stated STE is a measurement the fit weighs against the curves
-    /// ([`crate::fit::Measurement`]); without it the STE is held as stated.
+    /// ([`crate::fit::Measurement`]); without it `validate munro` and `discover` refuse the
+    /// set, and `validate kubo` starts its fit there (or holds it with `--hold-ste`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sd_um: Option<SteUncertainty>,
 }

@@ -1,10 +1,9 @@
-//! The null distribution of a discovery run's statistics: a parametric bootstrap from the
-//! fitted M0 and its fitted error model, correlation along speed and tails included (Efron &
-//! Tibshirani 1993, ch. 16). Each replicate is M0's curve plus errors drawn as the fit assumed
-//! them; M0 and every candidate are fitted to it by the same engine and error family as the data
-//! were, linearised at M0 (the candidates by their columns at delta = 0), so that its likelihood
-//! ratios are the data's statistic under the null: their law holds whatever the effects' phases
-//! make of the asymptotic one, correlated drift included.
+//! The null distribution of a discovery run's statistics: a parametric bootstrap from the fitted
+//! M0 and its fitted error model, correlation along speed and tails included (Efron & Tibshirani
+//! 1993, ch. 16). Each replicate is M0's curve plus errors drawn as the fit assumed them; M0 and
+//! every candidate are fitted to it by the same engine and error family as the data, linearised
+//! at M0 (the candidates by their columns at delta = 0): its likelihood ratios are the data's
+//! statistic under the null, whatever the effects' phases and a correlated drift make of the law.
 
 use super::effects::Candidate;
 use crate::error::Result;
@@ -18,14 +17,15 @@ use rayon::prelude::*;
 
 /// Log-likelihood of a fit at its parameters and noise on the points `axis`, the statistic's:
 /// not the restricted one, whose term depends on the mean parameters' Jacobian and units, so
-/// that it cannot compare models with other ones (Welham & Thompson 1997). Its stated STEs'
-/// factor included ([`stated_log_factor`]).
+/// that it cannot compare models with other ones (Welham & Thompson 1997).
 pub fn log_likelihood(est: &Estimate, axis: &Axis) -> f64 {
-    curves_log_likelihood(est, axis, est.noise.model.distribution) + stated_log_factor(est)
+    log_likelihood_under(est, axis, est.noise.model.distribution)
 }
 
-/// The curves' part of a fit's log-likelihood on the points `axis`, under `distribution`.
-pub fn curves_log_likelihood(est: &Estimate, axis: &Axis, distribution: Distribution) -> f64 {
+/// [`log_likelihood`] with the curves' errors under `distribution`; the stated STEs' Gaussian
+/// factor adds -z^2 / 2 each, its constant left out: every model of a run weighs the same
+/// statements, so the constants cancel in each comparison.
+pub fn log_likelihood_under(est: &Estimate, axis: &Axis, distribution: Distribution) -> f64 {
     let correlation = Correlation {
         axis,
         length: est.noise.model.correlation_length,
@@ -35,14 +35,7 @@ pub fn curves_log_likelihood(est: &Estimate, axis: &Axis, distribution: Distribu
         &est.residuals,
         &est.noise.scales,
         Some(correlation),
-    )
-}
-
-/// The log of the Gaussian factor of a fit's measured parameters (stated STEs), -z^2 / 2 each
-/// with its constant left out: every model of a run weighs the same statements, so the
-/// constants cancel in each comparison.
-pub fn stated_log_factor(est: &Estimate) -> f64 {
-    -0.5 * est.measurements.iter().map(|m| m.z * m.z).sum::<f64>()
+    ) - 0.5 * est.measurements.iter().map(|m| m.z * m.z).sum::<f64>()
 }
 
 /// M0 linearised at its fit: values `f0` at the kept points, parameters `p0` (definitions
@@ -75,14 +68,12 @@ pub struct Replicate {
 }
 
 /// M0's prediction of the held-out loads, linearised at its fit: values `f0` at their compared
-/// points, derivatives along zeta and omega_n (`globals`, um per unit) and along each held-out
-/// load's STE (`ste`, one column per load, zero off its curve), the points' speed axis, and how
-/// their scales follow a fit's noise: `stated` per point, else the noise model at `f0`. A
-/// replicate draws the held-out errors as the training ones, moves zeta and omega_n as its M0
-/// fit did, fits each held-out STE alone as the data's are fitted and takes -2 log L: the
-/// predictive deviance under M0, the training fit's and the noise's uncertainty in it. A load
-/// whose STE is stated with an uncertainty (`ste_sd`, um, per column) has its statement drawn
-/// about its fitted STE and weighed in its fit, as in the data's.
+/// points, derivatives (um per unit) along zeta and omega_n (`globals`) and each load's STE (`ste`,
+/// a column per load, zero off its curve), the points' speed axis, and their scales: `stated`
+/// per point, else a fit's noise model at `f0`. A replicate draws the held-out errors as the
+/// training ones, moves zeta and omega_n as its M0 fit did, fits each STE alone as the data's
+/// (a statement with uncertainty `ste_sd`, um, drawn about it and weighed) and takes -2 log L:
+/// the predictive deviance under M0, the training fit's and the noise's uncertainty in it.
 pub struct HeldLinear {
     pub f0: Vec<f64>,
     pub globals: DMatrix<f64>,
@@ -95,11 +86,10 @@ pub struct HeldLinear {
 }
 
 impl HeldLinear {
-    /// -2 log L at errors `e` after the training loads' M0 fit moved zeta and omega_n by
-    /// `moved` and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted
-    /// least squares, decorrelated along speed, with its statement's standardized error
-    /// `stated_z[k]` as one more row where it is stated), the likelihood under `model`'s
-    /// distribution times the statements' Gaussian factor.
+    /// -2 log L at errors `e` after the training loads' M0 fit moved zeta and omega_n by `moved`
+    /// and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted least
+    /// squares, decorrelated along speed, its statement's standardized error `stated_z[k]` one
+    /// more row), the likelihood under `model`'s distribution times the statements' factor.
     pub fn deviance(
         &self,
         (e, stated_z): (&[f64], &[f64]),
@@ -204,10 +194,9 @@ fn linear_model<'a>(
     }
 }
 
-/// The replicates' statistics: `b` replicates from seed `seed`, each fitted by M0 and by M0
-/// plus each candidate's `columns`, each model with its own options (the starts are set here).
-/// A replicate whose M0 fit fails is left out; a candidate fit that fails is None in its
-/// replicate.
+/// The replicates' statistics: `b` replicates from seed `seed`, each fitted by M0 and by M0 plus
+/// each candidate's `columns`, each model with its own options (the starts set here). A replicate
+/// whose M0 fit fails is left out; a candidate fit that fails is None in its replicate.
 pub fn replicates(
     null: &NullModel,
     columns: &[Columns],

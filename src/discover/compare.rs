@@ -18,20 +18,19 @@ pub fn split(n: usize) -> (Vec<usize>, Vec<usize>) {
     (0..n).partition(|i| i % 2 == 0)
 }
 
-/// Widest interval between two speeds, relative to the higher, across which any change of
-/// regime with a step over 10 noise scales drops both points unrefined (a 50 or 100 rpm grid
-/// near Munro's resonance): a boundary there is within what a refit moves it by, and such
-/// points, kept, can pull M0's zeta far enough to hide an effect.
+/// Widest interval between two speeds, relative to the higher, across which a change of regime
+/// with a step over 10 noise scales drops both points unrefined (a 50 or 100 rpm grid near
+/// resonance): a refit moves such a boundary that far; kept, they can pull zeta to hide an effect.
 const NARROW_INTERVAL: f64 = 0.05;
 
 /// Mask: drop points whose predicted steady state is not period-1 (chaotic, subharmonic: the
 /// measured pp there depends on history beyond the model) and the two points around every
-/// predicted change of impact regime (Fig. 9: none, single-sided, double-sided) with a step
-/// over 10 noise scales (at the higher level): a jump displaced by one grid step would dominate
-/// every statistic without saying anything about a missing effect. Across an interval wider
-/// than [`NARROW_INTERVAL`] the change must also be discontinuous in the sweep
-/// ([`jumps_between`]): a change along one continuous branch moves smoothly with the parameters
-/// and carries zeta. `curves[k]` is the curve `preds[k]` predicts.
+/// predicted change of impact regime (Fig. 9: none, single-sided, double-sided) with a step over
+/// 10 noise scales (at the higher level), a jump, which displaced by one grid step would dominate
+/// every statistic and say nothing of a missing effect (a resonance peak in contact is steep too,
+/// but smooth in the parameters). Across an interval wider than [`NARROW_INTERVAL`] the change
+/// must also be discontinuous in the sweep ([`jumps_between`]): one along a continuous branch
+/// moves smoothly with the parameters and carries zeta. `curves[k]` is what `preds[k]` predicts.
 pub fn make_mask(
     setup: &Setup,
     preds: &[CurvePrediction],
@@ -45,10 +44,8 @@ pub fn make_mask(
             let n = p.dte_pp_um.len();
             let mut m: Vec<bool> = p.period1.clone();
             for j in 1..n {
-                // A jump is a change of contact regime with a step in pp (a resonance peak in
-                // contact is steep too, but smooth in the parameters). A jump onto the back
-                // flank counts though the teeth are separated on both sides: a fit whose jump
-                // comes one speed early would keep a point far off.
+                // A jump onto the back flank counts though the teeth are separated on both
+                // sides: a fit whose jump comes one speed early would keep a point far off.
                 let regime_changed = p.separated[j] != p.separated[j - 1]
                     || p.back_contact[j] != p.back_contact[j - 1];
                 let (a, b) = (p.dte_pp_um[j - 1], p.dte_pp_um[j]);
@@ -69,12 +66,11 @@ pub fn make_mask(
         .collect()
 }
 
-/// The points where the held-out curves `held` are compared: those `base` keeps and the mask
-/// of each model's predictions (`models`, every curve's) keeps, and of those only the points
-/// whose neighbours are kept too. A training curve's jumps and the edges of its chaotic
-/// ranges are fitted to the measured speeds; a held-out curve's are predicted, within a grid
-/// step, and one point on the wrong side could decide the comparison. The other curves' rows
-/// are `base`'s.
+/// The points where the held-out curves `held` are compared: those `base` and the mask of each
+/// model's predictions (`models`, every curve's) keep, whose neighbours are kept too. A training
+/// curve's jumps and chaotic ranges are fitted to the measured speeds; a held-out curve's are
+/// predicted within a grid step, and one point on the wrong side could decide the comparison.
+/// The other curves' rows are `base`'s.
 pub fn held_mask(
     setup: &Setup,
     held: &[usize],
@@ -195,13 +191,13 @@ pub fn far_from(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::{held_mask, make_mask};
     use crate::discover::forward::{Curve, CurvePrediction, Setup};
     use crate::discover::noise::{DiscoveryNoise, NoiseOrigin};
 
     /// A set of curves of `n` points 100 rpm apart at `loads` (N), and a noise of 0.15 um.
-    fn set_of(n: usize, loads: &[f64]) -> (Setup, DiscoveryNoise) {
+    pub(in crate::discover) fn set_of(n: usize, loads: &[f64]) -> (Setup, DiscoveryNoise) {
         let curve = |&load_n: &f64| Curve {
             load_n,
             speeds_rpm: (0..n).map(|k| 1000.0 + 100.0 * k as f64).collect(),

@@ -1,8 +1,7 @@
 //! The forward model of the discovery fits: the pp DTE curve of M0 or M0 + effect at each
-//! measured speed of a load, as Munro measured it (speed increasing, state carried), by the
-//! exact event-to-event solver (k = 1) or DOP853 (k(t) varying). Jumps and separation come out
-//! as in the data, which a harmonic-balance forward model would have to re-create by branch
-//! tracking.
+//! measured speed of a load, as Munro measured it (speed increasing, state carried), by the exact
+//! event-to-event solver (k = 1) or DOP853 (k(t) varying): jumps and separation come out as in
+//! the data, which a harmonic-balance model would have to re-create by branch tracking.
 
 use super::effects::Effect;
 use super::memo::PredictionMemo;
@@ -13,8 +12,8 @@ use crate::numeric::min_max;
 use crate::progress::NoProgress;
 use crate::sim::{dte_pp_over_windows, Branch, State, SteadyOptions};
 use crate::validate::{
-    check_design_levels, flow_with_rtol, noise_setting, up_sweep_neighbour_starts, MunroNoise,
-    TestRun,
+    check_design_levels, flow_with_rtol, noise_setting, require_ste_uncertainty,
+    up_sweep_neighbour_starts, MunroNoise, TestRun,
 };
 use rayon::prelude::*;
 
@@ -22,10 +21,9 @@ use rayon::prelude::*;
 /// orbits, at about half the cost.
 const RK_RTOL: f64 = 1e-7;
 
-/// Observation windows over which [`aperiodic_pp_range`] samples the pp of a non-periodic
-/// steady state, of whose distribution a measured chaotic pp is one draw. Among n windows the
-/// largest exceeds a fresh window's pp with probability n / (n + 1); 32 make the range the
-/// attractor's at about the cost (2000 periods) of the Lyapunov exponent that would classify it.
+/// Observation windows over which [`aperiodic_pp_range`] samples the pp of a non-periodic steady
+/// state, of which a measured chaotic pp is one draw: the largest of n exceeds a fresh window's
+/// with probability n / (n + 1); 32 cost about what a Lyapunov exponent does (2000 periods).
 const SPREAD_WINDOWS: usize = 32;
 
 /// Smallest damping ratio a discovery fit may use.
@@ -109,6 +107,7 @@ impl Setup {
         let dim = data.rig.rig.dimensional()?;
         let design = data.rig.rig.design_load_n;
         check_design_levels(design, &data.curve(design))?;
+        require_ste_uncertainty(data)?;
         let mut curves = Vec::new();
         for load in data.loads() {
             let c = data.curve(load);
@@ -155,7 +154,7 @@ pub struct CurvePrediction {
     /// Phase-0 section state from which [`aperiodic_pp_range`] samples observation windows at
     /// the points that are not period-1 ([`window_starts`]).
     pub aperiodic_start: Vec<Option<State>>,
-    /// Where a prediction at nearby parameters starts each speed ([`predict_near`]).
+    /// Where a prediction at nearby parameters starts each speed ([`simulate`]).
     pub neighbour_starts: Vec<State>,
     /// The model the curve was simulated with, for [`jumps_between`] (`None`: unknown).
     pub sweep_model: Option<SweepModel>,
@@ -206,9 +205,8 @@ fn curve_model(
     Ok((dim, model))
 }
 
-/// What a prediction's steady states compute: no Lyapunov exponent of non-periodic motion,
-/// whose 2000 periods a point are a large share of a run. A prediction reads the pp, the
-/// period, the impacts and the state a window starts from, never the exponent; a non-periodic
+/// What a prediction's steady states compute: no Lyapunov exponent of non-periodic motion (2000
+/// periods a point, a large share of a run), which a prediction never reads; a non-periodic
 /// point's range over windows is simulated on its own ([`aperiodic_pp_range`]).
 fn fit_steady_options() -> SteadyOptions {
     SteadyOptions {
@@ -232,28 +230,16 @@ pub fn predict(
         g,
         ste_um,
         effect,
-        || simulated(setup, i, g, ste_um, effect, None),
+        || simulate(setup, i, g, ste_um, effect, None),
     )
 }
 
-/// [`predict`] at parameters a finite-difference step from those of `base` (a [`predict`] of
-/// the same curve): each speed from `base`'s [`CurvePrediction::neighbour_starts`], which
-/// continues base's branch, and its periodic orbits without their transients (a Jacobian's
-/// columns, about four times cheaper). Equal to [`predict`] at period-1 points to the orbit's
-/// Newton tolerance, unless the step moves a jump across a speed (such points are masked).
-pub fn predict_near(
-    setup: &Setup,
-    i: usize,
-    g: Globals,
-    ste_um: f64,
-    effect: &Effect,
-    base: &CurvePrediction,
-) -> Result<CurvePrediction> {
-    simulated(setup, i, g, ste_um, effect, Some(base))
-}
-
-/// [`predict`] simulated, or [`predict_near`] where `base` is given.
-fn simulated(
+/// [`predict`] simulated, not from the memo. With `base` (a [`predict`] of the same curve a
+/// finite-difference step away), each speed starts from its [`CurvePrediction::neighbour_starts`],
+/// continuing base's branch, and periodic orbits skip their transients (a Jacobian's columns, four
+/// times cheaper): equal to [`predict`] at period-1 points to the orbit's Newton tolerance,
+/// unless the step moves a jump across a speed (such points are masked).
+pub fn simulate(
     setup: &Setup,
     i: usize,
     g: Globals,
@@ -269,7 +255,7 @@ fn simulated(
         speeds: &setup.curves[i].speeds_rpm,
         opts: &fit_steady_options(),
     };
-    let (pts, starts) = match base {
+    let (pts, neighbour_starts) = match base {
         None => {
             let pts = run.up_sweep(RK_RTOL, &NoProgress)?;
             let starts = up_sweep_neighbour_starts(&model, &pts);
@@ -280,30 +266,19 @@ fn simulated(
             b.neighbour_starts.clone(),
         ),
     };
-    let sweep = SweepModel {
-        dim,
-        model,
-        omega_n_hz: g.omega_n_hz,
-    };
-    Ok(prediction(&pts, starts, sweep))
-}
-
-/// The prediction of a simulated sweep `pts` of `sweep`.
-fn prediction(
-    pts: &[crate::sim::SweepPoint],
-    neighbour_starts: Vec<State>,
-    sweep: SweepModel,
-) -> CurvePrediction {
-    let dim = &sweep.dim;
-    CurvePrediction {
+    Ok(CurvePrediction {
         dte_pp_um: pts.iter().map(|p| dim.dte_um(p.steady.dte_pp)).collect(),
         period1: pts.iter().map(|p| p.steady.period == Some(1)).collect(),
         separated: pts.iter().map(|p| p.steady.q_min < 1.0).collect(),
         back_contact: pts.iter().map(|p| p.steady.q_min < -1.0).collect(),
-        aperiodic_start: window_starts(pts),
+        aperiodic_start: window_starts(&pts),
         neighbour_starts,
-        sweep_model: Some(sweep),
-    }
+        sweep_model: Some(SweepModel {
+            dim,
+            model,
+            omega_n_hz: g.omega_n_hz,
+        }),
+    })
 }
 
 /// Speeds an interval is cut into at each level of [`jumps_between`].
@@ -319,14 +294,13 @@ const FINEST_REFINEMENT: f64 = 1e-3;
 const MAX_REFINE_LEVELS: usize = 4;
 
 /// Whether `pred`'s up-sweep jumps by more than `step_um` between its speeds `j - 1` and `j`
-/// (`speeds`, the curve's), rather than rising or falling steeply along one branch. The
-/// interval is cut into [`REFINE_STEPS`] speeds swept on from speed `j - 1`'s orbit, and the
-/// piece with the largest step is cut again, down to [`FINEST_REFINEMENT`]. A step that stays
-/// above `step_um` is a jump (a branch ending at a fold); one that shrinks below it is a
-/// continuous stretch, such as a coarse grid's resonance peak at which the teeth separate for a
-/// moment, which determines zeta. Counted as a jump, so that the point is never kept by
-/// mistake: an end point or a piece that is not period-1, the refined sweep reaching speed `j`
-/// on another branch than the sweep did, a prediction without its model.
+/// (`speeds`, the curve's) rather than rising steeply along one branch: the interval is cut into
+/// [`REFINE_STEPS`] speeds swept on from speed `j - 1`'s orbit, the piece with the largest step
+/// cut again, down to [`FINEST_REFINEMENT`]. A step that stays above `step_um` is a jump (a
+/// branch ending at a fold); one that shrinks below it is a continuous stretch (a coarse grid's
+/// resonance peak where the teeth separate for a moment, which determines zeta). Counted as a
+/// jump, so that no point is kept by mistake: an end point, a piece not period-1, the refined
+/// sweep reaching speed `j` on another branch, a prediction without its model.
 pub fn jumps_between(
     pred: &CurvePrediction,
     speeds: &[f64],
@@ -387,12 +361,11 @@ pub fn jumps_between(
     Ok(true)
 }
 
-/// Where the observation windows of each sweep point start: where no period up to 32 was
-/// found, the start of the analysed window; at a subharmonic point, the state where the speed
-/// before ended its analysis, where a rig's run-up goes on from (`sim::sweep::carry` starts
-/// from that speed's first section point): a measurement there can catch a chaotic transient
-/// on its way to the orbit, reaching beyond every window of the orbit. None at period-1 points
-/// and at a sweep's first point.
+/// Where the observation windows of each sweep point start: with no period up to 32, the
+/// analysed window's start; at a subharmonic point, where the speed before ended its analysis,
+/// as a rig's run-up goes on (`sim::sweep::carry` starts from that speed's first section point):
+/// a measurement can catch a chaotic transient there, beyond every window of the orbit. None at
+/// period-1 points and at a sweep's first point.
 fn window_starts(pts: &[crate::sim::SweepPoint]) -> Vec<Option<State>> {
     pts.iter()
         .enumerate()
@@ -404,10 +377,9 @@ fn window_starts(pts: &[crate::sim::SweepPoint]) -> Vec<Option<State>> {
         .collect()
 }
 
-/// Smallest and largest pp DTE (um) over [`SPREAD_WINDOWS`] consecutive observation windows of
-/// the analysed length, at each point of `pred` that is not period-1 (the prediction of
-/// `setup.curves[i]` with these parameters), from its window start ([`window_starts`]);
-/// `None` at period-1 points, whose pp every window repeats.
+/// Smallest and largest pp DTE (um) over [`SPREAD_WINDOWS`] observation windows of the analysed
+/// length from its window start ([`window_starts`]) at each point of `pred` (`setup.curves[i]`'s
+/// prediction at these parameters) that is not period-1; `None` where every window repeats.
 pub fn aperiodic_pp_range(
     setup: &Setup,
     i: usize,

@@ -1,9 +1,8 @@
-//! A memo of the forward model's predicted curves, by their exact inputs. A run asks for the
-//! same curve at the same parameters many times (a fit's start, a Jacobian's base, the report);
-//! a prediction is a deterministic function of the curve's speeds and load and of the
-//! parameters, so handing back the stored curve changes no output, only when it is computed.
-//! `quick_cache` is concurrent (predictions come from every thread at once) and bounded by
-//! weight (here points), so a large set cannot grow it without limit.
+//! A memo of the forward model's predicted curves, by their exact inputs. A run asks for the same
+//! curve at the same parameters many times (a fit's start, a Jacobian's base, the report); a
+//! prediction is deterministic in the curve's speeds and load and the parameters, so the stored
+//! curve changes no output, only when it is computed. `quick_cache` is concurrent (predictions
+//! come from every thread at once) and bounded by weight (points), so a large set cannot overgrow.
 
 use super::effects::{Candidate, Effect};
 use super::forward::{Curve, CurvePrediction, Globals};

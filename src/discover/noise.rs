@@ -1,11 +1,10 @@
-//! The measurement noise of a discovery run as its reports and its point-wise rules read it: a
-//! scale sigma_ij at every point of every curve, from the engine's noise model
-//! (`crate::fit::NoiseModel`: a floor plus a part proportional to the level, Gaussian or
-//! Student-t, correlated along speed), stated by the data set or fitted with M0.
-//!
-//! Stated noise, in the order `validate munro` takes it (`validate::noise_setting`): `--noise-um`
-//! (a constant), a `dte_pp_sd_um` column on every point, rig.toml `[noise]` (`floor_um`,
-//! `relative`, `correlation_rpm`); `[noise] reading_um` alone bounds the fitted floor below.
+//! The measurement noise of a discovery run as its reports and point-wise rules read it: a scale
+//! sigma_ij at every point of every curve from the engine's noise model (`crate::fit::NoiseModel`:
+//! a floor plus a part proportional to the level, Gaussian or Student-t, correlated along speed),
+//! stated by the data set or fitted with M0. Stated noise, in the order `validate munro` takes it
+//! (`validate::noise_setting`): `--noise-um` (a constant), a `dte_pp_sd_um` column on every
+//! point, rig.toml `[noise]` (`floor_um`, `relative`, `correlation_rpm`); `[noise] reading_um`
+//! alone bounds the fitted floor below.
 
 use crate::fit::NoiseModel;
 use serde::Serialize;

@@ -98,16 +98,8 @@ struct NullFit<'a> {
 /// takes it as it is (the same start and points give the same fit).
 type HeldFit = (Vec<bool>, HeldOut);
 
-/// `fits` with the points of `mask` they were made on.
-fn with_points(fits: &[HeldOut], mask: &Mask) -> Vec<HeldFit> {
-    fits.iter()
-        .map(|h| (mask[h.curve].clone(), h.clone()))
-        .collect()
-}
-
-/// M0's prediction of the held-out loads on the points where they are compared
-/// ([`held_mask`]): its deviance, -2 log L with each load's STE fitted alone under the training
-/// loads' noise, and that prediction linearised for the bootstrap's replicates of it.
+/// M0's prediction of the held-out loads on their compared points ([`held_mask`]): its deviance
+/// (-2 log L, each STE fitted alone under the training loads' noise) and its linearisation.
 struct HeldPrediction {
     deviance: f64,
     linear: calibration::HeldLinear,
@@ -200,14 +192,7 @@ fn fit_m0(
 ) -> Result<Estimate> {
     let curves = Curves::new(setup, train, mask, EffectParams::None);
     let axis = curves.axis()?;
-    let from = |noise_start: Option<NoiseModel>| {
-        curves.fit(
-            vec![previous.params.clone()],
-            family,
-            fit_stop(),
-            noise_start,
-        )
-    };
+    let from = |noise| curves.fit(vec![previous.params.clone()], family, fit_stop(), noise);
     let (equal, previous_noise) = rayon::join(|| from(None), || from(Some(previous.noise.model)));
     best_of(equal, previous_noise, &axis)
 }
@@ -267,8 +252,7 @@ fn fit_null<'a>(
         (&family, &est),
         None,
     )?;
-    let first_fits = with_points(&held_fits, mask);
-    let held_ste = place_held(held_fits, &mut preds);
+    let (first_fits, held_ste) = place_held(held_fits, mask, &mut preds);
     let mut ste_all: Vec<f64> = vec![0.0; setup.curves.len()];
     let trained = train.iter().zip(&ste).map(|(&i, e)| (i, e.abs()));
     for (i, e) in trained.chain(held_ste) {
@@ -300,9 +284,8 @@ fn held_prediction(null: &mut NullFit, held: &[usize]) -> Result<HeldPrediction>
     let (held_points, mut fits) = held_fits_on_common_points(null, held, &[&m0])?;
     let fits = fits.remove(0);
     let deviance = -2.0 * fits.iter().map(|h| h.log_likelihood).sum::<f64>();
-    let refitted = with_points(&fits, &held_points);
     let mut preds = m0.preds;
-    let held_ste = place_held(fits, &mut preds);
+    let (refitted, held_ste) = place_held(fits, &held_points, &mut preds);
     let linear = held_linear(null, held, &held_points, &held_ste)?;
     null.preds = preds;
     null.held_fits = refitted;
@@ -376,11 +359,10 @@ fn held_log_likelihoods(null: &NullFit, held: &[usize], models: &[&After]) -> Re
 }
 
 /// M0's prediction of the held-out loads `held` at the points `mask` keeps, linearised at zeta,
-/// omega_n and their STEs `held_ste`: central secants, whitened by the noise so that a side
-/// that changes branch is told by the engine's rule ([`crate::fit::secant_jacobian`]). Zeta's
-/// and omega_n's secants span their training standard errors, the size a replicate moves them
-/// by: near a fold the derivative would move a point by many noise scales where the prediction
-/// itself moves little. The STEs' span a ten-thousandth of their size, as the engine's.
+/// omega_n and their STEs `held_ste` by central secants, whitened so that a side that changes
+/// branch is told by the engine's rule ([`crate::fit::secant_jacobian`]). Zeta's and omega_n's
+/// span their training standard errors, as a replicate moves them (near a fold the derivative
+/// moves a point by many noise scales, the prediction little); the STEs' 1e-4 of their size.
 fn held_linear(
     null: &NullFit,
     held: &[usize],
@@ -390,12 +372,8 @@ fn held_linear(
     let curves = Curves::new(null.curves.setup, held, mask, EffectParams::None);
     let mut p = vec![null.globals.zeta, null.globals.omega_n_hz];
     for &i in held {
-        p.push(
-            held_ste
-                .iter()
-                .find(|h| h.0 == i)
-                .map_or(null.ste[i], |h| h.1),
-        );
+        let refitted = held_ste.iter().find(|h| h.0 == i);
+        p.push(refitted.map_or(null.ste[i], |h| h.1));
     }
     let f0 = curves.model(&p)?;
     let stated = match null.family.scale {
@@ -442,14 +420,23 @@ fn held_linear(
     })
 }
 
-/// The held-out loads' predictions put in place among `preds`; their STEs (curve, um).
-fn place_held(fits: Vec<HeldOut>, preds: &mut [CurvePrediction]) -> Vec<(usize, f64)> {
-    fits.into_iter()
-        .map(|h| {
-            preds[h.curve] = h.prediction;
-            (h.curve, h.ste_um)
-        })
-        .collect()
+/// The held-out loads' predictions put in place among `preds`; the fits with the points of
+/// `mask` they were made on, and their STEs (curve, um).
+fn place_held(
+    fits: Vec<HeldOut>,
+    mask: &Mask,
+    preds: &mut [CurvePrediction],
+) -> (Vec<HeldFit>, Vec<(usize, f64)>) {
+    let ste = fits.iter().map(|h| (h.curve, h.ste_um)).collect();
+    for h in &fits {
+        preds[h.curve] = h.prediction.clone();
+    }
+    (
+        fits.into_iter()
+            .map(|h| (mask[h.curve].clone(), h))
+            .collect(),
+        ste,
+    )
 }
 
 /// A held-out load predicted by a fitted model: its STE fitted alone.
@@ -462,12 +449,11 @@ struct HeldOut {
     log_likelihood: f64,
 }
 
-/// Each held-out curve's STE fitted alone with zeta, omega_n and the effect held (`g`,
-/// `effect`), under the run's `family` held at M0's training fit `m0` ([`Family::held_at`]),
-/// its log-likelihood under `m0`'s distribution: a held-out load's STE is a property of that
-/// load, not something the training loads predict. The start is `starts`' value of the curve
-/// where given, else [`fit_ste`]'s scan over amplitudes under the diagonal scales `scales` (the
-/// response is not smooth in the STE: a jump moves by a grid step).
+/// Each held-out curve's STE fitted alone (a property of that load, which the training loads
+/// do not predict), zeta, omega_n and the effect held at `g`, `effect`, the run's `family` at
+/// M0's training fit `m0` ([`Family::held_at`]), its log-likelihood under `m0`'s distribution.
+/// The start is `starts`' value where given, else [`fit_ste`]'s scan under the diagonal scales
+/// `scales` (the response is not smooth in the STE: a jump moves by a grid step).
 fn held_out(
     setup: &Setup,
     (held, mask, scales): (&[usize], &Mask, &Scales),
@@ -494,8 +480,7 @@ fn held_out(
                 curve: i,
                 ste_um,
                 prediction: predict(setup, i, g, ste_um, effect)?,
-                log_likelihood: calibration::curves_log_likelihood(&est, &axis, distribution)
-                    + calibration::stated_log_factor(&est),
+                log_likelihood: calibration::log_likelihood_under(&est, &axis, distribution),
             })
         })
         .collect()
@@ -535,30 +520,24 @@ impl M0Directions {
         }
     }
 
-    /// The sum of squares of [`M0Directions::off`]: for a change of the curves, the
-    /// likelihood ratio's non-centrality; for residuals, what no move of M0's parameters fits.
+    /// The sum of squares of `v` whitened (M0's innovations of a change of the curves) with
+    /// its projection on M0's whitened Jacobian removed, what no change of M0's own parameters
+    /// can do: for a change of the curves, the likelihood ratio's non-centrality; for
+    /// residuals, what no move of M0's parameters fits.
     fn squares_off(&self, null: &NullFit, v: &[f64]) -> f64 {
-        self.off(null, v).iter().map(|x| x * x).sum()
-    }
-
-    /// The whitened vector `v` (M0's innovations of a change of the curves) with its
-    /// projection on M0's whitened Jacobian removed: what no change of M0's own parameters can
-    /// do.
-    fn off(&self, null: &NullFit, v: &[f64]) -> Vec<f64> {
         let x = nalgebra::DVector::from_vec(null.est.whitener.innovations(v));
         let proj = self
             .svd
             .solve(&x, 1e-10)
             .map(|beta| &self.g * beta)
             .unwrap_or_else(|_| nalgebra::DVector::zeros(x.len()));
-        (x - proj).iter().copied().collect()
+        (x - proj).iter().map(|x| x * x).sum()
     }
 }
 
 /// A probe of a candidate at M0's other parameters (failed probes left out): how far it moves
-/// the training curves off M0's own directions, and its sum of squared innovations under M0's
-/// noise off them, what remains after M0's parameters move to first order: held at M0's
-/// values, they would judge a strong effect by what M0's STEs and damping made up for it.
+/// the training curves, and its sum of squared innovations, both off M0's own directions (held
+/// at M0's values, M0's STEs and damping would hide a strong effect they made up for).
 struct Probe {
     delta: Vec<f64>,
     moved: f64,
@@ -590,9 +569,8 @@ fn probe_all(
 }
 
 /// The power of the test of `effect` against M0 at `level` ([`PowerBound`]): the effect set on
-/// M0's fit, its change of the training curves whitened by M0's noise, and what of it M0's own
-/// parameters cannot make, to first order ([`M0Directions::off`]). None for M0 itself, or where
-/// the model cannot be evaluated there.
+/// M0's fit, its change of the training curves that M0's own parameters cannot make, to first
+/// order ([`M0Directions::squares_off`]). None for M0 itself, or where the model fails there.
 fn power_bound(null: &NullFit, effect: &Effect, level: f64) -> Option<PowerBound> {
     let c = effect.candidate?;
     let curves = null.curves.with_effect(EffectParams::Delta(c));
@@ -680,12 +658,11 @@ fn fit_candidate(null: &NullFit, c: Candidate, l0: f64, axis: &crate::fit::Axis)
     }
 }
 
-/// Starts of a candidate's fit: its best probes (at M0's other parameters, under M0's noise)
-/// where they fit better than M0, else M0 itself. A phase-carrying candidate gets up to
-/// [`PHASE_STARTS`] in different phases, one more than a quarter turn from the best where such
-/// a probe fits better than M0: the training loads can leave several phase basins, the damping
-/// and STEs pulled to make up for a wrong phase. Each start is its own fit, the largest
-/// likelihood kept: the engine would compare several starts under equal weights.
+/// Starts of a candidate's fit: its best probes where they fit better than M0, else M0 itself.
+/// A phase-carrying candidate gets up to [`PHASE_STARTS`] in different phases, one more than a
+/// quarter turn from the best where such a probe fits better than M0: the damping and STEs can
+/// make up for a wrong phase, leaving several phase basins. Each start is its own fit, the
+/// largest likelihood kept (the engine would compare several starts under equal weights).
 fn starts_of(null: &NullFit, m0: &M0Directions, probes: &[Probe], c: Candidate) -> Vec<Vec<f64>> {
     let m0_rss = m0.squares_off(null, &null.est.residuals);
     let mut better: Vec<&Probe> = probes.iter().filter(|p| p.rss < m0_rss).collect();
@@ -802,15 +779,9 @@ fn named_size(null: &NullFit, c: Candidate, est: &Estimate, r: &mut CandidateRes
     (r.ci95, r.ci95_method) = match &profile {
         Some(p) => {
             let (lo, hi) = mapped(p.ends());
+            let floor = if c.has_phase() { 0.0 } else { -f64::INFINITY };
             (
-                Some((
-                    lo.unwrap_or(if c.has_phase() {
-                        0.0
-                    } else {
-                        f64::NEG_INFINITY
-                    }),
-                    hi.unwrap_or(f64::INFINITY),
-                )),
+                Some((lo.unwrap_or(floor), hi.unwrap_or(f64::INFINITY))),
                 // A side whose profile steps, or whose inner fits fail, ends at Wald's end
                 // (fit::profile); the method says so.
                 if p.stepped.contains(&true) {
@@ -910,13 +881,7 @@ pub fn discover_setup(
     );
     let (best, rivals) = select(&null, &fits, &cands, opts);
     let misfit = misfit_of(&null, &gof, held_check.as_ref(), opts.alpha);
-    let Answer {
-        effect,
-        closest,
-        ambiguous_with,
-        check,
-        after,
-    } = answer(
+    let (effect, closest, ambiguous_with, check, after) = answer(
         &null,
         &fits,
         &mut cands,
@@ -933,7 +898,6 @@ pub fn discover_setup(
         .power_at
         .as_ref()
         .and_then(|e| power_bound(&null, e, opts.alpha / LIBRARY.len() as f64));
-    let (train, held) = (&train, &held);
     let mask = null.curves.mask;
     let ws = windows();
     let omega: Vec<Vec<f64>> = setup
@@ -947,8 +911,8 @@ pub fn discover_setup(
         })
         .collect();
     let gap_set = |preds: &[CurvePrediction]| GapSet {
-        training: gap(setup, train, preds, mask, &omega, &ws),
-        held_out: (!held.is_empty()).then(|| gap(setup, held, preds, mask, &omega, &ws)),
+        training: gap(setup, &train, preds, mask, &omega, &ws),
+        held_out: (!held.is_empty()).then(|| gap(setup, &held, preds, mask, &omega, &ws)),
     };
     let named = effect != "none" && effect != "unexplained";
     let (after_preds, gap_after_model) = match (&after, named || closest.is_some()) {
@@ -997,8 +961,8 @@ pub fn discover_setup(
         gap_before: gap_set(&null.preds),
         gap_after: gap_set(&after_preds),
         gap_after_model,
-        residuals_before: residual_curves(setup, train, &null.preds, mask, &omega),
-        residuals_after: residual_curves(setup, train, &after_preds, mask, &omega),
+        residuals_before: residual_curves(setup, &train, &null.preds, mask, &omega),
+        residuals_after: residual_curves(setup, &train, &after_preds, mask, &omega),
         windows: ws,
         bootstrap: opts.bootstrap,
         power_bound,
@@ -1018,6 +982,7 @@ pub fn discover_setup(
 /// better than M0, "ambiguous" when a rival predicts them about as well, "unexplained" when
 /// worse; with none passing, "unexplained" where M0 misfits (with the closest candidate whose
 /// prediction can be made), else "none". A failed prediction or interval is said in its result.
+/// Returns the answer, the closest candidate, those it is ambiguous with, the check, the refit.
 fn answer(
     null: &NullFit,
     fits: &[CandidateFit],
@@ -1025,7 +990,13 @@ fn answer(
     (best, rivals): (Option<usize>, &[usize]),
     misfit: bool,
     held: &[usize],
-) -> Answer {
+) -> (
+    String,
+    Option<String>,
+    Vec<String>,
+    Option<PredictionCheck>,
+    Option<After>,
+) {
     // Where none passes but M0 misfits, the closest candidate by likelihood ratio whose
     // predictions can be made shows its gap after.
     let tried: Vec<usize> = match best {
@@ -1095,28 +1066,12 @@ fn answer(
         ),
         (None, _) => ("none".to_string(), None),
     };
-    Answer {
-        effect,
-        closest,
-        ambiguous_with,
-        check,
-        after,
-    }
+    (effect, closest, ambiguous_with, check, after)
 }
 
-/// The outcome of [`answer`].
-struct Answer {
-    effect: String,
-    closest: Option<String>,
-    ambiguous_with: Vec<String>,
-    check: Option<PredictionCheck>,
-    after: Option<After>,
-}
-
-/// Holm's adjustment of the tested candidates' p-values together with M0's checks that can
-/// say "unexplained", so that the family-wise error over every way of leaving "none" is alpha:
-/// its held-out prediction and, where given (a stated noise), its goodness of fit, which an
-/// estimated noise makes near its degrees of freedom by construction.
+/// Holm's adjustment of the tested candidates' p-values with M0's checks that can say
+/// "unexplained", so that the family-wise error over every way of leaving "none" is alpha: its
+/// held-out prediction and, with a stated noise (`gof` given), its goodness of fit.
 fn adjust(
     cands: &mut [CandidateResult],
     gof: Option<&mut TestResult>,
@@ -1148,21 +1103,28 @@ fn adjust(
 /// replicates': an effect outside the library that the training fit absorbs in its zeta,
 /// omega_n and STEs shows where those are not refitted.
 fn held_prediction_test(null: &NullFit, reps: &[Replicate]) -> Option<TestResult> {
-    let h = null.held.as_ref()?;
-    let dev: Vec<f64> = reps.iter().filter_map(|r| r.held_deviance).collect();
-    Some(TestResult {
-        name: "m0_held_out_prediction".to_string(),
-        statistic: h.deviance,
-        p_value: (!dev.is_empty()).then(|| bootstrap_p(h.deviance, &dev)),
-        p_holm: None,
-    })
+    let dev = reps.iter().filter_map(|r| r.held_deviance).collect();
+    Some(bootstrap_test(
+        "m0_held_out_prediction",
+        null.held.as_ref()?.deviance,
+        dev,
+    ))
 }
 
-/// Of the passing candidates `rivals` that change the training curves like the best one
-/// (`best`, its predictions), those that predict the held-out loads about as well: within half
-/// of chi2(0.95; 1) = 3.84 of its held-out log-likelihood, or better: effects alike at the
-/// training loads can part at others (a torque ripple is the same newtons at every load, a
-/// stiffness variation scales with the mean deflection). A rival that cannot predict stays one.
+/// A statistic's test against its bootstrap replicates `reps` (no p-value without any).
+fn bootstrap_test(name: &str, statistic: f64, reps: Vec<f64>) -> TestResult {
+    TestResult {
+        name: name.to_string(),
+        statistic,
+        p_value: (!reps.is_empty()).then(|| bootstrap_p(statistic, &reps)),
+        p_holm: None,
+    }
+}
+
+/// Of the passing `rivals` that change the training curves like `best`, those whose held-out
+/// log-likelihood is within half of chi2(0.95; 1) = 3.84 of its or better (one that cannot
+/// predict stays a rival): effects alike at the training loads can part at others (a torque
+/// ripple is the same newtons at every load, a stiffness variation scales with mean deflection).
 fn held_out_rivals(
     null: &NullFit,
     fits: &[CandidateFit],
@@ -1214,9 +1176,9 @@ fn select(
 
 /// Why M0 does not explain the training curves on its own, if it does not: its held-out
 /// prediction or (with a stated noise, where `p_holm` is set) its chi-square beyond their
-/// bootstrap replicates' after Holm's correction; with any noise, an estimated correlation
-/// length whose interval reaches beyond the widest curve (the residuals are one smooth curve,
-/// a misfit the noise cannot be: `crate::fit::CorrelationFit::unbounded_length`).
+/// bootstrap replicates' after Holm's correction; with any noise, a correlation length whose
+/// interval passes the widest curve (`crate::fit::CorrelationFit::unbounded_length`): the
+/// residuals are one smooth curve, a misfit the noise cannot be.
 fn misfit_of(
     null: &NullFit,
     gof: &TestResult,
@@ -1296,28 +1258,22 @@ fn bootstrap(
         .into_iter()
         .map(|r| {
             let mut it = r.lr.into_iter();
+            let lr = fits.iter().map(|f| {
+                let tested = f.est.is_ok() && f.columns.is_some();
+                tested.then(|| it.next().flatten()).flatten()
+            });
             Replicate {
-                chi_square: r.chi_square,
-                held_deviance: r.held_deviance,
-                lr: fits
-                    .iter()
-                    .map(|f| {
-                        if f.est.is_ok() && f.columns.is_some() {
-                            it.next().flatten()
-                        } else {
-                            None
-                        }
-                    })
-                    .collect(),
+                lr: lr.collect(),
+                ..r
             }
         })
         .collect())
 }
 
-/// How a replicate is fitted by a model whose data fit is `fit`: the noise's scale
-/// re-estimated as the run's family says, its shape (tails, correlation length) held at the
-/// data fit's, which spares a search per replicate fit and misses only the shape's share of
-/// the observed ratio, of second order under M0, where the two fits' shapes agree.
+/// How a replicate is fitted by a model whose data fit is `fit`: the noise's scale re-estimated
+/// as the run's family says, its shape (tails, correlation length) held at `fit`'s, sparing a
+/// search per fit at the cost of the shape's share of the ratio: of second order under M0,
+/// where the fits' shapes agree.
 fn replicate_options(family: &Family, fit: &Estimate, axis: &crate::fit::Axis) -> EstimateOptions {
     let model = fit.noise.model;
     EstimateOptions {
@@ -1352,15 +1308,28 @@ fn candidate_result(f: &CandidateFit, k: usize, reps: &[Replicate]) -> Candidate
         let lead = e.params.len() - f.candidate.dim();
         e.params[lead..].to_vec()
     });
+    // The named candidate's size, intervals and phase are set by `named_size`.
     CandidateResult {
+        name: f.candidate.name(),
+        candidate: f.candidate,
+        identifiable: f.identifiable,
+        note: f.note.clone(),
+        failed: f.est.as_ref().err().cloned(),
+        prediction_failed: None,
         lr: f.lr,
         p_value: tested.then(|| bootstrap_p(f.lr, &null)),
-        failed: f.est.as_ref().err().cloned(),
+        p_holm: None,
+        estimate_name: f.candidate.estimate_name(),
+        estimate: None,
+        ci95: None,
+        ci95_method: "Wald",
+        wald_ci95: None,
+        profile_ci95: None,
+        delta,
         zeta: f.est.as_ref().ok().map(|e| e.params[0]),
         omega_n_hz: f.est.as_ref().ok().map(|e| e.params[1]),
-        delta,
-        note: f.note.clone(),
-        ..CandidateResult::untested(f.candidate, f.identifiable)
+        phase_deg: None,
+        phase_wald95_deg: None,
     }
 }
 
@@ -1368,13 +1337,8 @@ fn candidate_result(f: &CandidateFit, k: usize, reps: &[Replicate]) -> Candidate
 /// estimated noise it is near its degrees of freedom by construction and tells little; with a
 /// stated one it says whether the stated noise and M0 explain the scatter.
 fn goodness_of_fit(null: &NullFit, reps: &[Replicate]) -> TestResult {
-    let chi: Vec<f64> = reps.iter().map(|r| r.chi_square).collect();
-    TestResult {
-        name: "m0_goodness_of_fit".to_string(),
-        statistic: null.est.chi_square,
-        p_value: (!chi.is_empty()).then(|| bootstrap_p(null.est.chi_square, &chi)),
-        p_holm: None,
-    }
+    let chi = reps.iter().map(|r| r.chi_square).collect();
+    bootstrap_test("m0_goodness_of_fit", null.est.chi_square, chi)
 }
 
 /// A fitted model's predictions of every curve.
@@ -1404,8 +1368,7 @@ fn candidate_predictions(null: &NullFit, f: &CandidateFit, held: &[usize]) -> Re
         (&null.family, &null.est),
         None,
     )?;
-    let held_fits = with_points(&fits, null.curves.mask);
-    let held_ste = place_held(fits, &mut preds);
+    let (held_fits, held_ste) = place_held(fits, null.curves.mask, &mut preds);
     Ok(After {
         preds,
         held_ste,

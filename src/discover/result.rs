@@ -129,34 +129,6 @@ pub struct CandidateResult {
     pub phase_wald95_deg: Option<(f64, f64)>,
 }
 
-impl CandidateResult {
-    /// A candidate with nothing found yet.
-    pub(super) fn untested(candidate: Candidate, identifiable: bool) -> Self {
-        CandidateResult {
-            name: candidate.name(),
-            candidate,
-            identifiable,
-            note: None,
-            failed: None,
-            prediction_failed: None,
-            lr: f64::NAN,
-            p_value: None,
-            p_holm: None,
-            estimate_name: candidate.estimate_name(),
-            estimate: None,
-            ci95: None,
-            ci95_method: "Wald",
-            wald_ci95: None,
-            profile_ci95: None,
-            delta: None,
-            zeta: None,
-            omega_n_hz: None,
-            phase_deg: None,
-            phase_wald95_deg: None,
-        }
-    }
-}
-
 /// A test with its bootstrap p-value, and its Holm-adjusted one where it joins the family.
 #[derive(Clone, Debug, Serialize)]
 pub struct TestResult {
@@ -232,11 +204,10 @@ pub struct ExcludedPoints {
     pub outside_model_range: usize,
 }
 
-/// The power a candidate's likelihood-ratio test has against an effect of a given size, to
-/// first order and asymptotically (Cox & Hinkley 1974, Sec. 9.3): its statistic is then
-/// non-central chi-square with the candidate's degrees of freedom, non-centrality the squared
-/// change of the training curves (whitened by M0's noise) that M0's own parameters cannot make.
-/// It is what a study's rate of finding the effect is compared with.
+/// The power of a candidate's likelihood-ratio test against an effect of a given size, to first
+/// order and asymptotically (Cox & Hinkley 1974, Sec. 9.3): non-central chi-square with the
+/// candidate's degrees of freedom, non-centrality the squared change of the training curves
+/// (whitened by M0's noise) that M0's own parameters cannot make. A study's rate is compared to it.
 #[derive(Clone, Debug, Serialize)]
 pub struct PowerBound {
     pub candidate: String,

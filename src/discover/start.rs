@@ -4,7 +4,7 @@
 
 use super::compare::Mask;
 use super::effects::Effect;
-use super::forward::{predict, predict_near, CurvePrediction, Globals, Setup, MIN_ZETA};
+use super::forward::{predict, simulate, CurvePrediction, Globals, Setup, MIN_ZETA};
 use super::noise::Scales;
 use crate::error::{GearError, Result};
 use crate::fit::{least_squares, least_squares_warm, rss, LmFit, Param, Stop};
@@ -33,10 +33,9 @@ const STE_SCAN: [f64; 12] = [0.5, 0.6, 0.7, 0.8, 0.9, 1.0, 1.12, 1.25, 1.4, 1.6,
 /// the coarse best itself, is already evaluated.
 const STE_SCAN_FINE: [f64; 8] = [0.92, 0.94, 0.96, 0.98, 1.02, 1.04, 1.06, 1.08];
 
-/// STE amplitude of curve `i` alone, with zeta, omega_n and the effect fixed. The pp response
-/// is not smooth in the STE (a jump moves by a grid step, a branch appears), so a local fit
-/// from one start can stop on the wrong side of a jump: the best of a scan over [`STE_SCAN`] x
-/// `start` and a finer one around it starts Levenberg-Marquardt.
+/// STE amplitude of curve `i` alone, zeta, omega_n and the effect fixed. The pp response is not
+/// smooth in the STE (a jump moves by a grid step), so a local fit can stop on the wrong side of
+/// a jump: the best of a scan over [`STE_SCAN`] x `start`, refined, starts Levenberg-Marquardt.
 pub fn fit_ste(
     setup: &Setup,
     i: usize,
@@ -53,7 +52,7 @@ pub fn fit_ste(
     // The base point was evaluated by `f` (the memo has it); its column continues its sweep.
     let near = |p: &[f64], base: &[f64]| -> Result<Vec<f64>> {
         let at_base = predict(setup, i, g, base[0], effect)?;
-        let pred = predict_near(setup, i, g, p[0], effect, &at_base)?;
+        let pred = simulate(setup, i, g, p[0], effect, Some(&at_base))?;
         Ok(residuals_of(setup, i, &pred, mask, scales))
     };
     // A scanned amplitude whose prediction fails is a rejected trial point, as a step of the

@@ -1,7 +1,5 @@
-//! Small statistical tools of the discovery workflow: Holm's step-down correction, the Monte
-//! Carlo p-value, a difference-based noise estimate, the one-sided Clopper-Pearson bound (the
-//! two-sided Wilson interval is [`crate::numeric::wilson95`]) and the Kolmogorov-Smirnov distance
-//! from uniform. Closed forms, no dependencies.
+//! Small statistical tools of the discovery workflow, closed forms: Holm's step-down correction,
+//! the Monte Carlo p-value and a difference-based noise estimate.
 
 /// Holm's step-down adjustment (Holm 1979) of p-values for family-wise error control:
 /// sort p ascending, p_adj(i) = max_{j <= i} min(1, (m - j) p_(j)), returned in input order.
@@ -18,11 +16,10 @@ pub fn holm(p: &[f64]) -> Vec<f64> {
     out
 }
 
-/// Noise standard deviation of a curve sampled on an even grid, from its second differences
-/// (Gasser, Sroka & Jennen-Steinmetz 1986 pseudo-residuals): d_i = y_{i-1} - 2 y_i + y_{i+1} has
-/// variance 6 sigma^2 for white noise, and a smooth curve adds little. The median of |d| (MAD,
-/// sigma = 1.4826 median|d| / sqrt 6) keeps resonance peaks and jumps from inflating it. Returns
-/// None with fewer than 3 usable differences.
+/// Noise standard deviation of curves on an even grid from their second differences (Gasser,
+/// Sroka & Jennen-Steinmetz 1986): d_i = y_{i-1} - 2 y_i + y_{i+1} has variance 6 sigma^2 for
+/// white noise, a smooth curve adding little; the MAD, sigma = 1.4826 median|d| / sqrt 6, keeps
+/// resonance peaks and jumps from inflating it. None with fewer than 3 usable differences.
 pub fn noise_from_differences(curves: &[Vec<f64>]) -> Option<f64> {
     let mut d: Vec<f64> = curves
         .iter()

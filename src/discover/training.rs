@@ -6,7 +6,7 @@
 use super::compare::Mask;
 use super::effects::{Candidate, Effect};
 use super::forward::{
-    fitted_damping_admissible, predict, predict_near, CurvePrediction, Globals, Setup,
+    fitted_damping_admissible, predict, simulate, CurvePrediction, Globals, Setup,
 };
 use crate::error::{GearError, Result};
 use crate::fit::{
@@ -258,7 +258,7 @@ impl<'a> Curves<'a> {
                 if g == g0 && e == e0 && effect.delta == effect0.delta {
                     return Ok(at_base);
                 }
-                predict_near(self.setup, i, g, e, &effect, &at_base)
+                simulate(self.setup, i, g, e, &effect, Some(&at_base))
             })
             .collect::<Result<_>>()?;
         Ok(self.at_kept(&preds))
@@ -292,10 +292,9 @@ impl<'a> Curves<'a> {
     }
 }
 
-/// What a run knows of its errors: their scale (stated or estimated), their tails and their
-/// correlation along speed. M0's fit chooses the tails and the correlation where they are
-/// automatic ([`Family::chosen_by`]); every later fit of the run re-estimates the chosen
-/// family's parameters, so that the likelihoods it compares are of one noise model.
+/// What a run knows of its errors: their scale (stated or estimated), tails and correlation
+/// along speed. M0's fit makes the automatic choices ([`Family::chosen_by`]); every later fit
+/// re-estimates the chosen family's parameters, so that the likelihoods compared are of one model.
 #[derive(Clone, Debug)]
 pub struct Family {
     pub scale: Scale,
@@ -389,8 +388,9 @@ impl Family {
 #[cfg(test)]
 mod tests {
     use super::{Curves, EffectParams};
+    use crate::discover::compare::tests::set_of;
     use crate::discover::effects::Effect;
-    use crate::discover::forward::{Curve, Globals, Setup};
+    use crate::discover::forward::Globals;
     use crate::fit::Measurement;
 
     /// A stated STE is a measurement of its own load's STE parameter, in every model's
@@ -398,23 +398,9 @@ mod tests {
     /// a load without a statement has none.
     #[test]
     fn a_stated_ste_measures_its_loads_parameter() {
-        let curve = |load_n: f64, stated_ste| Curve {
-            load_n,
-            speeds_rpm: vec![1000.0, 2000.0],
-            dte_pp_um: vec![1.0, 1.0],
-            sd_um: None,
-            stated_ste,
-        };
-        let setup = Setup::new(
-            crate::data::munro_rig().dimensional().unwrap(),
-            3780.0,
-            vec![
-                curve(3780.0, Some((0.3, 0.05))),
-                curve(2835.0, None),
-                curve(1890.0, Some((2.5, 0.1))),
-            ],
-            crate::validate::MunroNoise::Estimate { floor_min: 0.0 },
-        );
+        let (mut setup, _) = set_of(2, &[3780.0, 2835.0, 1890.0]);
+        setup.curves[0].stated_ste = Some((0.3, 0.05));
+        setup.curves[2].stated_ste = Some((2.5, 0.1));
         let mask = vec![vec![true; 2]; 3];
         let training = Curves::new(&setup, &[0, 2], &mask, EffectParams::None);
         let m = |param, value, sd| Measurement { param, value, sd };

@@ -32,7 +32,7 @@ pub use linear::{
     dte_gain, dte_pp_um, dte_pp_um_harmonics, load_factor_max, stays_in_contact,
     stays_in_contact_harmonics,
 };
-pub(crate) use munro::check_design_levels;
+pub(crate) use munro::{check_design_levels, require_ste_uncertainty};
 pub use munro::{
     fit_munro_design_load, noise_setting, validate_munro, GeometryValidation, LoadResult,
     ModelPoint, MunroOptions, MunroValidation, SteMode, SteSource, MIN_DESIGN_POINTS,

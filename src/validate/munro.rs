@@ -351,41 +351,6 @@ pub fn usable_design_fit(data: &MunroData, fit: DesignLoadFit) -> Result<DesignL
     usable(data, "design-load fit", fit)
 }
 
-/// A failed design-load fit (`cause`) whose STE was held at the value rig.toml states: located
-/// at `[ste] amplitude_um`, with the curve's level at its lowest speed beside the twice-STE that
-/// the model's quasi-static DTE must reach there. Other errors, and any error when the STE was
-/// fitted, are returned as they are.
-fn stated_ste_failure(data: &MunroData, curve: &[&MunroPoint], cause: GearError) -> GearError {
-    let design = data.rig.rig.design_load_n;
-    let held = stated_ste(data, design).and_then(StatedSte::held);
-    let (Some(ste), Some(first)) = (held, curve.first()) else {
-        return cause;
-    };
-    if !matches!(cause, GearError::Numerical(_) | GearError::FitFailed { .. }) {
-        return cause;
-    }
-    let why = match &cause {
-        GearError::FitFailed { reason, .. } => reason.clone(),
-        other => other.to_string(),
-    };
-    rig_key_error(
-        &data.dir,
-        "ste",
-        "amplitude_um",
-        format!(
-            "the design-load curve ({design} N) cannot be fitted with its STE held at the stated \
-             {ste} um ({why}): at its lowest speed ({} rpm) the curve reads {} um peak to peak, \
-             where an STE of {ste} um gives about {} um (the quasi-static DTE is twice the STE \
-             amplitude). Check that amplitude_um is the first harmonic's amplitude in um (half \
-             the peak-to-peak of a sinusoidal STE), or leave the design load out of [ste] so \
-             that the fit estimates it",
-            first.speed_rpm,
-            first.dte_pp_um,
-            2.0 * ste
-        ),
-    )
-}
-
 /// The STE of a load whose curve has fewer than 3 low-speed points in contact: half the pp DTE
 /// at its lowest speed over the linear gain there (quasi-static DTE equals STE). A zero reading
 /// there would give a zero STE and an infinite force ratio: it is an error naming the point.
@@ -505,12 +470,38 @@ fn measured_ste_failure(
     )
 }
 
+/// A set whose rig.toml states STEs states their uncertainty too (`[ste] sd_um`): a stated STE
+/// is weighed against the curves as a measurement, and one held exact would bias zeta by its
+/// own error (the resonance peak is about STE / (2 zeta)). `validate munro` and `discover`
+/// refuse the set otherwise, at `[ste] amplitude_um`.
+pub fn require_ste_uncertainty(data: &MunroData) -> Result<()> {
+    let Some(t) = data.rig.ste.as_ref() else {
+        return Ok(());
+    };
+    if t.load_n.is_empty() || t.sd_um.is_some() {
+        return Ok(());
+    }
+    Err(rig_key_error(
+        &data.dir,
+        "ste",
+        "amplitude_um",
+        format!(
+            "the STE is stated at {} N without its uncertainty: add sd_um to [ste] (the standard \
+             uncertainty in um, one value for every load or a list with one per load). A stated \
+             STE is weighed against the curves as a measurement; held exact it would bias zeta by \
+             its own error. To have each STE fitted to its own curve instead, remove [ste]",
+            crate::data::loads_text(&t.load_n)
+        ),
+    ))
+}
+
 /// Run the Munro validation on a loaded data set.
 pub fn validate_munro(
     data: &MunroData,
     opts: &MunroOptions,
     progress: &dyn Progress,
 ) -> Result<MunroValidation> {
+    require_ste_uncertainty(data)?;
     let rig = &data.rig.rig;
     let dim = rig.dimensional()?;
     let design = rig.design_load_n;
@@ -522,7 +513,7 @@ pub fn validate_munro(
             if stated_with_sd(data) {
                 measured_ste_failure(data, errors, e)
             } else {
-                stated_ste_failure(data, &design_curve, e)
+                e
             }
         })?;
     let ste_given = stated.and_then(StatedSte::held);

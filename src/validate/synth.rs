@@ -151,7 +151,8 @@ pub struct MunroTruth {
     pub publish_ste: bool,
     /// With `publish_ste`: the stated amplitudes are measurements of the true ones with this
     /// standard deviation (um), each drawn after the curves' noise, and rig.toml states it as
-    /// `[ste] sd_um` (None: the true amplitudes, no uncertainty stated).
+    /// `[ste] sd_um` (None: the true amplitudes, no uncertainty stated, which `validate munro`
+    /// and `discover` refuse).
     pub ste_sd_um: Option<f64>,
     /// Effects hidden in the data.
     pub hidden: HiddenEffects,
