@@ -375,12 +375,14 @@ fn ste_from_lowest_speed(first: &MunroPoint, zeta: f64, omega: f64, load_n: f64)
 
 /// The design-load fit of `validate munro` on a loaded set (its curve, the rig's STE when
 /// given, the set's noise setting), and the STE the rig states at the design load, if any
-/// (held, or with `sd_um` a measurement the fit weighs). Errors when the design load has
-/// fewer than [`MIN_DESIGN_POINTS`] points.
+/// (with `sd_um`, a measurement the fit weighs). Errors when rig.toml states an STE without
+/// its uncertainty ([`require_ste_uncertainty`]) or the design load has fewer than
+/// [`MIN_DESIGN_POINTS`] points.
 pub fn fit_munro_design_load(
     data: &MunroData,
     errors: (Robust, Option<CorrelationChoice>),
 ) -> Result<(DesignLoadFit, Option<StatedSte>)> {
+    require_ste_uncertainty(data)?;
     let stated = |l: f64| stated_ste(data, l);
     let fit = design_load_fit(data, errors, &stated)?;
     Ok((fit, stated(data.rig.rig.design_load_n)))
@@ -501,7 +503,6 @@ pub fn validate_munro(
     opts: &MunroOptions,
     progress: &dyn Progress,
 ) -> Result<MunroValidation> {
-    require_ste_uncertainty(data)?;
     let rig = &data.rig.rig;
     let dim = rig.dimensional()?;
     let design = rig.design_load_n;
