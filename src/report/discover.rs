@@ -26,14 +26,9 @@ pub fn discovery_json(data: &MunroData, d: &Discovery) -> serde_json::Value {
         "goodness_of_fit": d.goodness_of_fit,
         "held_out_prediction": d.held_out_prediction,
         "prediction_check": d.prediction_check,
-        "stated_ste": d.stated_ste.iter().map(|(load, m)| json!({
-            "load_n": load,
-            "stated_um": m.measurement.value,
-            "sd_um": m.measurement.sd,
-            "fitted_um": m.fitted,
-            "z": m.z,
-            "compatibility_z": m.compatibility_z,
-        })).collect::<Vec<_>>(),
+        "stated_ste": d.stated_ste.iter()
+            .map(|(load, m)| super::stated_ste_row(("load_n", json!(load)), m))
+            .collect::<Vec<_>>(),
         "power_bound": d.power_bound,
         "candidates": d.candidates.iter().map(|c| json!({
             "name": c.name,

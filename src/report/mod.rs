@@ -366,22 +366,35 @@ pub fn stated_ste_text(
     ))
 }
 
-/// A fit's stated STEs as the JSON files list them: the parameter, the stated value and its
-/// uncertainty, the fitted value, its z and the compatibility z ([`crate::fit::MeasurementFit`]).
+/// A fit's stated STEs as the JSON files list them: the parameter with [`stated_ste_row`].
 pub fn stated_ste_json(e: &crate::fit::Estimate) -> Vec<serde_json::Value> {
     e.measurements
         .iter()
         .map(|m| {
-            serde_json::json!({
-                "parameter": e.names[m.measurement.param],
-                "stated_um": m.measurement.value,
-                "sd_um": m.measurement.sd,
-                "fitted_um": m.fitted,
-                "z": m.z,
-                "compatibility_z": m.compatibility_z,
-            })
+            stated_ste_row(
+                ("parameter", e.names[m.measurement.param].clone().into()),
+                m,
+            )
         })
         .collect()
+}
+
+/// One stated STE as the JSON files list it: what names it (`key`: its parameter or its load),
+/// the stated value and its uncertainty, the fitted value, its z and the compatibility z
+/// ([`crate::fit::MeasurementFit`]).
+pub fn stated_ste_row(
+    (name, key): (&str, serde_json::Value),
+    m: &crate::fit::MeasurementFit,
+) -> serde_json::Value {
+    let mut row = serde_json::json!({
+        "stated_um": m.measurement.value,
+        "sd_um": m.measurement.sd,
+        "fitted_um": m.fitted,
+        "z": m.z,
+        "compatibility_z": m.compatibility_z,
+    });
+    row[name] = key;
+    row
 }
 
 #[cfg(test)]
