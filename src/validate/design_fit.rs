@@ -39,20 +39,12 @@ pub enum DesignModel {
     Swept,
 }
 
-/// The design load's STE as rig.toml `[ste]` states it: the amplitude (um) and, where given,
-/// its standard uncertainty (`sd_um`): then it is a measurement the fit weighs against the
-/// curve ([`Measurement`]); without one it is held as stated.
+/// A load's STE as rig.toml `[ste]` states it: the amplitude (um) and its standard
+/// uncertainty (`sd_um`), a measurement the fit weighs against the curves ([`Measurement`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StatedSte {
     pub amplitude_um: f64,
-    pub sd_um: Option<f64>,
-}
-
-impl StatedSte {
-    /// The amplitude where it is held (no uncertainty stated).
-    pub fn held(self) -> Option<f64> {
-        self.sd_um.is_none().then_some(self.amplitude_um)
-    }
+    pub sd_um: f64,
 }
 
 /// The design-load fit with its profile-likelihood intervals.
@@ -73,10 +65,10 @@ pub struct DesignLoadFit {
 }
 
 impl DesignLoadFit {
-    /// zeta, omega_n (Hz) and the design-load STE amplitude (um): fitted, or `given`.
-    pub fn values(&self, given_ste: Option<f64>) -> (f64, f64, f64) {
+    /// zeta, omega_n (Hz) and the design-load STE amplitude (um).
+    pub fn values(&self) -> (f64, f64, f64) {
         let p = &self.estimate.params;
-        (p[0], p[1], given_ste.unwrap_or_else(|| p[2]))
+        (p[0], p[1], p[2])
     }
 
     /// The STE amplitude fitted to the low-speed part of `load_n`, with its 95% interval.
@@ -282,14 +274,12 @@ struct Curves<'a> {
     design: &'a [&'a MunroPoint],
     design_model: DesignModel,
     others: Vec<Vec<&'a MunroPoint>>,
-    given_ste: Option<f64>,
 }
 
 impl Curves<'_> {
     fn model(&self, p: &[f64]) -> Result<Vec<f64>> {
         let (zeta, wn) = (p[0], p[1]);
-        let first = 2 + usize::from(self.given_ste.is_none());
-        let ste = self.given_ste.unwrap_or_else(|| p[2]);
+        let ste = p[2];
         let mut v = match self.design_model {
             DesignModel::Linear => linear_curve(self.dim, self.design, zeta, wn, ste),
             DesignModel::Swept => swept_curve(
@@ -301,7 +291,7 @@ impl Curves<'_> {
             )?,
         };
         for (k, pts) in self.others.iter().enumerate() {
-            v.extend(linear_curve(self.dim, pts, zeta, wn, p[first + k]));
+            v.extend(linear_curve(self.dim, pts, zeta, wn, p[3 + k]));
         }
         Ok(v)
     }
@@ -309,8 +299,7 @@ impl Curves<'_> {
     /// Whether the fit `p` keeps the design load's teeth in contact at every measured speed
     /// under eq. 13.
     fn design_in_contact(&self, p: &[f64]) -> bool {
-        let ste = self.given_ste.unwrap_or_else(|| p[2]);
-        curve_in_contact(self.dim, self.design_fm, self.design, (p[0], p[1], ste))
+        curve_in_contact(self.dim, self.design_fm, self.design, (p[0], p[1], p[2]))
     }
 
     fn points(&self) -> impl Iterator<Item = &&MunroPoint> {
@@ -368,10 +357,10 @@ impl Curves<'_> {
     }
 }
 
-/// Fit zeta, omega_n and (unless `given_ste`) the STE amplitude to the design-load curve
+/// Fit zeta, omega_n and the STE amplitude to the design-load curve
 /// `design`, where the teeth stay in contact and eq. 13 is exact. The low-speed parts of the
 /// curves at `others` (load, points, the STE rig.toml states there with its uncertainty, if
-/// any: a measurement of that load's amplitude) join the fit with an STE amplitude each: the same
+/// any: a measurement of that load's amplitude, as `stated_ste` is of the design load's) join the fit with an STE amplitude each: the same
 /// instrument measured them, and their levels (several um, where the design load's curve is
 /// near its floor everywhere but at a resonance of a handful of points) are what determines the
 /// relative part of the noise. Their selection (Omega <= [`LOW_SPEED_OMEGA`], in contact)
@@ -393,15 +382,12 @@ pub fn fit_design_load(
         .max_by(|a, b| a.dte_pp_um.total_cmp(&b.dte_pp_um))
         .map(|p| dim.mesh_frequency_hz(p.speed_rpm))
         .ok_or_else(|| GearError::Numerical("the design-load curve has no points".into()))?;
-    let given_ste = stated_ste.and_then(StatedSte::held);
-    // A stated STE with its uncertainty is a measurement of the fitted STE (parameter 2).
+    // A stated STE is a measurement of the fitted STE (parameter 2).
     let mut measurements: Vec<Measurement> = stated_ste
-        .and_then(|s| {
-            s.sd_um.map(|sd| Measurement {
-                param: 2,
-                value: s.amplitude_um,
-                sd,
-            })
+        .map(|s| Measurement {
+            param: 2,
+            value: s.amplitude_um,
+            sd: s.sd_um,
         })
         .into_iter()
         .collect();
@@ -411,20 +397,12 @@ pub fn fit_design_load(
     let mut params = vec![
         Param::positive("zeta", 0.03),
         Param::positive("omega_n_hz", peak),
+        Param::positive("ste_um", e0),
     ];
-    if given_ste.is_none() {
-        params.push(Param::positive("ste_um", e0));
-    }
-    let mut starts = Vec::new();
-    for z in [0.01, 0.03, 0.08] {
-        for f in [0.9, 1.0, 1.1] {
-            let mut s = vec![z, peak * f];
-            if given_ste.is_none() {
-                s.push(e0);
-            }
-            starts.push(s);
-        }
-    }
+    let starts = [0.01, 0.03, 0.08]
+        .into_iter()
+        .flat_map(|z| [0.9, 1.0, 1.1].map(|f| vec![z, peak * f, e0]))
+        .collect();
     let stop = Stop::converged(FIT_JACOBIANS).central();
     let alone = Curves {
         dim,
@@ -432,7 +410,6 @@ pub fn fit_design_load(
         design,
         design_model: DesignModel::Linear,
         others: Vec::new(),
-        given_ste,
     };
     let run =
         |c: &Curves, params: &[Param], starts: Vec<Vec<f64>>, stop: Stop, m: &[Measurement]| {
@@ -455,14 +432,11 @@ pub fn fit_design_load(
         }
         let e = match stated {
             Some(s) => {
-                // Only loads whose STE is not held join: a stated one has its uncertainty.
-                if let Some(sd) = s.sd_um {
-                    measurements.push(Measurement {
-                        param: params.len(),
-                        value: s.amplitude_um,
-                        sd,
-                    });
-                }
+                measurements.push(Measurement {
+                    param: params.len(),
+                    value: s.amplitude_um,
+                    sd: s.sd_um,
+                });
                 s.amplitude_um
             }
             None => (part[0].dte_pp_um / 2.0).max(1e-3),
@@ -493,8 +467,7 @@ pub fn fit_design_load(
     }
     let model = |p: &[f64]| joined.model(p);
     let y = joined.data();
-    let reported = 2 + usize::from(given_ste.is_none());
-    let ci95_profile = (0..reported)
+    let ci95_profile = (0..3)
         .map(|i| profile_interval(&model, &y, &estimate, i, profile_stop))
         .collect::<Result<Vec<_>>>()?;
     Ok(DesignLoadFit {
@@ -575,7 +548,6 @@ pub fn fit_design_geometry(
         design,
         design_model: DesignModel::Linear,
         others: Vec::new(),
-        given_ste: None,
     };
     let y = curves.data();
     let options =

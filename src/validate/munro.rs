@@ -225,12 +225,13 @@ pub struct GeometryValidation {
     pub loads: Vec<LoadResult>,
 }
 
-/// The STE rig.toml states at a load, with its uncertainty where `sd_um` gives one.
+/// The STE rig.toml states at a load with its uncertainty (a statement without one is
+/// refused before any fit, [`require_ste_uncertainty`]).
 fn stated_ste(data: &MunroData, load: f64) -> Option<StatedSte> {
     let table = data.rig.ste.as_ref()?;
     Some(StatedSte {
         amplitude_um: table.amplitude_at(load)?,
-        sd_um: table.sd_at(load),
+        sd_um: table.sd_at(load)?,
     })
 }
 
@@ -388,11 +389,6 @@ pub fn fit_munro_design_load(
     Ok((fit, stated(data.rig.rig.design_load_n)))
 }
 
-/// Whether rig.toml states an STE with its uncertainty.
-fn stated_with_sd(data: &MunroData) -> bool {
-    data.rig.ste.as_ref().is_some_and(|t| t.sd_um.is_some())
-}
-
 /// [`fit_munro_design_load`] with the STE each load states given by `stated`.
 fn design_load_fit(
     data: &MunroData,
@@ -400,14 +396,11 @@ fn design_load_fit(
     stated: &dyn Fn(f64) -> Option<StatedSte>,
 ) -> Result<DesignLoadFit> {
     let (dim, design, curve) = design_curve(data)?;
-    // The other loads whose STE is not held: their low-speed parts join the fit, each STE
-    // stated with its uncertainty as a measurement of it.
+    // The other loads: their low-speed parts join the fit, each stated STE a measurement.
     let others: Vec<(f64, Vec<&MunroPoint>, Option<StatedSte>)> = data
         .loads()
         .into_iter()
-        .filter(|l| {
-            !crate::data::same_load(*l, design) && stated(*l).and_then(StatedSte::held).is_none()
-        })
+        .filter(|l| !crate::data::same_load(*l, design))
         .map(|l| (l, data.curve(l), stated(l)))
         .collect();
     fit_design_load(
@@ -428,8 +421,7 @@ fn measured_ste_failure(
     errors: (Robust, Option<CorrelationChoice>),
     cause: GearError,
 ) -> GearError {
-    let free = |l: f64| stated_ste(data, l).filter(|s| s.sd_um.is_none());
-    let Ok(fit) = design_load_fit(data, errors, &free).and_then(|f| usable_design_fit(data, f))
+    let Ok(fit) = design_load_fit(data, errors, &|_| None).and_then(|f| usable_design_fit(data, f))
     else {
         return cause;
     };
@@ -444,7 +436,7 @@ fn measured_ste_failure(
         .into_iter()
         .filter_map(|l| {
             let s = stated_ste(data, l)?;
-            let sd = s.sd_um?;
+            let sd = s.sd_um;
             let Some((b, se)) = fitted_at(l) else {
                 return Some(format!(
                     "{l} N: stated {} ± {sd} um, not in the fit (no low-speed part in contact)",
@@ -511,20 +503,18 @@ pub fn validate_munro(
     let (fit, stated) = fit_munro_design_load(data, errors)
         .and_then(|(fit, ste)| Ok((usable_design_fit(data, fit)?, ste)))
         .map_err(|e| {
-            if stated_with_sd(data) {
+            if data.rig.ste.is_some() {
                 measured_ste_failure(data, errors, e)
             } else {
                 e
             }
         })?;
-    let ste_given = stated.and_then(StatedSte::held);
-    let (zeta, wn, ste_design) = fit.values(ste_given);
+    let (zeta, wn, ste_design) = fit.values();
     let design_source = match stated {
-        Some(s) if s.sd_um.is_some() => SteSource::Measured,
-        Some(_) => SteSource::RigToml,
+        Some(_) => SteSource::Measured,
         None => SteSource::Fitted,
     };
-    let design_ste_ci = ste_given.is_none().then(|| fit.estimate.ci95[2]);
+    let design_ste_ci = Some(fit.estimate.ci95[2]);
     let design_in_contact = curve_in_contact(
         &dim,
         dim.mean_force(design),
@@ -541,18 +531,12 @@ pub fn validate_munro(
             let ste = if fitted {
                 Ok((ste_design, design_ste_ci, design_source))
             } else {
-                let stated = stated_ste(data, load);
-                match (
-                    stated.and_then(StatedSte::held),
-                    fit.other_ste(load),
-                    stated,
-                ) {
-                    (Some(e), _, _) => Ok((e, None, SteSource::RigToml)),
-                    (None, Some((e, ci)), Some(_)) => Ok((e, Some(ci), SteSource::Measured)),
-                    (None, Some((e, ci)), None) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
+                match (fit.other_ste(load), stated_ste(data, load)) {
+                    (Some((e, ci)), Some(_)) => Ok((e, Some(ci), SteSource::Measured)),
+                    (Some((e, ci)), None) => Ok((e, Some(ci), SteSource::LowSpeedFit)),
                     // No low-speed part in contact to weigh it against: as stated.
-                    (None, None, Some(s)) => Ok((s.amplitude_um, None, SteSource::RigToml)),
-                    (None, None, None) => {
+                    (None, Some(s)) => Ok((s.amplitude_um, None, SteSource::RigToml)),
+                    (None, None) => {
                         let p0 = curve[0];
                         ste_from_lowest_speed(p0, zeta, dim.omega(p0.speed_rpm, wn), load)
                             .map(|e| (e, None, SteSource::LowSpeedEnd))
