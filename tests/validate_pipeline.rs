@@ -170,6 +170,33 @@ fn a_design_load_that_separates_is_fitted_through_simulated_sweeps() {
     }
 }
 
+/// A light load (500 N, STE 3.5 um, 0.1 um noise, model-exact) whose curve jumps at 1800-1850
+/// rpm and turns chaotic from 2700 rpm: the measured curve's first jump is found, not the
+/// chaos's scatter, and the model's first jump lies within the grids' resolution of it.
+#[test]
+fn the_first_jump_at_a_light_load_is_compared_not_the_chaos_after_it() {
+    use geardyn::validate::NoiseFamily;
+    let dir = tempfile::tempdir().unwrap();
+    let mut truth = MunroTruth::default_munro();
+    truth.ste_um = vec![(3780.0, 0.3), (1890.0, 2.5), (500.0, 3.5)];
+    truth.noise = NoiseFamily::Constant.noise(0.1);
+    synth_munro(&truth, dir.path(), &NoProgress).unwrap();
+    let data = load_munro(dir.path()).unwrap();
+    let opts = MunroOptions {
+        attractor_speeds: 2,
+        ..MunroOptions::default()
+    };
+    let r = validate_munro(&data, &opts, &NoProgress).unwrap();
+    let light = r.loads.iter().find(|l| l.load_n == 500.0).unwrap();
+    let measured = light.jump_measured_rpm.unwrap();
+    assert!((1800.0..=1850.0).contains(&measured), "{measured}");
+    let (e, res) = (
+        light.jump_error_rpm.unwrap(),
+        light.jump_error_resolution_rpm.unwrap(),
+    );
+    assert!(e.abs() <= res, "jump error {e} beyond the resolution {res}");
+}
+
 /// The predictions' attractor searches on `data/munro`: at 945 N some of the grid's
 /// trajectories end on chaotic sets at 4330 and 4500 rpm (Omega 1.44, 1.5) that all of them
 /// leave within the horizon (chaotic transients): those are not drawn as steady states, so

@@ -124,6 +124,7 @@ fn load_json(l: &LoadResult) -> serde_json::Value {
         "not_period1_model_um": l.not_period1_model_um,
         "jump_measured_rpm": l.jump_measured_rpm,
         "jump_up_rpm": l.jump_up_rpm,
+        "jump_up_onto_period": l.jump_up_onto_period,
         "jump_down_rpm": l.jump_down_rpm,
         "jump_error_rpm": l.jump_error_rpm,
         "jump_error_resolution_rpm": l.jump_error_resolution_rpm,

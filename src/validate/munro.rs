@@ -175,6 +175,9 @@ pub struct LoadResult {
     pub not_period1_model_um: Option<(f64, f64)>,
     pub jump_measured_rpm: Option<f64>,
     pub jump_up_rpm: Option<f64>,
+    /// Period (forcing periods) of the motion the model's up-sweep lands on at its first jump;
+    /// None where that motion is chaotic or aperiodic, or there is no jump (`jump_up_rpm`).
+    pub jump_up_onto_period: Option<u32>,
     pub jump_down_rpm: Option<f64>,
     /// Model up-jump minus measured jump, rpm.
     pub jump_error_rpm: Option<f64>,
@@ -841,6 +844,9 @@ fn predict_load(
     let (jump_error_rpm, jump_error_resolution_rpm) =
         location_error((&measured, jump_measured), (&up_curve, jump_up));
     let jump_down = jump_location(&curve_of(&down), 6.0);
+    let jump_up_onto_period = jump_up
+        .and_then(|j| up.iter().find(|p| p.speed_rpm > j))
+        .and_then(|p| p.period);
     Ok(LoadResult {
         load_n: load,
         mean_force: fm,
@@ -861,6 +867,7 @@ fn predict_load(
         jump_error_resolution_rpm,
         jump_measured_rpm: jump_measured,
         jump_up_rpm: jump_up,
+        jump_up_onto_period,
         jump_down_rpm: jump_down,
         residuals: cmp.residuals,
         measured,
@@ -892,13 +899,23 @@ struct Sweep<'a> {
 }
 
 impl LoadResult {
-    /// The jump error as "8 ± 42" followed by `unit` (in rpm, with the grids' resolution), or
-    /// why there is none.
+    /// The jump error as "8 ± 42" followed by `unit` (in rpm, with the grids' resolution) and
+    /// the motion the model jumps onto where it is not period-1, or why there is none.
     pub fn jump_error_text(&self, unit: &str) -> String {
         match (self.jump_measured_rpm, self.jump_error_rpm) {
             (None, _) => "- (no jump in the data)".to_string(),
             (Some(_), None) => "- (no jump in the model's speed-up sweep)".to_string(),
-            (Some(_), Some(e)) => location_error_text(e, self.jump_error_resolution_rpm, unit),
+            (Some(_), Some(e)) => {
+                let onto = match self.jump_up_onto_period {
+                    Some(1) => String::new(),
+                    Some(n) => format!(", the model's jump onto period-{n} motion"),
+                    None => ", the model's jump into chaotic or aperiodic motion".to_string(),
+                };
+                format!(
+                    "{}{onto}",
+                    location_error_text(e, self.jump_error_resolution_rpm, unit)
+                )
+            }
         }
     }
 }
