@@ -746,6 +746,14 @@ fn table() -> Vec<Case> {
             )),
         ),
         case(
+            "validate munro: a stated STE's uncertainty below a nanometre",
+            VALIDATE,
+            "rig.toml:14: field 'ste.sd_um': entry 1 is 0.0000001: must be a positive finite number, at least 0.001",
+            munro_with(rig_with_table(
+                "[ste]\nload_n = [3780.0]\namplitude_um = [50.0]\nsd_um = 1e-7\n",
+            )),
+        ),
+        case(
             "validate munro: a stated STE without its uncertainty",
             VALIDATE,
             "rig.toml:13: field 'ste.amplitude_um': the STE is stated at 3780 N without its uncertainty: add sd_um",

@@ -340,6 +340,17 @@ pub enum SteUncertainty {
     PerLoad(Vec<f64>),
 }
 
+/// Smallest plausible `[ste]` value: an uncertainty at least [`MIN_NOISE_UM`], as a stated
+/// noise (one below a nanometre would hold the STE all but exact, which the uncertainty is
+/// there to prevent); the rest above 0.
+fn ste_min(key: &str) -> f64 {
+    if key == "sd_um" {
+        MIN_NOISE_UM
+    } else {
+        0.0
+    }
+}
+
 /// Largest plausible `[ste]` value: loads in N, amplitudes and their uncertainties in um.
 fn ste_max(key: &str) -> f64 {
     if key == "load_n" {
@@ -408,16 +419,18 @@ impl SteTable {
             ("amplitude_um", &self.amplitude_um),
             ("sd_um", sds),
         ] {
-            if let Some((i, v)) = values
-                .iter()
-                .enumerate()
-                .find(|(_, v)| !(v.is_finite() && **v > 0.0 && **v <= ste_max(key)))
-            {
+            if let Some((i, v)) = values.iter().enumerate().find(|(_, v)| {
+                !(v.is_finite() && **v > 0.0 && **v >= ste_min(key) && **v <= ste_max(key))
+            }) {
+                let least = match ste_min(key) {
+                    m if m > 0.0 => format!("at least {m} and "),
+                    _ => String::new(),
+                };
                 return Err(doc.error(
                     "ste",
                     key,
                     format!(
-                        "entry {} is {v}: must be a positive finite number, at most {}",
+                        "entry {} is {v}: must be a positive finite number, {least}at most {}",
                         i + 1,
                         ste_max(key)
                     ),

@@ -62,7 +62,7 @@ const RIG_HEAD: &str = r##"# rig.toml of a geardyn data set: the test gear pair 
 # [ste]                    # OPTIONAL table: static transmission error per load (else read from each curve's low-speed end)
 # load_n = [3780.0, 1890.0]      # N, each in (0, 1e8], no load twice
 # amplitude_um = [0.3, 2.5]      # um, each in (0, 1000]: STE amplitude (its first harmonic; half its peak-to-peak if sinusoidal), one per load
-# sd_um = 0.05                   # um, in (0, 1000], one value or one per load: the amplitudes' standard uncertainty, needed by validate munro and discover (they weigh a stated STE against the curves as a measurement)
+# sd_um = 0.05                   # um, in [0.001, 1000], one value or one per load: the amplitudes' standard uncertainty, needed by validate munro and discover (they weigh a stated STE against the curves as a measurement)
 
 # [noise]                  # OPTIONAL table: the measurement noise of the curve values, as you know it (else estimated from the data)
 # floor_um = 0.2           # um in [0.001, 1000), not below reading_um: standard deviation of a reading, independent of its level
