@@ -258,9 +258,10 @@ fn the_independent_second_harmonic_set_is_named() {
 
 /// An effect outside the library, from the independent generator: a contact force
 /// c (q - 1)^1.2 (the mesh stiffening with load, tests/data/independent-discover/truth.toml).
-/// No candidate passes; M0, fitted to the training loads, predicts the held-out ones worse
-/// than its errors allow, so the answer is "unexplained", never a name, and the candidate of
-/// the largest likelihood ratio is refitted to show the gap it leaves.
+/// No candidate passes; M0's residuals are one smooth curve (its noise model takes the misfit
+/// as a correlation longer than the curves), so the answer is "unexplained" with that reason,
+/// never a name, and the candidate of the largest likelihood ratio is refitted to show the gap
+/// it leaves.
 #[test]
 #[ignore = "about 20 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
 fn an_effect_outside_the_library_is_unexplained() {
@@ -269,8 +270,12 @@ fn an_effect_outside_the_library_is_unexplained() {
     let d = run(&dir);
     let summary = geardyn::report::discovery_summary(&d);
     assert_eq!(d.effect, "unexplained", "{summary}");
-    let check = d.held_out_prediction.as_ref().expect("held-out loads");
-    assert!(check.p_holm.is_some_and(|p| p < 0.05), "{summary}");
+    assert!(
+        d.misfit
+            .as_deref()
+            .is_some_and(|m| m.contains("one smooth curve")),
+        "{summary}"
+    );
     assert!(d.closest_candidate.is_some(), "{summary}");
     assert!(
         d.gap_after_model.starts_with("M0 + "),

@@ -38,6 +38,28 @@ pub fn log_likelihood_under(est: &Estimate, axis: &Axis, distribution: Distribut
     ) - 0.5 * est.measurements.iter().map(|m| m.z * m.z).sum::<f64>()
 }
 
+/// The discrepancy of M0's held-out check at a fit: -2 log of its points' standardized
+/// errors' density under `distribution` (each residual over its fitted scale, the correlation
+/// along speed left out), plus the stated STEs' squared z. [`standardized_deviance`] of the
+/// fit's residuals.
+pub fn held_discrepancy(est: &Estimate, distribution: Distribution) -> f64 {
+    standardized_deviance(distribution, &est.residuals, &est.noise.scales)
+        + est.measurements.iter().map(|m| m.z * m.z).sum::<f64>()
+}
+
+/// -2 log density of the standardized errors r_i / s_i under `distribution`, independent:
+/// sum z^2 for Gaussian errors. Pivotal, so that a parametric bootstrap calibrates it (Davison &
+/// Hinkley 1997, Sec. 2.6): without the scales' log terms, whose replicates centre on the data
+/// fit's scale rather than the truth's (the full deviance is off by twice the points times the
+/// scale's relative error), and without the correlation, whose innovations move with the
+/// estimated length to first order (with both, the check's p-value lay below 0.05 on 13 of
+/// 100 correlated null sets). A smooth misfit, which innovations difference away, counts in
+/// full.
+pub fn standardized_deviance(distribution: Distribution, residuals: &[f64], scales: &[f64]) -> f64 {
+    let z: Vec<f64> = residuals.iter().zip(scales).map(|(r, s)| r / s).collect();
+    2.0 * neg_log_likelihood(distribution, &z, &vec![1.0; z.len()], None)
+}
+
 /// M0 linearised at its fit: values `f0` at the kept points, parameters `p0` (definitions
 /// `params`), model Jacobian `j0` (um per parameter), and the options its replicate fits use.
 pub struct NullModel<'a> {
@@ -63,7 +85,8 @@ pub struct Replicate {
     pub chi_square: f64,
     /// 2 (log L_c - log L_0) per candidate of the run's columns (None: its fit failed).
     pub lr: Vec<Option<f64>>,
-    /// -2 log L of M0's prediction of the held-out loads ([`HeldLinear`]), where there are any.
+    /// The discrepancy of M0's prediction of the held-out loads ([`HeldLinear`]), where there
+    /// are any.
     pub held_deviance: Option<f64>,
 }
 
@@ -72,8 +95,9 @@ pub struct Replicate {
 /// a column per load, zero off its curve), the points' speed axis, and their scales: `stated`
 /// per point, else a fit's noise model at `f0`. A replicate draws the held-out errors as the
 /// training ones, moves zeta and omega_n as its M0 fit did, fits each STE alone as the data's
-/// (a statement with uncertainty `ste_sd`, um, drawn about it and weighed) and takes -2 log L:
-/// the predictive deviance under M0, the training fit's and the noise's uncertainty in it.
+/// (a statement with uncertainty `ste_sd`, um, drawn about it and weighed) and takes the
+/// discrepancy ([`held_discrepancy`]): the predictive deviance under M0, the training fit's
+/// and the noise's uncertainty in it.
 pub struct HeldLinear {
     pub f0: Vec<f64>,
     pub globals: DMatrix<f64>,
@@ -86,10 +110,11 @@ pub struct HeldLinear {
 }
 
 impl HeldLinear {
-    /// -2 log L at errors `e` after the training loads' M0 fit moved zeta and omega_n by `moved`
-    /// and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted least
-    /// squares, decorrelated along speed, its statement's standardized error `stated_z[k]` one
-    /// more row), the likelihood under `model`'s distribution times the statements' factor.
+    /// The discrepancy at errors `e` after the training loads' M0 fit moved zeta and omega_n by
+    /// `moved` and estimated the noise `model`: each load's STE fitted alone (Gaussian weighted
+    /// least squares, decorrelated along speed, its statement's standardized error `stated_z[k]`
+    /// one more row), then [`standardized_deviance`] under `model`'s distribution plus the
+    /// statements' squared z.
     pub fn deviance(
         &self,
         (e, stated_z): (&[f64], &[f64]),
@@ -99,10 +124,6 @@ impl HeldLinear {
         let scales = match &self.stated {
             Some(s) => s.clone(),
             None => self.f0.iter().map(|&f| model.scale(f)).collect(),
-        };
-        let correlation = Correlation {
-            axis: &self.axis,
-            length: model.correlation_length,
         };
         let whitener = Whitener::unit(scales.clone(), Some(&self.axis), model.correlation_length);
         let whiten = |v: &[f64]| whitener.innovations(v);
@@ -133,8 +154,7 @@ impl HeldLinear {
                 stated_deviance += (z - step * inv_sd).powi(2);
             }
         }
-        2.0 * neg_log_likelihood(model.distribution, &r, &scales, Some(correlation))
-            + stated_deviance
+        standardized_deviance(model.distribution, &r, &scales) + stated_deviance
     }
 }
 
@@ -195,42 +215,40 @@ fn linear_model<'a>(
 }
 
 /// The replicates' statistics: `b` replicates from seed `seed`, each fitted by M0 and by M0 plus
-/// each candidate's `columns`, each model with its own options (the starts set here). A replicate
-/// whose M0 fit fails is left out; a candidate fit that fails is None in its replicate.
+/// each candidate's `columns`, each model with its own options (the starts set here), each one
+/// done advancing `progress`. A replicate whose M0 fit fails is left out; a candidate fit that
+/// fails is None in its replicate.
 pub fn replicates(
     null: &NullModel,
     columns: &[Columns],
     errors: &ErrorModel,
     held: Option<&HeldLinear>,
     (b, seed): (usize, u64),
+    progress: &dyn crate::progress::Progress,
 ) -> Vec<Replicate> {
     let axis = errors.axis;
     let stop = Stop::converged(20);
-    (0..b)
-        .into_par_iter()
-        .filter_map(|k| {
-            let mut rng = Rng::new(seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
-            let y: Vec<f64> = null
-                .f0
-                .iter()
-                .zip(errors.draw(&mut rng))
-                .map(|(f, e)| f + e)
-                .collect();
-            // The stated STEs drawn about M0's, as the data's were stated about the true ones;
-            // after the curves' errors, so that those are the same with or without statements.
-            let stated: Vec<Measurement> = null
-                .options
-                .measurements
-                .iter()
-                .map(|m| Measurement {
-                    value: null.p0[m.param] + m.sd * rng.normal(),
-                    ..*m
-                })
-                .collect();
-            let fit = |d: Option<&DMatrix<f64>>,
-                       scale: f64,
-                       opts: &EstimateOptions|
-             -> Result<Estimate> {
+    let replicate = |k: usize| -> Option<Replicate> {
+        let mut rng = Rng::new(seed ^ (k as u64).wrapping_mul(0x9e37_79b9_7f4a_7c15));
+        let y: Vec<f64> = null
+            .f0
+            .iter()
+            .zip(errors.draw(&mut rng))
+            .map(|(f, e)| f + e)
+            .collect();
+        // The stated STEs drawn about M0's, as the data's were stated about the true ones;
+        // after the curves' errors, so that those are the same with or without statements.
+        let stated: Vec<Measurement> = null
+            .options
+            .measurements
+            .iter()
+            .map(|m| Measurement {
+                value: null.p0[m.param] + m.sd * rng.normal(),
+                ..*m
+            })
+            .collect();
+        let fit =
+            |d: Option<&DMatrix<f64>>, scale: f64, opts: &EstimateOptions| -> Result<Estimate> {
                 let mut params = null.params.to_vec();
                 let mut start = null.p0.to_vec();
                 if let Some(d) = d {
@@ -247,37 +265,44 @@ pub fn replicates(
                 };
                 estimate(&linear_model(null, d), &y, &params, &opts)
             };
-            let m0 = fit(None, 1.0, &null.options).ok()?;
-            let l0 = log_likelihood(&m0, axis);
-            let lr = columns
-                .iter()
-                .map(|c| {
-                    fit(Some(&c.d), c.candidate.scale(), &c.options)
-                        .ok()
-                        .map(|e| 2.0 * (log_likelihood(&e, axis) - l0))
-                })
-                .collect();
-            // Drawn after the training errors, so that those are the same with or without it.
-            let held_deviance = held.map(|h| {
-                let e = ErrorModel {
-                    scales: &h.draw_scales,
-                    axis: &h.axis,
-                    ..*errors
-                }
-                .draw(&mut rng);
-                let z: Vec<f64> = h
-                    .ste_sd
-                    .iter()
-                    .map(|sd| sd.map_or(0.0, |_| rng.normal()))
-                    .collect();
-                let moved = [m0.params[0] - null.p0[0], m0.params[1] - null.p0[1]];
-                h.deviance((&e, &z), moved, &m0.noise.model)
-            });
-            Some(Replicate {
-                chi_square: m0.chi_square,
-                lr,
-                held_deviance,
+        let m0 = fit(None, 1.0, &null.options).ok()?;
+        let l0 = log_likelihood(&m0, axis);
+        let lr = columns
+            .iter()
+            .map(|c| {
+                fit(Some(&c.d), c.candidate.scale(), &c.options)
+                    .ok()
+                    .map(|e| 2.0 * (log_likelihood(&e, axis) - l0))
             })
+            .collect();
+        // Drawn after the training errors, so that those are the same with or without it.
+        let held_deviance = held.map(|h| {
+            let e = ErrorModel {
+                scales: &h.draw_scales,
+                axis: &h.axis,
+                ..*errors
+            }
+            .draw(&mut rng);
+            let z: Vec<f64> = h
+                .ste_sd
+                .iter()
+                .map(|sd| sd.map_or(0.0, |_| rng.normal()))
+                .collect();
+            let moved = [m0.params[0] - null.p0[0], m0.params[1] - null.p0[1]];
+            h.deviance((&e, &z), moved, &m0.noise.model)
+        });
+        Some(Replicate {
+            chi_square: m0.chi_square,
+            lr,
+            held_deviance,
+        })
+    };
+    (0..b)
+        .into_par_iter()
+        .filter_map(|k| {
+            let r = replicate(k);
+            progress.advance(1);
+            r
         })
         .collect()
 }
@@ -315,7 +340,7 @@ mod tests {
             draw_scales: vec![0.5; 6],
         };
         let noise = NoiseModel::constant(0.5);
-        let constant = 2.0 * 6.0 * (0.5f64.ln() + 0.5 * (2.0 * std::f64::consts::PI).ln());
+        let constant = 6.0 * (2.0 * std::f64::consts::PI).ln();
         let along_ste = [0.3, 0.6, 0.9, -0.2, -0.2, -0.2];
         let d = h.deviance((&along_ste, &[]), [0.0, 0.0], &noise);
         assert!((d - constant).abs() < 1e-9, "{d} vs {constant}");
@@ -343,6 +368,40 @@ mod tests {
             56.0 * a * a + z * z,
         );
         let expected = constant + yy - xy * xy / xx;
+        assert!((d - expected).abs() < 1e-9, "{d} vs {expected}");
+    }
+
+    /// With errors correlated along speed (length 1, neighbours rho = e^-1), a load's STE is
+    /// its generalised least-squares step, and the discrepancy the standardized residuals'
+    /// plain squares: the error 0.3 at curve 2's last point gives, through the AR(1)
+    /// precision's row sums (1, 1 - rho, 1), the step 0.3 / (3 - rho).
+    #[test]
+    fn with_correlated_errors_the_ste_is_the_gls_step_and_the_discrepancy_plain_squares() {
+        let axis = Axis::new(vec![0, 0, 0, 1, 1, 1], vec![1.0, 2.0, 3.0, 1.0, 2.0, 3.0]).unwrap();
+        let ste = DMatrix::from_row_slice(
+            6,
+            2,
+            &[1.0, 0.0, 1.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0, 1.0, 0.0, 1.0],
+        );
+        let h = HeldLinear {
+            f0: vec![1.0; 6],
+            globals: DMatrix::zeros(6, 2),
+            ste,
+            ste_sd: vec![None, None],
+            axis,
+            stated: None,
+            draw_scales: vec![0.5; 6],
+        };
+        let noise = NoiseModel {
+            correlation_length: 1.0,
+            ..NoiseModel::constant(0.5)
+        };
+        let rho = (-1.0f64).exp();
+        let step = 0.3 / (3.0 - rho);
+        let squares = 2.0 * step * step + (0.3 - step).powi(2);
+        let constant = 6.0 * (2.0 * std::f64::consts::PI).ln();
+        let d = h.deviance((&[0.0, 0.0, 0.0, 0.0, 0.0, 0.3], &[]), [0.0, 0.0], &noise);
+        let expected = constant + squares / 0.25;
         assert!((d - expected).abs() < 1e-9, "{d} vs {expected}");
     }
 }

@@ -98,8 +98,9 @@ struct NullFit<'a> {
 /// takes it as it is (the same start and points give the same fit).
 type HeldFit = (Vec<bool>, HeldOut);
 
-/// M0's prediction of the held-out loads on their compared points ([`held_mask`]): its deviance
-/// (-2 log L, each STE fitted alone under the training loads' noise) and its linearisation.
+/// M0's prediction of the held-out loads on their compared points ([`held_mask`]): its
+/// discrepancy ([`calibration::held_discrepancy`], each STE fitted alone under the training
+/// loads' noise) and its linearisation.
 struct HeldPrediction {
     deviance: f64,
     linear: calibration::HeldLinear,
@@ -283,7 +284,7 @@ fn held_prediction(null: &mut NullFit, held: &[usize]) -> Result<HeldPrediction>
     let m0 = null.as_after(held);
     let (held_points, mut fits) = held_fits_on_common_points(null, held, &[&m0])?;
     let fits = fits.remove(0);
-    let deviance = -2.0 * fits.iter().map(|h| h.log_likelihood).sum::<f64>();
+    let deviance = fits.iter().map(|h| h.discrepancy).sum::<f64>();
     let mut preds = m0.preds;
     let (refitted, held_ste) = place_held(fits, &held_points, &mut preds);
     let linear = held_linear(null, held, &held_points, &held_ste)?;
@@ -447,6 +448,8 @@ struct HeldOut {
     prediction: CurvePrediction,
     /// Log-likelihood of its kept points under the training loads' noise.
     log_likelihood: f64,
+    /// M0's held-out check's discrepancy ([`calibration::held_discrepancy`]).
+    discrepancy: f64,
 }
 
 /// Each held-out curve's STE fitted alone (a property of that load, which the training loads
@@ -481,6 +484,7 @@ fn held_out(
                 ste_um,
                 prediction: predict(setup, i, g, ste_um, effect)?,
                 log_likelihood: calibration::log_likelihood_under(&est, &axis, distribution),
+                discrepancy: calibration::held_discrepancy(&est, distribution),
             })
         })
         .collect()
@@ -842,7 +846,9 @@ pub fn discover_setup(
 ) -> Result<Discovery> {
     check_options(opts)?;
     let (train, held) = split(setup.curves.len());
-    progress.start(4 + LIBRARY.len() as u64, "discovery steps");
+    // Each stage its own job, named: their lengths differ by a hundredfold, so that one count
+    // over all of them would promise an end it cannot keep.
+    progress.start(1, "discovery, M0 fitted to the training loads");
     let (family, origin) = family_of(setup, opts);
     let mut masks: [Mask; 2] = [Vec::new(), Vec::new()];
     let null = fit_null(setup, (&train, &held), &family, &origin, &mut masks).map_err(|e| {
@@ -854,6 +860,7 @@ pub fn discover_setup(
     progress.advance(1);
     let axis = null.curves.axis()?;
     let l0 = calibration::log_likelihood(&null.est, &axis);
+    progress.start(LIBRARY.len() as u64, "discovery, candidates fitted");
     // The candidates' fits are independent: side by side, as each fit's own parallel parts
     // leave cores idle between its steps.
     let fits: Vec<CandidateFit> = LIBRARY
@@ -864,8 +871,12 @@ pub fn discover_setup(
             f
         })
         .collect();
-    let reps = bootstrap(&null, &fits, &axis, opts)?;
-    progress.advance(1);
+    progress.start(opts.bootstrap as u64, "discovery, bootstrap replicates");
+    let reps = bootstrap(&null, &fits, &axis, opts, progress)?;
+    progress.start(
+        2,
+        "discovery, the answer: held-out predictions and the effect's interval",
+    );
     let mut cands: Vec<CandidateResult> = fits
         .iter()
         .enumerate()
@@ -1137,42 +1148,44 @@ fn held_out_rivals(
         .filter(|&&k| {
             candidate_predictions(null, &fits[k], held)
                 .and_then(|r| held_log_likelihoods(null, held, &[best, &r]))
-                .map_or(true, |l| l[1] > l[0] - 1.92)
+                .map_or(true, |l| l[1] > l[0] - 0.5 * SUPPORT_95)
         })
         .map(|&k| fits[k].candidate.name().to_string())
         .collect()
 }
 
 /// The best passing candidate (Holm below alpha) by the least AIC, -2 log L + 2 parameters
-/// (Akaike 1974), and the other passing ones that change the curves alike.
+/// (Akaike 1974), and its rivals: the tested candidates, passing or not, that change the
+/// curves alike and whose AIC lies within chi2(0.95; 1) = 3.84 of the best one's. Whether a
+/// rival passes on its own says how it fares against M0, not against the best: two effects
+/// the training loads cannot tell apart are told apart by the held-out loads, or not at all.
 fn select(
     null: &NullFit,
     fits: &[CandidateFit],
     cands: &[CandidateResult],
     opts: &DiscoverOptions,
 ) -> (Option<usize>, Vec<usize>) {
-    let passing: Vec<usize> = (0..cands.len())
+    let score = |k: usize| fits[k].lr - 2.0 * fits[k].candidate.dim() as f64;
+    let best = (0..cands.len())
         .filter(|&k| cands[k].p_holm.is_some_and(|p| p < opts.alpha))
-        .collect();
-    let best = passing.iter().copied().max_by(|&a, &b| {
-        let score = |k: usize| fits[k].lr - 2.0 * fits[k].candidate.dim() as f64;
-        score(a).total_cmp(&score(b))
-    });
+        .max_by(|&a, &b| score(a).total_cmp(&score(b)));
     let ambiguous_with = best
         .map(|b| {
-            passing
-                .iter()
-                .filter(|&&k| k != b)
-                .filter(|&&k| match (&fits[b].est, &fits[k].est) {
+            (0..cands.len())
+                .filter(|&k| k != b && cands[k].p_value.is_some())
+                .filter(|&k| score(b) - score(k) <= SUPPORT_95)
+                .filter(|&k| match (&fits[b].est, &fits[k].est) {
                     (Ok(x), Ok(y)) => collinear(null, x, y, opts.collinear_cos),
                     _ => false,
                 })
-                .copied()
                 .collect()
         })
         .unwrap_or_default();
     (best, ambiguous_with)
 }
+
+/// chi2(0.95; 1): how far below the best candidate's AIC a rival's may lie.
+const SUPPORT_95: f64 = 3.841_458_820_694_124;
 
 /// Why M0 does not explain the training curves on its own, if it does not: its held-out
 /// prediction or (with a stated noise, where `p_holm` is set) its chi-square beyond their
@@ -1187,7 +1200,7 @@ fn misfit_of(
 ) -> Option<String> {
     if let Some((h, p)) = held.and_then(|h| Some((h, h.p_holm.filter(|p| *p < alpha)?))) {
         return Some(format!(
-            "M0 predicts the held-out loads worse than its errors allow: their deviance {:.1} lies beyond its bootstrap replicates' (Holm p {p:.3})",
+            "M0 predicts the held-out loads worse than its errors allow: their standardized deviance {:.1} lies beyond its bootstrap replicates' (Holm p {p:.3})",
             h.statistic
         ));
     }
@@ -1221,6 +1234,7 @@ fn bootstrap(
     fits: &[CandidateFit],
     axis: &crate::fit::Axis,
     opts: &DiscoverOptions,
+    progress: &dyn Progress,
 ) -> Result<Vec<Replicate>> {
     let columns: Vec<Columns> = fits
         .iter()
@@ -1252,6 +1266,7 @@ fn bootstrap(
         &errors,
         null.held.as_ref().map(|h| &h.linear),
         (opts.bootstrap, opts.seed),
+        progress,
     );
     // Each replicate's ratios in the order of the fits, None where the candidate is not tested.
     Ok(reps

@@ -27,8 +27,8 @@ pub struct DiscoverOptions {
     pub correlation: Correlation,
     /// Family-wise error rate of the candidates' tests (Holm).
     pub alpha: f64,
-    /// |cos| between two passing candidates' whitened changes of the training curves above
-    /// which they are ambiguous.
+    /// |cos| between two candidates' whitened changes of the training curves above which they
+    /// change them alike (rivals, docs/discover-method.md step 5).
     pub collinear_cos: f64,
     /// An effect (a study's hidden truth) whose test's power the run states ([`PowerBound`]).
     pub power_at: Option<Effect>,
