@@ -256,6 +256,36 @@ fn the_independent_second_harmonic_set_is_named() {
     assert!(after < 0.5 * before, "held-out RMS {before} -> {after}");
 }
 
+/// A null set whose every STE is stated (0.05 um, drawn about the truth): "none", and each
+/// load's statement is reported against M0's fit of it, the two training loads' from M0's fit
+/// and the two held-out loads' from their own STE fits, all compatible with the curves.
+#[test]
+#[ignore = "about 30 s, too slow for the default run: .ci/run runs it (cargo test --release --test discover -- --ignored)"]
+fn every_stated_ste_is_weighed_and_reported_training_and_held_out() {
+    let tmp = tempfile::tempdir().unwrap();
+    let mut t = MunroTruth::default_munro();
+    t.seed = 5;
+    t.speeds_rpm = (1000.0, 5000.0, 100.0);
+    t.publish_ste = true;
+    t.ste_sd_um = Some(0.05);
+    synth_munro(&t, tmp.path(), &NoProgress).unwrap();
+    let d = run(tmp.path());
+    let summary = geardyn::report::discovery_summary(&d);
+    assert_eq!(d.effect, "none", "{summary}");
+    let mut loads: Vec<f64> = d.stated_ste.iter().map(|s| s.0).collect();
+    loads.sort_by(f64::total_cmp);
+    assert_eq!(loads, vec![945.0, 1890.0, 2835.0, 3780.0], "{summary}");
+    for (load, m) in &d.stated_ste {
+        assert_eq!(m.measurement.sd, 0.05);
+        let z = m.compatibility_z.unwrap_or(m.z);
+        assert!(z.abs() < 3.0, "{load} N: z {z}: {summary}");
+    }
+    let text = geardyn::report::discovery_stated_ste_text(&d).unwrap();
+    for load in ["945 N", "1890 N", "2835 N", "3780 N"] {
+        assert!(text.contains(load), "{text}");
+    }
+}
+
 /// An effect outside the library, from the independent generator: a contact force
 /// c (q - 1)^1.2 (the mesh stiffening with load, tests/data/independent-discover/truth.toml).
 /// No candidate passes; M0's residuals are one smooth curve (its noise model takes the misfit

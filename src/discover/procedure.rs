@@ -450,6 +450,8 @@ struct HeldOut {
     log_likelihood: f64,
     /// M0's held-out check's discrepancy ([`calibration::held_discrepancy`]).
     discrepancy: f64,
+    /// Its load's stated STE against this fit, where one is stated.
+    stated: Option<crate::fit::MeasurementFit>,
 }
 
 /// Each held-out curve's STE fitted alone (a property of that load, which the training loads
@@ -485,6 +487,7 @@ fn held_out(
                 prediction: predict(setup, i, g, ste_um, effect)?,
                 log_likelihood: calibration::log_likelihood_under(&est, &axis, distribution),
                 discrepancy: calibration::held_discrepancy(&est, distribution),
+                stated: est.measurements.first().copied(),
             })
         })
         .collect()
@@ -983,6 +986,11 @@ pub fn discover_setup(
             .measurements
             .iter()
             .map(|m| (setup.curves[train[m.measurement.param - 2]].load_n, *m))
+            .chain(
+                null.held_fits
+                    .iter()
+                    .filter_map(|(_, h)| Some((setup.curves[h.curve].load_n, h.stated?))),
+            )
             .collect(),
         prediction_check: check,
     })

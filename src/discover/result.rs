@@ -244,8 +244,9 @@ pub struct Discovery {
     /// M0's noise (stated or fitted) and its errors' correlation along speed.
     pub noise: DiscoveryNoise,
     pub noise_correlation: Option<CorrelationFit>,
-    /// The training loads' STEs stated with an uncertainty (`[ste] sd_um`), each with M0's
-    /// fit of it: (load N, the measurement's fit).
+    /// The STEs stated with an uncertainty (`[ste] sd_um`), each with M0's fit of it: (load N,
+    /// the measurement's fit), the training loads' from M0's fit (parameter 2 + k), then the
+    /// held-out loads' from each one's STE fit under M0 (parameter 0).
     pub stated_ste: Vec<(f64, crate::fit::MeasurementFit)>,
     /// Smallest and largest noise scale over the kept points, um.
     pub noise_range_um: (f64, f64),

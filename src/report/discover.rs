@@ -665,13 +665,18 @@ fn gap_section(page: &mut Page, d: &Discovery) {
     );
 }
 
-/// The training loads' stated STEs against M0's fit, in words ([`super::stated_ste_text`]).
+/// The stated STEs against M0's fits, training and held-out loads, in words
+/// ([`super::stated_ste_text`]; each row's parameter is its place in the list).
 pub fn discovery_stated_ste_text(d: &Discovery) -> Option<String> {
-    let fits: Vec<crate::fit::MeasurementFit> = d.stated_ste.iter().map(|s| s.1).collect();
-    super::stated_ste_text(&fits, |param| {
-        d.stated_ste
-            .iter()
-            .find(|s| s.1.measurement.param == param)
-            .map_or_else(|| format!("parameter {param}"), |s| format!("{} N", s.0))
-    })
+    let fits: Vec<crate::fit::MeasurementFit> = d
+        .stated_ste
+        .iter()
+        .enumerate()
+        .map(|(k, (_, m))| {
+            let mut m = *m;
+            m.measurement.param = k;
+            m
+        })
+        .collect();
+    super::stated_ste_text(&fits, |k| format!("{} N", d.stated_ste[k].0))
 }

@@ -8,7 +8,7 @@ mod kubo;
 mod munro;
 mod staging;
 
-pub use discover::{discovery_json, discovery_summary, write_discovery};
+pub use discover::{discovery_json, discovery_stated_ste_text, discovery_summary, write_discovery};
 pub use html::Page;
 pub use kubo::{kubo_json, write_kubo_report};
 pub use munro::{
