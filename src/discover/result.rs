@@ -27,9 +27,6 @@ pub struct DiscoverOptions {
     pub correlation: Correlation,
     /// Family-wise error rate of the candidates' tests (Holm).
     pub alpha: f64,
-    /// |cos| between two candidates' whitened changes of the training curves above which they
-    /// change them alike (rivals, docs/discover-method.md step 5).
-    pub collinear_cos: f64,
     /// An effect (a study's hidden truth) whose test's power the run states ([`PowerBound`]).
     pub power_at: Option<Effect>,
 }
@@ -43,7 +40,6 @@ impl Default for DiscoverOptions {
             tails: TailChoice::Auto,
             correlation: Correlation::Auto,
             alpha: 0.05,
-            collinear_cos: 0.95,
             power_at: None,
         }
     }
@@ -226,8 +222,8 @@ pub struct PowerBound {
 pub struct Discovery {
     /// A candidate name, "none", "ambiguous" or "unexplained".
     pub effect: String,
-    /// Passing candidates whose changes of the training curves are nearly collinear with the
-    /// best one's.
+    /// The best candidate's rivals (within the training loads' likelihood support of it) that
+    /// the held-out loads do not tell from it.
     pub ambiguous_with: Vec<String>,
     /// The best candidate when the effect is "ambiguous" or "unexplained".
     pub closest_candidate: Option<String>,

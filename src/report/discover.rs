@@ -182,7 +182,7 @@ pub fn answer_text(d: &Discovery) -> String {
             (None, None) => "Unexplained.".to_string(),
         },
         "ambiguous" => format!(
-            "Ambiguous: {} fits the training loads significantly better than M0, and {} changes them alike within the likelihood's 95% support and predicts the held-out loads about as well; the data do not tell them apart.{check}",
+            "Ambiguous: {} fits the training loads significantly better than M0, and {} fits them within the likelihood's 95% support of it and predicts the held-out loads about as well; the data do not tell them apart.{check}",
             d.closest_candidate.as_deref().unwrap_or("-"),
             d.ambiguous_with.join(", ")
         ),
