@@ -978,8 +978,8 @@ pub fn discover_setup(
     })
 }
 
-/// What the run answers: the best passing candidate (`best`; `rivals`, the passing ones that
-/// change the training curves like it) is named when its refit predicts the held-out loads
+/// What the run answers: the best passing candidate (`best`; `rivals`, those the training loads
+/// cannot tell from it, [`select`]) is named when its refit predicts the held-out loads
 /// better than M0, "ambiguous" when a rival predicts them about as well, "unexplained" when
 /// worse; with none passing, "unexplained" where M0 misfits (with the closest candidate whose
 /// prediction can be made), else "none". A failed prediction or interval is said in its result.
@@ -1147,9 +1147,9 @@ fn held_out_rivals(
 /// The best passing candidate (Holm below alpha) by the least AIC, -2 log L + 2 parameters
 /// (Akaike 1974), and its rivals: the other tested candidates, passing or not, whose AIC lies
 /// within chi2(0.95; 1) = 3.84 of the best one's. The training loads cannot tell those from the
-/// best, however differently they change the curves (a torque ripple and a stiffness variation
-/// at cos 0.65, their ratios 8.2 and 10.8), and whether a rival passes on its own says how it
-/// fares against M0, not against the best: the held-out loads tell them apart, or nothing does.
+/// best, however differently they change the curves, and whether a rival passes on its own says
+/// how it fares against M0, not against the best: the held-out loads tell them apart, or
+/// nothing does.
 fn select(
     fits: &[CandidateFit],
     cands: &[CandidateResult],
